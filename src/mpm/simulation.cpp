@@ -1,0 +1,104 @@
+#include "mpm/simulation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "mpm/bspline.h"
+
+namespace nsf {
+
+namespace {
+constexpr int kBlock = 4;  // cells per grid block edge; a stencil spans at most 2 blocks
+}
+
+Simulation::Simulation(Scene scene) : scene_(std::move(scene)) {
+  const SimSettings& s = scene_.settings;
+  grid_ = Grid(s.domain_lo, s.domain_hi, s.dx);
+  if (scene_.particles.size() == 0) fail("simulation: the scene has no particles");
+  if (scene_.materials.empty()) fail("simulation: the scene has no materials");
+  for (size_t p = 0; p < scene_.particles.size(); ++p)
+    if (scene_.particles.material[p] >= scene_.materials.size())
+      fail("simulation: particle ", p, " refers to material ", scene_.particles.material[p],
+           " but the scene has ", scene_.materials.size());
+  check_time_step();
+  check_particles();
+  // τ^0 from the initial F so the first P2G sees the initial stress state.
+  update_stress();
+  for (auto& c : scene_.colliders) c->set_time(0.0);
+}
+
+void Simulation::check_time_step() const {
+  // Explicit MPM is stable only if an elastic wave crosses less than a cell per step.
+  const Particles& P = scene_.particles;
+  double worst = 0;
+  size_t worst_p = 0;
+  for (size_t p = 0; p < P.size(); ++p) {
+    double rho = P.mass[p] / P.vol0[p];
+    double c = std::sqrt(Material::p_wave_modulus(P.mat[p]) / rho);
+    if (c > worst) worst = c, worst_p = p;
+  }
+  const SimSettings& s = scene_.settings;
+  double bound = s.cfl * s.dx / std::max(worst, 1e-30);
+  if (s.dt > bound)
+    fail("simulation: dt = ", s.dt, " exceeds the CFL bound ", bound, " (elastic wave speed ",
+         worst, " m/s at particle ", worst_p, ", dx = ", s.dx, ", cfl = ", s.cfl,
+         "). Lower simulation.dt to at most ", bound, " or soften the material.");
+}
+
+void Simulation::step() {
+  // §3.3: P2G (with the stress force fused in), grid update, G2P, return map.
+  for (auto& c : scene_.colliders) c->set_time(time_);
+  sort_particles();
+  p2g();
+  grid_update();
+  g2p();
+  update_stress();
+  time_ += scene_.settings.dt;
+  ++steps_;
+  check_particles();
+}
+
+void Simulation::advance_frame() {
+  for (int i = 0; i < scene_.settings.substeps; ++i) step();
+}
+
+void Simulation::sort_particles() {
+  ScopedTimer timer(times_.sort);
+  const Particles& P = scene_.particles;
+  const Vec3i n = grid_.dims();
+  int nb[3];
+  for (int d = 0; d < 3; ++d) nb[d] = (n[d] + kBlock - 1) / kBlock;
+  block_dims_.assign(nb, nb + 3);
+  const size_t blocks = size_t(nb[0]) * nb[1] * nb[2];
+  const size_t np = P.size();
+
+  // Stable counting sort by block keeps each block's particle order fixed, so the scatter
+  // order, and with it every floating-point sum, is the same for any thread count.
+  std::vector<uint32_t> key(np);
+  std::vector<uint32_t> count(blocks + 1, 0);
+#pragma omp parallel for schedule(static)
+  for (long p = 0; p < long(np); ++p) {
+    Stencil st = quadratic_stencil(P.x[p], grid_.lo(), grid_.inv_dx());
+    size_t b = (size_t(st.base[0] / kBlock) * nb[1] + st.base[1] / kBlock) * nb[2] +
+               st.base[2] / kBlock;
+    key[p] = static_cast<uint32_t>(b);
+  }
+  for (size_t p = 0; p < np; ++p) ++count[key[p] + 1];
+  for (size_t b = 0; b < blocks; ++b) count[b + 1] += count[b];
+  block_start_ = count;
+  order_.resize(np);
+  for (size_t p = 0; p < np; ++p) order_[count[key[p]]++] = static_cast<uint32_t>(p);
+
+  color_blocks_.assign(8, {});
+  for (int bi = 0; bi < nb[0]; ++bi)
+    for (int bj = 0; bj < nb[1]; ++bj)
+      for (int bk = 0; bk < nb[2]; ++bk) {
+        size_t b = (size_t(bi) * nb[1] + bj) * nb[2] + bk;
+        if (block_start_[b + 1] == block_start_[b]) continue;
+        int color = (bi & 1) | ((bj & 1) << 1) | ((bk & 1) << 2);
+        color_blocks_[color].push_back(static_cast<uint32_t>(b));
+      }
+}
+
+}  // namespace nsf
