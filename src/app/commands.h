@@ -1,0 +1,12 @@
+#pragma once
+// Each subcommand of the `nsf` tool registers itself on the CLI app; one file per subcommand.
+#include <CLI/CLI.hpp>
+
+namespace nsf::app {
+
+void add_simulate_command(CLI::App& app);
+
+// Sets the OpenMP thread count (0 = all cores) and returns the count in use.
+int set_threads(int requested);
+
+}  // namespace nsf::app

@@ -1,0 +1,27 @@
+#include "core/memory.h"
+
+#include <fstream>
+#include <string>
+
+namespace nsf {
+
+namespace {
+double status_field_mib(const char* field) {
+  std::ifstream f("/proc/self/status");
+  std::string key;
+  while (f >> key) {
+    if (key == field) {
+      double kib = 0;
+      f >> kib;
+      return kib / 1024.0;
+    }
+    f.ignore(1 << 16, '\n');
+  }
+  return 0.0;
+}
+}  // namespace
+
+double peak_rss_mib() { return status_field_mib("VmHWM:"); }
+double current_rss_mib() { return status_field_mib("VmRSS:"); }
+
+}  // namespace nsf
