@@ -1,0 +1,67 @@
+#pragma once
+// Reads a run file written by RunWriter (layout: docs/OUTPUT.md). The constructor validates the
+// whole layout up front, so a foreign, truncated or half-written file fails at open with a message
+// naming the file and the problem, not later in the middle of training or rendering.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace nsf {
+
+// One saved frame, unpacked: C and F back to matrices, τ back to a symmetric matrix.
+struct RunFrame {
+  double time = 0;
+  std::vector<Vec3> x, v;
+  std::vector<Mat3> C, F, tau;
+};
+
+class RunReader {
+ public:
+  explicit RunReader(const std::string& path);
+  ~RunReader();
+  RunReader(RunReader&&) noexcept;
+  RunReader& operator=(RunReader&&) noexcept;
+  RunReader(const RunReader&) = delete;
+  RunReader& operator=(const RunReader&) = delete;
+
+  const std::string& path() const;
+  size_t particle_count() const;
+  size_t frame_count() const;
+
+  // The standard attributes, read and checked at open.
+  int format_version() const;
+  const std::string& nsf_version() const;
+  const std::string& scene_name() const;
+  const std::string& scene_json() const;
+  double dt() const;
+  double dx() const;
+  int substeps() const;
+
+  // Any root attribute, including ones added with RunWriter::set_attribute ("mu"). Fail with the
+  // file and attribute name when it is missing or of another kind.
+  bool has_attribute(const std::string& name) const;
+  double attribute_double(const std::string& name) const;  // also accepts integer attributes
+  int64_t attribute_int(const std::string& name) const;
+  std::string attribute_string(const std::string& name) const;
+
+  // Static per-particle data, indexed by particle.
+  const std::vector<Vec3>& rest_positions() const;  // /X
+  const std::vector<double>& mass() const;
+  const std::vector<double>& volume() const;
+  const std::vector<uint16_t>& material() const;
+  const std::vector<uint16_t>& object() const;
+  const std::vector<double>& times() const;  // one per frame
+
+  RunFrame read_frame(size_t k) const;
+  // Only x: the cheap read for rendering and for comparing trajectories (δ).
+  std::vector<Vec3> read_positions(size_t k) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace nsf
