@@ -1,4 +1,5 @@
 // `nsf simulate scene.json --out run.h5`: run the full-order engine and save every frame.
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -41,6 +42,19 @@ void print_breakdown(const Simulation& sim, double wall, size_t particles) {
               peak_rss_mib());
 }
 
+// Frames the particles' bounding box, with the ground at the domain's floor wall.
+void write_picture(const Simulation& sim, const std::string& path) {
+  const Particles& P = sim.particles();
+  const SimSettings& s = sim.settings();
+  Vec3 lo = P.x[0], hi = P.x[0];
+  for (const Vec3& x : P.x) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  RenderOptions opt;
+  frame_box(opt, lo, hi);
+  opt.radius = 0.5 * s.dx / s.ppc;
+  opt.ground_height = std::min(lo[1], s.domain_lo[1] + s.wall_nodes * s.dx);
+  write_png(render_particles(P.x, colors_by_index(P.object), opt), path);
+}
+
 void run_simulate(const SimulateArgs& a) {
   const int threads = set_threads(a.threads);
   Scene scene = load_scene(a.scene, a.overrides);
@@ -67,8 +81,7 @@ void run_simulate(const SimulateArgs& a) {
   const double wall = now_seconds() - start;
   if (!a.quiet) progress.finish();
   if (!a.png.empty()) {
-    RenderOptions opt = RenderOptions::framing(s.domain_lo, s.domain_hi, sim.particles().x);
-    write_png(render_particles(sim.particles().x, sim.particles().object, opt), a.png);
+    write_picture(sim, a.png);
     std::printf("picture: %s\n", a.png.c_str());
   }
   std::printf("wrote %s (%d frames, %zu particles)\n", a.out.c_str(), s.frames + 1, np);

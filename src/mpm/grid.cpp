@@ -1,7 +1,6 @@
 #include "mpm/grid.h"
 
 #include <cmath>
-#include <cstring>
 
 #include "core/error.h"
 
@@ -16,13 +15,6 @@ Grid::Grid(const Vec3& lo, const Vec3& hi, double dx) : lo_(lo), dx_(dx), inv_dx
   double count = double(n_[0]) * n_[1] * n_[2];
   if (count > 2e9) fail("grid: ", n_[0], "x", n_[1], "x", n_[2], " nodes is too many; raise dx");
   nodes_.resize(static_cast<size_t>(count));
-}
-
-void Grid::clear() {
-  const long n = static_cast<long>(nodes_.size());
-  GridNode* g = nodes_.data();
-#pragma omp parallel for schedule(static)
-  for (long i = 0; i < n; ++i) g[i] = GridNode{{0, 0, 0}, 0};
 }
 
 }  // namespace nsf

@@ -43,23 +43,22 @@ void Simulation::grid_update() {
   GridNode* g = grid_.data();
   const auto& colliders = scene_.colliders;
 
-#pragma omp parallel for collapse(2) schedule(static)
-  for (int i = 0; i < n[0]; ++i)
-    for (int j = 0; j < n[1]; ++j)
-      for (int k = 0; k < n[2]; ++k) {
-        GridNode& node = g[grid_.index(i, j, k)];
-        if (node.m <= 0) continue;
-        const double inv_m = 1.0 / node.m;
-        Vec3 v(node.mv[0] * inv_m, node.mv[1] * inv_m, node.mv[2] * inv_m);
-        v += gdt;
-        if (!colliders.empty()) {
-          const Vec3 x = grid_.node_position(i, j, k);
-          for (const auto& c : colliders) c->apply(x, v);
-        }
-        int idx[3] = {i, j, k};
-        apply_walls(s, n, idx, v);
-        node.mv[0] = v[0], node.mv[1] = v[1], node.mv[2] = v[2];
+#pragma omp parallel for schedule(static)
+  for (long q = 0; q < long(active_blocks_.size()); ++q)
+    for_each_node_in_block(active_blocks_[q], [&](int i, int j, int k) {
+      GridNode& node = g[grid_.index(i, j, k)];
+      if (node.m <= 0) return;
+      const double inv_m = 1.0 / node.m;
+      Vec3 v(node.mv[0] * inv_m, node.mv[1] * inv_m, node.mv[2] * inv_m);
+      v += gdt;
+      if (!colliders.empty()) {
+        const Vec3 x = grid_.node_position(i, j, k);
+        for (const auto& c : colliders) c->apply(x, v);
       }
+      int idx[3] = {i, j, k};
+      apply_walls(s, n, idx, v);
+      node.mv[0] = v[0], node.mv[1] = v[1], node.mv[2] = v[2];
+    });
 }
 
 }  // namespace nsf

@@ -9,7 +9,7 @@ namespace nsf {
 
 void Simulation::p2g() {
   ScopedTimer timer(times_.p2g);
-  grid_.clear();
+  clear_active_grid();
   Particles& P = scene_.particles;
   const double dx = grid_.dx(), inv_dx = grid_.inv_dx(), dt = scene_.settings.dt;
   const double Dinv = apic_scale(inv_dx);

@@ -91,6 +91,7 @@ void Simulation::sort_particles() {
   for (size_t p = 0; p < np; ++p) order_[count[key[p]]++] = static_cast<uint32_t>(p);
 
   color_blocks_.assign(8, {});
+  std::vector<uint8_t> active(blocks, 0);
   for (int bi = 0; bi < nb[0]; ++bi)
     for (int bj = 0; bj < nb[1]; ++bj)
       for (int bk = 0; bk < nb[2]; ++bk) {
@@ -98,7 +99,27 @@ void Simulation::sort_particles() {
         if (block_start_[b + 1] == block_start_[b]) continue;
         int color = (bi & 1) | ((bj & 1) << 1) | ((bk & 1) << 2);
         color_blocks_[color].push_back(static_cast<uint32_t>(b));
+        for (int di = 0; di < 2 && bi + di < nb[0]; ++di)
+          for (int dj = 0; dj < 2 && bj + dj < nb[1]; ++dj)
+            for (int dk = 0; dk < 2 && bk + dk < nb[2]; ++dk)
+              active[(size_t(bi + di) * nb[1] + bj + dj) * nb[2] + bk + dk] = 1;
       }
+  previous_active_blocks_.swap(active_blocks_);
+  active_blocks_.clear();
+  for (size_t b = 0; b < blocks; ++b)
+    if (active[b]) active_blocks_.push_back(static_cast<uint32_t>(b));
+}
+
+void Simulation::clear_active_grid() {
+  // Last step's blocks too, so no stale node values survive anywhere on the grid.
+  GridNode* g = grid_.data();
+  for (const auto* list : {&previous_active_blocks_, &active_blocks_}) {
+#pragma omp parallel for schedule(static)
+    for (long q = 0; q < long(list->size()); ++q)
+      for_each_node_in_block((*list)[q], [&](int i, int j, int k) {
+        g[grid_.index(i, j, k)] = GridNode{{0, 0, 0}, 0};
+      });
+  }
 }
 
 }  // namespace nsf

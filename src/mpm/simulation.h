@@ -1,5 +1,6 @@
 #pragma once
 // The full-order explicit MPM engine (§3.3 of the paper): P2G, grid update, G2P, return map.
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,27 @@ class Simulation {
   std::vector<uint32_t> order_;              // particle indices sorted by block
   std::vector<uint32_t> block_start_;        // offsets into order_, one more than blocks
   std::vector<std::vector<uint32_t>> color_blocks_;  // non-empty blocks of each of 8 colours
+  // Blocks whose nodes some particle's stencil reaches (non-empty blocks and their +1
+  // neighbours); only these are cleared and updated, so empty space costs nothing.
+  std::vector<uint32_t> active_blocks_, previous_active_blocks_;
+
+  // Calls f(i, j, k) for every grid node of block b.
+  template <typename Fn>
+  void for_each_node_in_block(uint32_t b, Fn&& f) const;
+  void clear_active_grid();
 };
+
+template <typename Fn>
+void Simulation::for_each_node_in_block(uint32_t b, Fn&& f) const {
+  constexpr int kBlockCells = 4;
+  const int nb1 = block_dims_[1], nb2 = block_dims_[2];
+  const int bk = b % nb2, bj = (b / nb2) % nb1, bi = b / (nb2 * nb1);
+  const Vec3i n = grid_.dims();
+  const int i1 = std::min(n[0], (bi + 1) * kBlockCells), j1 = std::min(n[1], (bj + 1) * kBlockCells),
+            k1 = std::min(n[2], (bk + 1) * kBlockCells);
+  for (int i = bi * kBlockCells; i < i1; ++i)
+    for (int j = bj * kBlockCells; j < j1; ++j)
+      for (int k = bk * kBlockCells; k < k1; ++k) f(i, j, k);
+}
 
 }  // namespace nsf
