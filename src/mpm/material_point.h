@@ -1,6 +1,6 @@
 #pragma once
 // Per-particle constitutive parameters and plastic state. Kept per particle (not per material) so
-// weak elements, damage and hardening can vary in space. One cache line per particle.
+// weak elements, damage and hardening can vary in space. Kept small: nine doubles (72 bytes).
 
 namespace nsf {
 
@@ -13,6 +13,7 @@ struct MaterialPoint {
   double softening = 0;     // von Mises softening coefficient θ
   double viscosity = 0;     // Herschel–Bulkley η
   double damaged = 0;       // 1 once softening drove τ_y to zero (Lamé parameters then zero)
+  double cohesion = 0;      // Drucker–Prager: log-strain shift of the cone apex (0 = dry sand)
 };
 
 }  // namespace nsf

@@ -1,8 +1,8 @@
 #include "mpm/materials/fixed_corotated.h"
 
-#include <Eigen/SVD>
-
+#include "core/svd3.h"
 #include "mpm/materials/param_check.h"
+#include "mpm/materials/principal.h"
 
 namespace nsf {
 
@@ -17,14 +17,15 @@ MaterialPoint FixedCorotated::make_point(const ParamMap& params, const std::stri
 }
 
 Mat3 FixedCorotated::update(Mat3& F, MaterialPoint& mp, double /*dt*/) const {
-  // TEMPORARY: generic SVD; replaced by the fast robust svd3 in core/.
-  Eigen::JacobiSVD<Mat3> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Mat3 U = svd.matrixU(), V = svd.matrixV();
-  if (U.determinant() < 0) U.col(2) *= -1;
-  if (V.determinant() < 0) V.col(2) *= -1;
-  Mat3 R = U * V.transpose();
-  double J = F.determinant();
-  return 2.0 * mp.mu * (F - R) * F.transpose() + mp.lambda * (J - 1.0) * J * Mat3::Identity();
+  Mat3 U, V;
+  Vec3 s;
+  svd3(F, U, s, V);
+  // Eq. (12) in principal form: with R = U Vᵀ, (F − R)Fᵀ = U (Σ − 1)Σ Uᵀ. J = σ0σ1σ2 keeps the
+  // sign of det F, so the volume term still pushes inverted particles back.
+  const double J = s.prod();
+  const Vec3 t =
+      2.0 * mp.mu * (s - Vec3::Ones()).cwiseProduct(s) + Vec3::Constant(mp.lambda * (J - 1.0) * J);
+  return from_principal(U, t);
 }
 
 }  // namespace nsf
