@@ -19,17 +19,24 @@ void require_object(const json& j, const std::string& path) {
     fail("scene: '", path.empty() ? "<root>" : path, "' must be a JSON object, got ", j.dump());
 }
 
-void check_keys(const json& obj, const std::string& path, std::initializer_list<const char*> allowed) {
+void check_keys(const json& obj, const std::string& path, const std::vector<std::string>& allowed) {
   require_object(obj, path);
   for (auto it = obj.begin(); it != obj.end(); ++it) {
     bool ok = false;
-    for (const char* a : allowed) ok = ok || it.key() == a;
+    for (const auto& a : allowed) ok = ok || it.key() == a;
     if (!ok) {
       std::ostringstream known;
-      for (const char* a : allowed) known << (known.tellp() > 0 ? ", " : "") << a;
-      fail("scene: unknown key '", child(path, it.key()), "' (allowed here: ", known.str(), ")");
+      for (const auto& a : allowed) known << (known.tellp() > 0 ? ", " : "") << a;
+      std::string value = it.value().dump();
+      if (value.size() > 60) value = value.substr(0, 57) + "...";
+      fail("scene: unknown key '", child(path, it.key()), "' (= ", value,
+           "; allowed here: ", known.str(), ")");
     }
   }
+}
+
+void check_keys(const json& obj, const std::string& path, std::initializer_list<const char*> allowed) {
+  check_keys(obj, path, std::vector<std::string>(allowed.begin(), allowed.end()));
 }
 
 void check_range(double v, const std::string& path, Range r) {

@@ -5,6 +5,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "core/types.h"
 
@@ -18,6 +19,7 @@ std::string child(const std::string& path, size_t index);
 
 // Rejects keys not in `allowed` (typos must not be silently ignored).
 void check_keys(const json& obj, const std::string& path, std::initializer_list<const char*> allowed);
+void check_keys(const json& obj, const std::string& path, const std::vector<std::string>& allowed);
 void require_object(const json& j, const std::string& path);
 
 struct Range {

@@ -1,0 +1,38 @@
+#pragma once
+// Common part of the rigid colliders: a shape described in its own body frame, a scripted pose,
+// and a contact rule. A kind only supplies its body-frame signed distance and outward normal.
+#include "mpm/colliders/collider.h"
+#include "mpm/colliders/contact.h"
+#include "mpm/colliders/rigid_motion.h"
+
+namespace nsf {
+
+class RigidCollider : public Collider {
+ public:
+  void set_time(double t) override { pose_ = motion_.at(t); }
+  void apply(const Vec3& x, Vec3& v) const override;
+
+  // World-frame queries at the current pose (tests, rendering).
+  double signed_distance(const Vec3& x) const { return body_sdf(to_body(x)); }
+  Vec3 normal(const Vec3& x) const { return pose_.rotation * body_normal(to_body(x)); }
+  Vec3 velocity_at(const Vec3& x) const { return pose_.velocity_at(x); }
+  const RigidPose& pose() const { return pose_; }
+  const ContactRule& contact() const { return contact_; }
+
+ protected:
+  RigidCollider(ContactRule contact, RigidMotion motion)
+      : contact_(contact), motion_(std::move(motion)), pose_(motion_.at(0.0)) {}
+
+  // Body frame: the collider's reference point at the origin, its rest orientation unrotated.
+  virtual double body_sdf(const Vec3& p) const = 0;
+  virtual Vec3 body_normal(const Vec3& p) const = 0;  // outward, unit length
+
+ private:
+  Vec3 to_body(const Vec3& x) const { return pose_.rotation.transpose() * (x - pose_.center); }
+
+  ContactRule contact_;
+  RigidMotion motion_;
+  RigidPose pose_;
+};
+
+}  // namespace nsf

@@ -1,0 +1,15 @@
+#pragma once
+// Turns one entry of the scene's "objects" array into particles: samples its shape, builds the
+// per-particle material record (scaled inside weak regions) and the initial velocity.
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "mpm/scene/scene.h"
+
+namespace nsf {
+
+// Appends the particles of object `index` (at `path`, e.g. "objects[2]") to scene.particles,
+// adding its material model to scene.materials if no earlier object used the same type.
+void add_object(const nlohmann::json& obj, const std::string& path, size_t index, Scene& scene);
+
+}  // namespace nsf

@@ -1,0 +1,61 @@
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "mpm/scene/scene.h"
+
+namespace nsf {
+namespace {
+
+// nlohmann reports a byte offset; people edit by line and column.
+std::string line_column(const std::string& text, size_t byte) {
+  size_t line = 1, col = 1;
+  for (size_t i = 0; i < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(col);
+}
+
+// Drops nlohmann's "[json.exception...] parse error at line L, column C: " prefix, which would
+// repeat the position.
+std::string parse_detail(const std::string& what) {
+  size_t col = what.find("column ");
+  size_t colon = col == std::string::npos ? col : what.find(": ", col);
+  return colon == std::string::npos ? what : what.substr(colon + 2);
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail("scene file '", path, "' cannot be opened (missing or unreadable)");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  const std::string text = buf.str();
+
+  nlohmann::json j;
+  try {
+    // Comments are allowed so example scenes can explain themselves.
+    j = nlohmann::json::parse(text, nullptr, true, /*ignore_comments=*/true);
+  } catch (const nlohmann::json::parse_error& e) {
+    // e.byte is one past the offending character.
+    fail("scene file '", path, "' is not valid JSON at ",
+         line_column(text, e.byte ? e.byte - 1 : 0), ": ", parse_detail(e.what()));
+  }
+  try {
+    apply_overrides(j, overrides);
+    if (j.is_object() && !j.contains("name"))
+      j["name"] = std::filesystem::path(path).stem().string();
+    return build_scene(j);
+  } catch (const Error& e) {
+    fail(path, ": ", e.what());
+  }
+}
+
+}  // namespace nsf
