@@ -2,37 +2,10 @@
 // The stress force already arrived with the momentum in P2G.
 #include <cmath>
 
+#include "mpm/colliders/domain_walls.h"
 #include "mpm/simulation.h"
 
 namespace nsf {
-
-namespace {
-
-// Contact with the domain walls: the outer `wall_nodes` layers of each face.
-void apply_walls(const SimSettings& s, const Vec3i& n, int idx[3], Vec3& v) {
-  for (int d = 0; d < 3; ++d) {
-    double normal = 0;  // inward normal component along axis d
-    if (idx[d] < s.wall_nodes) normal = 1;
-    else if (idx[d] >= n[d] - s.wall_nodes) normal = -1;
-    if (normal == 0) continue;
-    if (s.wall_contact == Contact::Sticky) {
-      v.setZero();
-      return;
-    }
-    double vn = v[d] * normal;
-    if (vn >= 0) continue;  // moving away from the wall
-    v[d] = 0;
-    if (s.wall_contact == Contact::Friction) {
-      Vec3 vt = v;
-      double vt_norm = vt.norm();
-      // Coulomb: tangential speed drops by μ|v_n|, and stops if that exceeds it.
-      if (vt_norm <= -s.wall_friction * vn) v.setZero();
-      else v = vt * (1.0 + s.wall_friction * vn / vt_norm);
-    }
-  }
-}
-
-}  // namespace
 
 void Simulation::grid_update() {
   ScopedTimer timer(times_.grid_update);
@@ -55,8 +28,7 @@ void Simulation::grid_update() {
         const Vec3 x = grid_.node_position(i, j, k);
         for (const auto& c : colliders) c->apply(x, v);
       }
-      int idx[3] = {i, j, k};
-      apply_walls(s, n, idx, v);
+      apply_domain_walls(s, i, j, k, n, v);
       node.mv[0] = v[0], node.mv[1] = v[1], node.mv[2] = v[2];
     });
 }
