@@ -40,10 +40,14 @@ Result run_scene(const BenchScene& b) {
   }
   const double wall = nsf::now_seconds() - t0;
   const nsf::StepTimes& t = sim.times();
-  return {double(sim.particles().size()), double(b.steps), wall,
-          t.sort.seconds() - before.sort.seconds(), t.p2g.seconds() - before.p2g.seconds(),
+  return {double(sim.particles().size()),
+          double(b.steps),
+          wall,
+          t.sort.seconds() - before.sort.seconds(),
+          t.p2g.seconds() - before.p2g.seconds(),
           t.grid_update.seconds() - before.grid_update.seconds(),
-          t.g2p.seconds() - before.g2p.seconds(), t.stress.seconds() - before.stress.seconds(),
+          t.g2p.seconds() - before.g2p.seconds(),
+          t.stress.seconds() - before.stress.seconds(),
           nsf::peak_rss_mib()};
 }
 
@@ -89,8 +93,9 @@ int main(int argc, char** argv) {
       {"(c) sand column 70k", "scenes/bench/sand_column_70k.json", 300},
   };
   std::printf("threads: %d, double precision\n\n", threads);
-  std::printf("| scene | particles | steps | particle-steps/s | sort | P2G | grid | G2P | "
-              "stress+return map | peak memory |\n");
+  std::printf(
+      "| scene | particles | steps | particle-steps/s | sort | P2G | grid | G2P | "
+      "stress+return map | peak memory |\n");
   std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   int failures = 0;
   for (BenchScene b : scenes) {
@@ -103,10 +108,11 @@ int main(int argc, char** argv) {
     }
     const double phases = r.sort + r.p2g + r.grid + r.g2p + r.stress;
     auto pct = [&](double x) { return 100.0 * x / phases; };
-    std::printf("| %s | %.0f | %.0f | %s | %.0f%% | %.0f%% | %.0f%% | %.0f%% | %.0f%% | %.0f MiB |\n",
-                b.label.c_str(), r.particles, r.steps,
-                nsf::Progress::format_rate(r.particles * r.steps / r.wall).c_str(), pct(r.sort),
-                pct(r.p2g), pct(r.grid), pct(r.g2p), pct(r.stress), r.peak_mib);
+    std::printf(
+        "| %s | %.0f | %.0f | %s | %.0f%% | %.0f%% | %.0f%% | %.0f%% | %.0f%% | %.0f MiB |\n",
+        b.label.c_str(), r.particles, r.steps,
+        nsf::Progress::format_rate(r.particles * r.steps / r.wall).c_str(), pct(r.sort), pct(r.p2g),
+        pct(r.grid), pct(r.g2p), pct(r.stress), r.peak_mib);
     std::fflush(stdout);
   }
   return failures == 0 ? 0 : 1;

@@ -39,8 +39,8 @@ TEST(Conservation, LinearMomentumInFreeFlight) {
   for (int i = 0; i < steps; ++i) sim.step();
   const Vec3 expected = P0 + M * sim.settings().gravity * (steps * sim.settings().dt);
   const Vec3 P1 = testing::linear_momentum(sim.particles());
-  EXPECT_LT((P1 - expected).norm(), 1e-10 * expected.norm()) << P1.transpose() << " vs "
-                                                             << expected.transpose();
+  EXPECT_LT((P1 - expected).norm(), 1e-10 * expected.norm())
+      << P1.transpose() << " vs " << expected.transpose();
 }
 
 // Spins an elastic box about a tilted axis with no gravity and no walls in reach.

@@ -12,8 +12,8 @@ namespace {
 std::vector<Vec3> run_with_threads(int threads) {
   const int saved = omp_get_max_threads();
   omp_set_num_threads(threads);
-  Scene s = testing::box_scene(Vec3(0.3, 0.11, 0.4), Vec3(0.7, 0.3, 0.6), 1.0 / 32, 2e-4, 1e4, 0.3,
-                               1000);
+  Scene s =
+      testing::box_scene(Vec3(0.3, 0.11, 0.4), Vec3(0.7, 0.3, 0.6), 1.0 / 32, 2e-4, 1e4, 0.3, 1000);
   for (size_t p = 0; p < s.particles.size(); ++p)
     s.particles.v[p] = Vec3(0.5 * (s.particles.X[p][1] - 0.2), -1.0, 0.2);
   Simulation sim(std::move(s));

@@ -35,7 +35,8 @@ TEST(ElasticBar, LongitudinalPeriodMatchesAnalytic) {
     double v = 0;
     for (size_t p : left_end) v += sim.particles().v[p][0];
     v /= left_end.size();
-    if ((prev > 0) != (v > 0)) crossings.push_back(prev_t + (sim.time() - prev_t) * prev / (prev - v));
+    if ((prev > 0) != (v > 0))
+      crossings.push_back(prev_t + (sim.time() - prev_t) * prev / (prev - v));
     prev = v, prev_t = sim.time();
   }
   ASSERT_GE(crossings.size(), 3u) << "the bar did not oscillate";

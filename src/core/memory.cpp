@@ -21,7 +21,11 @@ double status_field_mib(const char* field) {
 }
 }  // namespace
 
-double peak_rss_mib() { return status_field_mib("VmHWM:"); }
-double current_rss_mib() { return status_field_mib("VmRSS:"); }
+double peak_rss_mib() {
+  return status_field_mib("VmHWM:");
+}
+double current_rss_mib() {
+  return status_field_mib("VmRSS:");
+}
 
 }  // namespace nsf

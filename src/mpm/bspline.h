@@ -27,6 +27,8 @@ inline Stencil quadratic_stencil(const Vec3& x, const Vec3& lo, double inv_dx) {
 }
 
 // APIC/MLS inertia-like scaling D^-1 = 4/dx^2 for quadratic B-splines (§3.3: 12/(dx^2 (b+1))).
-inline double apic_scale(double inv_dx) { return 4.0 * inv_dx * inv_dx; }
+inline double apic_scale(double inv_dx) {
+  return 4.0 * inv_dx * inv_dx;
+}
 
 }  // namespace nsf

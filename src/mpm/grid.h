@@ -33,7 +33,6 @@ class Grid {
   GridNode& operator[](size_t i) { return nodes_[i]; }
   const GridNode& operator[](size_t i) const { return nodes_[i]; }
 
-
  private:
   Vec3 lo_ = Vec3::Zero();
   double dx_ = 1, inv_dx_ = 1;

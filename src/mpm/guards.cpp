@@ -8,7 +8,9 @@
 namespace nsf {
 
 namespace {
-bool finite(const Vec3& a) { return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]); }
+bool finite(const Vec3& a) {
+  return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]);
+}
 }  // namespace
 
 void Simulation::check_particles() const {
@@ -41,7 +43,8 @@ void Simulation::check_particles() const {
   if (!((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()))
     fail("simulation: particle ", p, " left the domain at t = ", t, " (step ", steps_,
          "), position ", pos.str(), "; the domain is [", s.domain_lo.transpose(), "] to [",
-         s.domain_hi.transpose(), "]. Enlarge simulation.domain_lo/domain_hi, add a collider, "
+         s.domain_hi.transpose(),
+         "]. Enlarge simulation.domain_lo/domain_hi, add a collider, "
          "or lower the velocities.");
   fail("simulation: particle ", p, " moves at ", P.v[p].norm(), " m/s at t = ", t, " (step ",
        steps_, "), position ", pos.str(), ", over the CFL limit ", vmax,

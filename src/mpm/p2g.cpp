@@ -30,9 +30,14 @@ void Simulation::p2g() {
         const double m = P.mass[p];
         Mat3 Cp;
         switch (transfer) {
-          case Transfer::APIC: Cp = P.C[p]; break;
-          case Transfer::RPIC: Cp = 0.5 * (P.C[p] - P.C[p].transpose()); break;
-          default: Cp = Mat3::Zero();
+          case Transfer::APIC:
+            Cp = P.C[p];
+            break;
+          case Transfer::RPIC:
+            Cp = 0.5 * (P.C[p] - P.C[p].transpose());
+            break;
+          default:
+            Cp = Mat3::Zero();
         }
         const Mat3 A = m * Cp - (dt * P.vol0[p] * Dinv) * P.tau[p];
         const Vec3 mv = m * P.v[p];

@@ -10,12 +10,12 @@
 namespace nsf {
 
 struct Particles {
-  std::vector<Vec3> X;     // reference (rest) position
-  std::vector<Vec3> x;     // current position
-  std::vector<Vec3> v;     // velocity
-  std::vector<Mat3> C;     // affine velocity field (APIC); velocity-gradient estimate in any scheme
-  std::vector<Mat3> F;     // elastic deformation gradient F^E
-  std::vector<Mat3> tau;   // Kirchhoff stress τ(F^E), computed after the return map
+  std::vector<Vec3> X;    // reference (rest) position
+  std::vector<Vec3> x;    // current position
+  std::vector<Vec3> v;    // velocity
+  std::vector<Mat3> C;    // affine velocity field (APIC); velocity-gradient estimate in any scheme
+  std::vector<Mat3> F;    // elastic deformation gradient F^E
+  std::vector<Mat3> tau;  // Kirchhoff stress τ(F^E), computed after the return map
   std::vector<double> mass;
   std::vector<double> vol0;  // initial volume V_p^0
   std::vector<MaterialPoint> mat;

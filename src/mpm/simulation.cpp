@@ -80,8 +80,8 @@ void Simulation::sort_particles() {
 #pragma omp parallel for schedule(static)
   for (long p = 0; p < long(np); ++p) {
     Stencil st = quadratic_stencil(P.x[p], grid_.lo(), grid_.inv_dx());
-    size_t b = (size_t(st.base[0] / kBlock) * nb[1] + st.base[1] / kBlock) * nb[2] +
-               st.base[2] / kBlock;
+    size_t b =
+        (size_t(st.base[0] / kBlock) * nb[1] + st.base[1] / kBlock) * nb[2] + st.base[2] / kBlock;
     key[p] = static_cast<uint32_t>(b);
   }
   for (size_t p = 0; p < np; ++p) ++count[key[p] + 1];
