@@ -4,6 +4,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
 mkdir -p out
-./build/nsf simulate scenes/examples/elastic_drop.json --out out/elastic_drop.h5 \
-  --png out/elastic_drop.png "$@"
-echo "demo: picture in out/elastic_drop.png, frames in out/elastic_drop.h5 (docs/OUTPUT.md)"
+./build/nsf simulate scenes/examples/sand_column.json --out out/sand_column.h5 \
+  --png out/sand_column.png "$@"
+echo "demo: picture in out/sand_column.png, all frames in out/sand_column.h5 (docs/OUTPUT.md)"

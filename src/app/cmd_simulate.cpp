@@ -8,7 +8,9 @@
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/progress.h"
+#include "io/image.h"
 #include "io/png_render.h"
+#include "io/text.h"
 #include "io/run_writer.h"
 #include "mpm/simulation.h"
 
@@ -42,17 +44,42 @@ void print_breakdown(const Simulation& sim, double wall, size_t particles) {
               peak_rss_mib());
 }
 
-// Frames the particles' bounding box, with the ground at the domain's floor wall.
-void write_picture(const Simulation& sim, const std::string& path) {
-  const Particles& P = sim.particles();
+// Where to draw the ground: the highest upward-facing plane collider, else the floor wall.
+double floor_height(const Scene& scene) {
+  const SimSettings& s = scene.settings;
+  double h = s.domain_lo[1] + s.wall_nodes * s.dx;
+  for (const auto& c : scene.source.value("colliders", nlohmann::json::array())) {
+    if (c.value("type", "") != "plane" || !c.contains("normal")) continue;
+    const Vec3 n(c["normal"][0].get<double>(), c["normal"][1].get<double>(),
+                 c["normal"][2].get<double>());
+    if (n.normalized()[1] > 0.99) h = std::max(h, c["point"][1].get<double>());
+  }
+  return h;
+}
+
+// A strip of snapshots (positions at chosen frames), one fixed camera framing all of them, the
+// ground at the domain's floor wall, each panel labelled with its time.
+void write_filmstrip(const Simulation& sim, const std::vector<std::vector<Vec3>>& snapshots,
+                     const std::vector<double>& times, const std::string& path) {
   const SimSettings& s = sim.settings();
-  Vec3 lo = P.x[0], hi = P.x[0];
-  for (const Vec3& x : P.x) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  Vec3 lo = snapshots[0][0], hi = lo;
+  for (const auto& xs : snapshots)
+    for (const Vec3& x : xs) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
   RenderOptions opt;
+  opt.width = 480, opt.height = 400;
   frame_box(opt, lo, hi);
   opt.radius = 0.5 * s.dx / s.ppc;
-  opt.ground_height = std::min(lo[1], s.domain_lo[1] + s.wall_nodes * s.dx);
-  write_png(render_particles(P.x, colors_by_index(P.object), opt), path);
+  opt.ground_height = floor_height(sim.scene());
+  const auto colors = colors_by_index(sim.particles().object);
+  Image strip;
+  for (size_t k = 0; k < snapshots.size(); ++k) {
+    Image panel = render_particles(snapshots[k], colors, opt);
+    char label[64];
+    std::snprintf(label, sizeof label, "T = %.3f S", times[k]);
+    draw_text(panel, 10, 10, label, Rgb{40, 40, 40});
+    strip = k == 0 ? panel : side_by_side(strip, panel);
+  }
+  write_png(strip, path);
 }
 
 void run_simulate(const SimulateArgs& a) {
@@ -71,11 +98,18 @@ void run_simulate(const SimulateArgs& a) {
 
   RunWriter writer(a.out, sim.particles(), s, name, scene_json);
   writer.write_frame(sim.particles(), sim.time());
+  // Snapshots for the picture: the first frame, two in between, and the last.
+  std::vector<std::vector<Vec3>> snapshots{sim.particles().x};
+  std::vector<double> snapshot_times{sim.time()};
   Progress progress("simulate", s.frames, "frames");
   const double start = now_seconds();
   for (int f = 1; f <= s.frames; ++f) {
     sim.advance_frame();
     writer.write_frame(sim.particles(), sim.time());
+    if (!a.png.empty() && (f == s.frames || f * 3 / s.frames != (f - 1) * 3 / s.frames)) {
+      snapshots.push_back(sim.particles().x);
+      snapshot_times.push_back(sim.time());
+    }
     const double rate = double(np) * sim.step_count() / (now_seconds() - start);
     if (!a.quiet) progress.update(f, Progress::format_rate(rate) + " particle-steps/s");
   }
@@ -83,7 +117,7 @@ void run_simulate(const SimulateArgs& a) {
   const double wall = now_seconds() - start;
   if (!a.quiet) progress.finish();
   if (!a.png.empty()) {
-    write_picture(sim, a.png);
+    write_filmstrip(sim, snapshots, snapshot_times, a.png);
     std::printf("picture: %s\n", a.png.c_str());
   }
   std::printf("wrote %s (%d frames, %zu particles)\n", a.out.c_str(), s.frames + 1, np);
@@ -99,7 +133,7 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("--out,-o", args->out, "Output HDF5 file (docs/OUTPUT.md)")->required();
   cmd->add_option("--set", args->overrides, "Override a scene value, e.g. --set material.E=5")
       ->type_name("KEY=VALUE");
-  cmd->add_option("--png", args->png, "Also write a picture of the last frame");
+  cmd->add_option("--png", args->png, "Also write a picture: snapshots from start to end");
   cmd->add_option("--threads,-j", args->threads, "OpenMP threads (0 = all cores)")
       ->check(CLI::Range(0, 1024));
   cmd->add_flag("--quiet,-q", args->quiet, "No progress line");
