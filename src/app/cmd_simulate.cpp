@@ -63,11 +63,9 @@ void run_simulate(const SimulateArgs& a) {
   Simulation sim(std::move(scene));
   const SimSettings& s = sim.settings();
   const size_t np = sim.particles().size();
-  std::fprintf(stderr,
-               "nsf simulate: %s, %zu particles, grid %dx%dx%d, %d frames x %d steps, "
-               "%d threads\n",
-               name.c_str(), np, sim.grid().dims()[0], sim.grid().dims()[1], sim.grid().dims()[2],
-               s.frames, s.substeps, threads);
+  std::fprintf(stderr, "nsf simulate: %s, %zu particles, grid %dx%dx%d, %d frames x %d steps, "
+               "%d threads\n", name.c_str(), np, sim.grid().dims()[0], sim.grid().dims()[1],
+               sim.grid().dims()[2], s.frames, s.substeps, threads);
 
   RunWriter writer(a.out, sim.particles(), s, name, scene_json);
   writer.write_frame(sim.particles(), sim.time());
