@@ -1,0 +1,126 @@
+// `nsf train data/NAME --out models/NAME.nsf`: train e, g, h, l on a dataset (docs/TRAINING.md).
+// Also registers `nsf eval` (cmd_eval.cpp), so commands.h needs one line for both.
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "core/error.h"
+#include "core/memory.h"
+#include "core/progress.h"
+#include "nn/config.h"
+#include "nn/dataset.h"
+#include "nn/runtime.h"
+#include "nn/trainer.h"
+
+namespace nsf::app {
+
+void add_eval_command(CLI::App& app);  // cmd_eval.cpp
+
+namespace {
+
+struct TrainArgs {
+  std::string data, out;
+  std::vector<long> steps;
+  std::vector<double> epochs;
+  std::vector<int> frames;
+  int r = 0, depth = 0, width_g = 0, width_h = 0, width_l = 0;
+  bool no_mu = false;
+  TrainOptions opt;
+};
+
+template <typename T, typename U>
+void per_stage(const std::vector<T>& in, U& out, const char* flag) {
+  if (in.empty()) return;
+  if (in.size() != 1 && in.size() != kStageCount)
+    fail(flag, " takes one value for all stages or three (g,h,l), got ", in.size());
+  for (int s = 0; s < kStageCount; ++s) out[s] = in[in.size() == 1 ? 0 : s];
+}
+
+void run_train(TrainArgs& a) {
+  TrainConfig& c = a.opt.config;
+  const int threads = set_nn_threads(c.threads);
+  std::string row;
+  {
+    const Dataset data(a.data);
+    c.net = default_net_config(data.scene_name(), &row);
+    std::fprintf(stderr,
+                 "nsf train: %s, scene '%s', %zu particles, %zu training runs, %zu test "
+                 "runs%s\n",
+                 a.data.c_str(), data.scene_name().c_str(), data.particle_count(),
+                 data.train().size(), data.test().size(), data.has_mu() ? " (with mu)" : "");
+  }
+  if (a.r > 0) c.net.latent_dim = a.r;
+  if (a.depth > 0) c.net.depth = a.depth;
+  if (a.width_g > 0) c.net.width_g = a.width_g;
+  if (a.width_h > 0) c.net.width_h = a.width_h;
+  if (a.width_l > 0) c.net.width_l = a.width_l;
+  if (a.no_mu) c.net.stress_uses_mu = false;
+  per_stage(a.steps, c.steps, "--steps");
+  per_stage(a.epochs, a.opt.epochs, "--epochs");
+  per_stage(a.frames, c.frames_per_batch, "--frames-per-batch");
+  std::fprintf(stderr, "  networks (Table 1 row '%s'): r = %d, depth %d, widths g %d, h %d, l %d\n",
+               row.c_str(), c.net.latent_dim, c.net.depth, c.net.width_g, c.net.width_h,
+               c.net.width_l);
+  std::fprintf(stderr, "  %d threads, BLAS: %s\n", threads, blas_info().c_str());
+
+  const TrainReport r = train_model(a.data, a.out, a.opt);
+  if (!r.completed) {
+    std::fprintf(stderr, "stopped early (--stop-after); continue with --resume from %s\n",
+                 r.checkpoint_path.c_str());
+    return;
+  }
+  std::printf("model: %s\nloss curves: %s%s%s\n", r.model_path.c_str(), r.loss_csv.c_str(),
+              r.loss_png.empty() ? "" : ", ", r.loss_png.c_str());
+  std::printf(
+      "throughput (points/s): g %s, h %s, l %s; encoder %s frames/s; peak memory %.0f MiB\n",
+      Progress::format_rate(r.stages[0].points_per_second).c_str(),
+      Progress::format_rate(r.stages[1].points_per_second).c_str(),
+      Progress::format_rate(r.stages[2].points_per_second).c_str(),
+      Progress::format_rate(r.stages[0].frames_per_second).c_str(), peak_rss_mib());
+}
+
+}  // namespace
+
+void add_nn_commands(CLI::App& app) {
+  auto a = std::make_shared<TrainArgs>();
+  TrainConfig& c = a->opt.config;
+  CLI::App* cmd = app.add_subcommand("train",
+                                     "Train the encoder and the deformation, stress and "
+                                     "affine fields on a dataset (nsf sweep)");
+  cmd->add_option("data", a->data, "Dataset directory (manifest.json, train_k.h5, test_k.h5)")
+      ->required();
+  cmd->add_option("--out,-o", a->out, "Model file to write, e.g. models/NAME.nsf")->required();
+  cmd->add_option("--steps", a->steps, "Optimiser steps per stage: one value or g,h,l")
+      ->delimiter(',');
+  cmd->add_option("--epochs", a->epochs,
+                  "Epochs per stage instead of --steps (epoch = every training point once)")
+      ->delimiter(',');
+  cmd->add_option("--frames-per-batch", a->frames, "Frames per batch: one value or g,h,l")
+      ->delimiter(',');
+  cmd->add_option("--particles-per-frame", c.particles_per_frame,
+                  "Particles sampled per batch frame")
+      ->capture_default_str();
+  cmd->add_option("--latent-dim,-r", a->r, "Latent dimension r (default: Table 1 for the scene)");
+  cmd->add_option("--depth", a->depth, "Hidden layers per decoder (default 5)");
+  cmd->add_option("--width-g", a->width_g, "Hidden width of g (default: Table 1)");
+  cmd->add_option("--width-h", a->width_h, "Hidden width of h (default: Table 1)");
+  cmd->add_option("--width-l", a->width_l, "Hidden width of l (default: Table 1)");
+  cmd->add_flag("--no-mu", a->no_mu, "Do not condition the stress field h on mu");
+  cmd->add_option("--seed", c.seed, "Random seed (initialisation and batches)")
+      ->capture_default_str();
+  cmd->add_option("--threads,-j", c.threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--checkpoint-every", c.checkpoint_every, "Steps between checkpoints")
+      ->capture_default_str();
+  cmd->add_option("--memory-budget", c.memory_budget_gib,
+                  "GiB of training frames kept in RAM; larger datasets are streamed from disk")
+      ->capture_default_str();
+  cmd->add_flag("--resume", a->opt.resume, "Continue from <out>.ckpt if it exists");
+  cmd->add_option("--stop-after", a->opt.stop_after,
+                  "Stop after this many steps (then continue with --resume)");
+  cmd->add_flag("--quiet,-q", c.quiet, "No progress output");
+  cmd->callback([a] { run_train(*a); });
+  add_eval_command(app);
+}
+
+}  // namespace nsf::app

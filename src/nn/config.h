@@ -1,0 +1,49 @@
+#pragma once
+// Network sizes (App. E, Table 1) and training schedule (App. D), without torch so that the CLI,
+// docs and a future runtime can talk about a model's shape without pulling in LibTorch.
+#include <array>
+#include <string>
+
+namespace nsf {
+
+// Shape of the three decoders and the encoder. Each decoder is an ELU MLP with `depth` hidden
+// layers of width β·d (d = 3 for g, 6 for h, 9 for l), input (X, ẑ[, μ]).
+struct NetConfig {
+  int latent_dim = 6;  // r
+  int depth = 5;       // hidden layers per decoder
+  int width_g = 48 * 3;
+  int width_h = 64 * 6;
+  int width_l = 64 * 9;
+  int encoder_hidden = 32;     // the encoder's Linear → 32 before the last Linear → r
+  bool stress_uses_mu = true;  // h(X, ẑ, μ) when the dataset has a parameter μ
+};
+
+// Table 1, keyed by the scene name stored in the run files; unknown scenes get the bread row.
+// Returns the row's scene name ("default" for the fallback) through `matched` when given.
+NetConfig default_net_config(const std::string& scene_name, std::string* matched = nullptr);
+
+// One stage per network: 0 = encoder + g, 1 = h, 2 = l.
+constexpr int kStageCount = 3;
+extern const char* const kStageNames[kStageCount];  // "deformation", "stress", "affine"
+
+// App. D's learning-rate steps, spread evenly over each stage's optimiser steps.
+constexpr std::array<double, 5> kLearningRates = {1e-3, 5e-4, 2e-4, 1e-4, 5e-5};
+double learning_rate(long step, long total_steps);
+
+struct TrainConfig {
+  NetConfig net;
+  // Optimiser steps per stage. Defaults are sized for a 2-core CPU (docs/TRAINING.md); the paper's
+  // 300/600 epochs over all particles are out of reach there.
+  std::array<long, kStageCount> steps = {3000, 2000, 2000};
+  // A batch is `frames_per_batch` frames, then `particles_per_frame` particles in each, so memory
+  // per step is bounded whatever the dataset size. Stage 1 also encodes each batch frame in full.
+  std::array<int, kStageCount> frames_per_batch = {4, 16, 16};
+  int particles_per_frame = 512;
+  unsigned long long seed = 1;
+  int threads = 0;                 // 0 = all cores
+  long checkpoint_every = 250;     // steps; also written at the end of every stage
+  double memory_budget_gib = 2.0;  // training frames are cached in RAM up to this, else streamed
+  bool quiet = false;
+};
+
+}  // namespace nsf

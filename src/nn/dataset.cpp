@@ -1,0 +1,170 @@
+#include "nn/dataset.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+
+#include "core/error.h"
+
+namespace nsf {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// "train_12.h5" sorts after "train_2.h5": order runs by their number, not lexically.
+std::vector<std::string> glob_runs(const fs::path& dir, const std::string& split) {
+  const std::regex re(split + "_([0-9]+)\\.h5");
+  std::vector<std::pair<long, std::string>> found;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    std::smatch m;
+    const std::string name = e.path().filename().string();
+    if (std::regex_match(name, m, re)) found.emplace_back(std::stol(m[1]), name);
+  }
+  std::sort(found.begin(), found.end());
+  std::vector<std::string> names;
+  for (auto& f : found) names.push_back(f.second);
+  return names;
+}
+
+std::string entry_file(const nlohmann::json& e, const std::string& manifest) {
+  if (e.is_string()) return e.get<std::string>();
+  if (e.is_object()) {
+    for (const char* key : {"file", "path"})
+      if (e.contains(key) && e[key].is_string()) return e[key].get<std::string>();
+  }
+  fail(manifest, ": a run entry must be a file name or an object with \"file\", got ", e.dump());
+}
+
+void read_manifest(const fs::path& path, std::vector<std::string>& train,
+                   std::vector<std::string>& test) {
+  std::ifstream in(path);
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception& e) {
+    fail(path.string(), ": not valid JSON (", e.what(), ")");
+  }
+  for (auto [key, out] : {std::pair{"train", &train}, std::pair{"test", &test}})
+    if (j.contains(key) && j[key].is_array())
+      for (const auto& e : j[key]) out->push_back(entry_file(e, path.string()));
+  for (const char* key : {"runs", "simulations"}) {
+    if (!j.contains(key) || !j[key].is_array()) continue;
+    for (const auto& e : j[key]) {
+      const std::string split = e.is_object() ? e.value("split", "") : "";
+      if (split == "train")
+        train.push_back(entry_file(e, path.string()));
+      else if (split == "test")
+        test.push_back(entry_file(e, path.string()));
+      else
+        fail(path.string(), ": run entry without \"split\": \"train\"|\"test\": ", e.dump());
+    }
+  }
+}
+
+void to_float(const std::vector<Vec3>& v, std::vector<float>& out) {
+  out.resize(3 * v.size());
+  for (size_t p = 0; p < v.size(); ++p)
+    for (int i = 0; i < 3; ++i) out[3 * p + i] = static_cast<float>(v[p][i]);
+}
+
+}  // namespace
+
+Dataset::Dataset(const std::string& dir) : dir_(dir) {
+  const fs::path root(dir);
+  if (!fs::is_directory(root)) fail("dataset directory ", dir, " does not exist");
+  std::vector<std::string> train, test;
+  const fs::path manifest = root / "manifest.json";
+  if (fs::exists(manifest)) read_manifest(manifest, train, test);
+  if (train.empty() && test.empty()) {
+    train = glob_runs(root, "train");
+    test = glob_runs(root, "test");
+  }
+  if (train.empty())
+    fail("dataset ", dir,
+         " has no training runs (expected manifest.json or train_<k>.h5 files; "
+         "make one with `nsf sweep`)");
+
+  std::vector<Vec3> X0;
+  std::string first;
+  auto open = [&](const std::string& name, std::vector<SimulationFile>& out) {
+    const fs::path p = fs::path(name).is_absolute() ? fs::path(name) : root / name;
+    auto r = std::make_unique<RunReader>(p.string());
+    SimulationFile s;
+    s.path = p.string();
+    s.frames = r->frame_count();
+    s.has_mu = r->has_attribute("mu");
+    if (s.has_mu) s.mu = r->attribute_double("mu");
+    if (readers_.empty()) {
+      first = s.path;
+      X_ = r->rest_positions();
+      scene_name_ = r->scene_name();
+      has_mu_ = s.has_mu;
+    } else {
+      if (r->rest_positions() != X_)
+        fail("dataset ", dir, ": ", s.path, " is not the same scene as ", first,
+             " (particle count or rest positions differ)");
+      if (s.has_mu != has_mu_)
+        fail("dataset ", dir, ": ", s.path, (s.has_mu ? " has" : " has no"), " attribute 'mu' but ",
+             first, (has_mu_ ? " has" : " has not"));
+    }
+    if (s.frames == 0) fail("run ", s.path, " has no frames");
+    readers_.push_back(std::move(r));
+    out.push_back(s);
+  };
+  for (const auto& n : train) open(n, train_);
+  for (const auto& n : test) open(n, test_);
+}
+
+Dataset::~Dataset() = default;
+Dataset::Dataset(Dataset&&) noexcept = default;
+Dataset& Dataset::operator=(Dataset&&) noexcept = default;
+
+const RunReader& Dataset::reader(const SimulationFile& sim) const {
+  for (const auto& r : readers_)
+    if (r->path() == sim.path) return *r;
+  fail("run ", sim.path, " is not part of dataset ", dir_);
+}
+
+FrameData Dataset::read_frame(const SimulationFile& sim, size_t k) const {
+  const RunFrame f = reader(sim).read_frame(k);
+  FrameData d;
+  to_float(f.x, d.x);
+  const size_t n = f.x.size();
+  d.tau.resize(6 * n);
+  d.C.resize(9 * n);
+  for (size_t p = 0; p < n; ++p) {
+    const Mat3& t = f.tau[p];
+    const float s[6] = {float(t(0, 0)), float(t(1, 1)), float(t(2, 2)),
+                        float(t(0, 1)), float(t(1, 2)), float(t(0, 2))};
+    std::copy(s, s + 6, &d.tau[6 * p]);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) d.C[9 * p + 3 * i + j] = static_cast<float>(f.C[p](i, j));
+  }
+  return d;
+}
+
+std::vector<Vec3> Dataset::read_positions(const SimulationFile& sim, size_t k) const {
+  return reader(sim).read_positions(k);
+}
+
+FrameStore::FrameStore(const Dataset& data, double budget_gib) : data_(data) {
+  for (size_t s = 0; s < data.train().size(); ++s)
+    for (size_t k = 0; k < data.train()[s].frames; ++k) index_.emplace_back(s, k);
+  const double bytes = double(index_.size()) * data.particle_count() * 18 * sizeof(float);
+  cached_ = bytes <= budget_gib * 1024.0 * 1024.0 * 1024.0;
+  if (cached_) {
+    frames_.reserve(index_.size());
+    for (const auto& [s, k] : index_) frames_.push_back(data.read_frame(data.train()[s], k));
+  }
+}
+
+const FrameData& FrameStore::get(size_t i) const {
+  if (cached_) return frames_[i];
+  scratch_ = data_.read_frame(data_.train()[index_[i].first], index_[i].second);
+  return scratch_;
+}
+
+}  // namespace nsf

@@ -1,0 +1,80 @@
+#pragma once
+// A training dataset as written by `nsf sweep`: a directory with manifest.json and one run file
+// per simulation (train_k.h5, test_k.h5, attribute `mu`). No torch here: the trainer and `nsf eval`
+// turn frames into tensors themselves.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+#include "io/run_reader.h"
+
+namespace nsf {
+
+struct SimulationFile {
+  std::string path;
+  bool has_mu = false;
+  double mu = 0;
+  size_t frames = 0;
+};
+
+// One frame in single precision, the networks' precision. Row-major per particle:
+// x (P×3), tau (P×6: xx yy zz xy yz xz), C (P×9).
+struct FrameData {
+  std::vector<float> x, tau, C;
+};
+
+class Dataset {
+ public:
+  // Opens every run listed by <dir>/manifest.json ("train"/"test" arrays of file names, or
+  // "runs" of {"file", "split"} objects), or, without a manifest, <dir>/train_*.h5 and
+  // <dir>/test_*.h5. Checks that all runs share one scene (particle count and rest positions)
+  // and that either all or none carry `mu`.
+  explicit Dataset(const std::string& dir);
+  ~Dataset();
+  Dataset(Dataset&&) noexcept;
+  Dataset& operator=(Dataset&&) noexcept;
+
+  const std::string& dir() const { return dir_; }
+  const std::string& scene_name() const { return scene_name_; }
+  size_t particle_count() const { return X_.size(); }
+  const std::vector<Vec3>& rest_positions() const { return X_; }
+  bool has_mu() const { return has_mu_; }
+  const std::vector<SimulationFile>& train() const { return train_; }
+  const std::vector<SimulationFile>& test() const { return test_; }
+
+  // Reads frame k of a run (any split), converting to float.
+  FrameData read_frame(const SimulationFile& sim, size_t k) const;
+  std::vector<Vec3> read_positions(const SimulationFile& sim, size_t k) const;
+
+ private:
+  const RunReader& reader(const SimulationFile& sim) const;
+
+  std::string dir_, scene_name_;
+  std::vector<Vec3> X_;
+  bool has_mu_ = false;
+  std::vector<SimulationFile> train_, test_;
+  std::vector<std::unique_ptr<RunReader>> readers_;  // train runs, then test runs
+};
+
+// The training frames, all (run, frame) pairs of the train split, cached in RAM while they fit
+// a budget and streamed from the run files otherwise.
+class FrameStore {
+ public:
+  FrameStore(const Dataset& data, double budget_gib);
+  size_t size() const { return index_.size(); }  // frames over all training runs
+  size_t sim_of(size_t i) const { return index_[i].first; }
+  size_t frame_of(size_t i) const { return index_[i].second; }
+  // Frame i; valid until the next call when streaming.
+  const FrameData& get(size_t i) const;
+  bool cached() const { return cached_; }
+
+ private:
+  const Dataset& data_;
+  std::vector<std::pair<size_t, size_t>> index_;
+  bool cached_ = false;
+  mutable std::vector<FrameData> frames_;
+  mutable FrameData scratch_;
+};
+
+}  // namespace nsf

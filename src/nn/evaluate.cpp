@@ -1,0 +1,74 @@
+#include "nn/evaluate.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "core/error.h"
+#include "nn/dataset.h"
+#include "nn/neural_fields.h"
+
+namespace nsf {
+
+std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::string& data_dir,
+                                    const EvalOptions& o) {
+  NeuralFields nf = NeuralFields::load(model_path);
+  const Dataset data(data_dir);
+  nf.check_scene(data.scene_name(), data.rest_positions(), "dataset " + data_dir);
+
+  std::vector<SimulationFile> runs;
+  if (o.split == "test" || o.split == "all") runs = data.test();
+  if (o.split == "train" || o.split == "all")
+    runs.insert(runs.end(), data.train().begin(), data.train().end());
+  if (o.split != "test" && o.split != "train" && o.split != "all")
+    fail("eval: split must be test, train or all, got '", o.split, "'");
+  if (runs.empty()) fail("dataset ", data_dir, " has no ", o.split, " runs to evaluate");
+
+  const size_t P = data.particle_count();
+  std::vector<size_t> subset;
+  const size_t n = o.max_particles > 0 ? std::min(o.max_particles, P) : P;
+  for (size_t i = 0; i < n; ++i) subset.push_back(i * P / n);
+  std::vector<Vec3> X;
+  for (size_t p : subset) X.push_back(data.rest_positions()[p]);
+  const NeuralFields::Points pts = nf.prepare(X);
+
+  std::vector<EvalRow> rows;
+  std::vector<Vec3> x;
+  std::vector<Mat3> tau, C;
+  for (const SimulationFile& run : runs) {
+    EvalRow row;
+    row.run = std::filesystem::path(run.path).filename().string();
+    row.mu = run.mu, row.has_mu = run.has_mu, row.particles = n;
+    double ex = 0, nx = 0, et = 0, nt = 0, ec = 0, nc = 0;
+    // Eq. (11) sums over n = 1…N: frame 0 is the initial state, not a prediction.
+    for (size_t k = std::min<size_t>(1, run.frames - 1); k < run.frames;
+         k += std::max<size_t>(1, o.frame_stride)) {
+      const FrameData f = data.read_frame(run, k);
+      std::vector<Vec3> full(P);
+      for (size_t p = 0; p < P; ++p) full[p] = Vec3(f.x[3 * p], f.x[3 * p + 1], f.x[3 * p + 2]);
+      const Latent z = nf.encode(full);
+      nf.deform(pts, z, x);
+      nf.stress(pts, z, run.mu, tau);
+      nf.affine(pts, z, C);
+      for (size_t i = 0; i < n; ++i) {
+        const size_t p = subset[i];
+        ex += (x[i] - full[p]).squaredNorm(), nx += full[p].squaredNorm();
+        const float* s = &f.tau[6 * p];
+        Mat3 t;
+        t << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
+        et += (tau[i] - t).squaredNorm(), nt += t.squaredNorm();
+        const Mat3 c = Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(&f.C[9 * p])
+                           .cast<double>();
+        ec += (C[i] - c).squaredNorm(), nc += c.squaredNorm();
+      }
+      ++row.frames;
+    }
+    // A field that is zero throughout (no stress in a rigid drop) has no relative error: NaN.
+    row.delta = nx > 0 ? std::sqrt(ex / nx) : NAN;
+    row.stress_error = nt > 0 ? std::sqrt(et / nt) : NAN;
+    row.affine_error = nc > 0 ? std::sqrt(ec / nc) : NAN;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+}  // namespace nsf

@@ -1,0 +1,28 @@
+#pragma once
+// `nsf eval`: how well a trained model reproduces held-out runs when each frame's latent comes
+// from the encoder (no latent dynamics yet): δ of eq. (11) and relative errors of τ and C.
+#include <string>
+#include <vector>
+
+namespace nsf {
+
+struct EvalOptions {
+  std::string split = "test";  // "test", "train" or "all"
+  size_t frame_stride = 1;     // every k-th frame (frames 1…N, as in eq. 11)
+  size_t max_particles = 0;    // 0 = all; otherwise an evenly spaced subset (cheaper on big scenes)
+};
+
+struct EvalRow {
+  std::string run;  // file name
+  double mu = 0;
+  bool has_mu = false;
+  size_t frames = 0, particles = 0;
+  double delta = 0;         // eq. (11): √(Σ‖g(X,ẑ_n) − x_n‖² / Σ‖x_n‖²)
+  double stress_error = 0;  // √(Σ‖h − τ‖²_F / Σ‖τ‖²_F), full 3×3 Frobenius norms
+  double affine_error = 0;  // same for l and C
+};
+
+std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::string& data_dir,
+                                    const EvalOptions& options);
+
+}  // namespace nsf

@@ -1,0 +1,252 @@
+#include "nn/model.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace nsf {
+
+namespace {
+
+constexpr const char* kFormat = "nsf-model";
+constexpr int64_t kFormatVersion = 1;
+
+torch::Tensor to_tensor(const std::vector<double>& v) {
+  std::vector<float> f(v.begin(), v.end());
+  return torch::tensor(f, torch::kFloat32);
+}
+
+std::string hex64(uint64_t v) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+void write_normalizer(torch::serialize::OutputArchive& a, const std::string& name,
+                      const Normalizer& n) {
+  a.write("norm_" + name + "_mean", n.mean, /*is_buffer=*/true);
+  a.write("norm_" + name + "_std", n.std, /*is_buffer=*/true);
+}
+
+Normalizer read_normalizer(torch::serialize::InputArchive& a, const std::string& name) {
+  Normalizer n;
+  a.read("norm_" + name + "_mean", n.mean, /*is_buffer=*/true);
+  a.read("norm_" + name + "_std", n.std, /*is_buffer=*/true);
+  return n;
+}
+
+c10::IValue read_value(torch::serialize::InputArchive& a, const std::string& key,
+                       const std::string& path) {
+  c10::IValue v;
+  if (!a.try_read(key, v)) fail("model file ", path, ": missing entry '", key, "'");
+  return v;
+}
+
+}  // namespace
+
+Normalizer Normalizer::identity(int64_t dim) {
+  return {torch::zeros({dim}, torch::kFloat32), torch::ones({dim}, torch::kFloat32)};
+}
+
+Normalizer Normalizer::from_moments(const std::vector<double>& sum,
+                                    const std::vector<double>& sum_sq, double count) {
+  const size_t d = sum.size();
+  std::vector<double> mean(d), sd(d);
+  double largest = 0;
+  for (size_t i = 0; i < d; ++i) {
+    mean[i] = count > 0 ? sum[i] / count : 0.0;
+    const double var = count > 0 ? sum_sq[i] / count - mean[i] * mean[i] : 0.0;
+    sd[i] = std::sqrt(std::max(var, 0.0));
+    largest = std::max(largest, sd[i]);
+  }
+  for (double& s : sd)
+    if (!(s > 1e-6 * largest) || s < 1e-30) s = largest > 1e-30 ? largest : 1.0;
+  return {to_tensor(mean), to_tensor(sd)};
+}
+
+SceneFingerprint SceneFingerprint::of(const std::string& scene_name, const std::vector<Vec3>& X) {
+  // FNV-1a over the raw doubles: any change to the sampling (resolution, seed, geometry) changes
+  // the particle indexing and must invalidate the model.
+  uint64_t h = 1469598103934665603ull;
+  for (const Vec3& p : X) {
+    const unsigned char* b = reinterpret_cast<const unsigned char*>(p.data());
+    for (size_t i = 0; i < 3 * sizeof(double); ++i) h = (h ^ b[i]) * 1099511628211ull;
+  }
+  return {scene_name, static_cast<int64_t>(X.size()), h};
+}
+
+std::string SceneFingerprint::describe() const {
+  std::ostringstream os;
+  os << "scene '" << scene_name << "' (" << particles << " particles, X hash " << hex64(x_hash)
+     << ")";
+  return os.str();
+}
+
+NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
+    : config(c), scene(s), has_mu(mu) {
+  const int64_t r = c.latent_dim;
+  encoder = Encoder(s.particles, r, c.encoder_hidden);
+  g = FieldMlp(3 + r, 3, c.width_g, c.depth);
+  h = FieldMlp(3 + r + (stress_has_mu() ? 1 : 0), 6, c.width_h, c.depth);
+  l = FieldMlp(3 + r, 9, c.width_l, c.depth);
+  norm_X = Normalizer::identity(3);
+  norm_x = Normalizer::identity(3);
+  norm_z = Normalizer::identity(r);
+  norm_mu = Normalizer::identity(1);
+  norm_tau = Normalizer::identity(6);
+  norm_C = Normalizer::identity(9);
+}
+
+void NeuralModel::write(torch::serialize::OutputArchive& a) const {
+  a.write("format", c10::IValue(std::string(kFormat)));
+  a.write("format_version", c10::IValue(kFormatVersion));
+  a.write("nsf_version", c10::IValue(std::string(NSF_VERSION)));
+  a.write("scene_name", c10::IValue(scene.scene_name));
+  a.write("scene_particles", c10::IValue(scene.particles));
+  a.write("scene_x_hash", c10::IValue(hex64(scene.x_hash)));
+  a.write("latent_dim", c10::IValue(int64_t(config.latent_dim)));
+  a.write("depth", c10::IValue(int64_t(config.depth)));
+  a.write("width_g", c10::IValue(int64_t(config.width_g)));
+  a.write("width_h", c10::IValue(int64_t(config.width_h)));
+  a.write("width_l", c10::IValue(int64_t(config.width_l)));
+  a.write("encoder_hidden", c10::IValue(int64_t(config.encoder_hidden)));
+  a.write("stress_uses_mu", c10::IValue(config.stress_uses_mu));
+  a.write("has_mu", c10::IValue(has_mu));
+  a.write("mu_min", c10::IValue(mu_min));
+  a.write("mu_max", c10::IValue(mu_max));
+  write_normalizer(a, "X", norm_X);
+  write_normalizer(a, "x", norm_x);
+  write_normalizer(a, "z", norm_z);
+  write_normalizer(a, "mu", norm_mu);
+  write_normalizer(a, "tau", norm_tau);
+  write_normalizer(a, "C", norm_C);
+  const std::pair<const char*, const torch::nn::Module*> nets[] = {
+      {"encoder", encoder.get()}, {"g", g.get()}, {"h", h.get()}, {"l", l.get()}};
+  for (const auto& [name, net] : nets) {
+    torch::serialize::OutputArchive sub;
+    net->save(sub);
+    a.write(name, sub);
+  }
+}
+
+NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::string& path) {
+  c10::IValue format;
+  if (!a.try_read("format", format) || !format.isString() || format.toStringRef() != kFormat)
+    fail(path, " is not an nsf model file (no 'format' = '", kFormat, "' entry)");
+  const int64_t version = read_value(a, "format_version", path).toInt();
+  if (version > kFormatVersion)
+    fail("model file ", path, " has format version ", version, "; this nsf reads up to ",
+         kFormatVersion, " (written by nsf ", read_value(a, "nsf_version", path).toStringRef(),
+         ")");
+  auto integer = [&](const char* key) {
+    return static_cast<int>(read_value(a, key, path).toInt());
+  };
+  NetConfig c;
+  c.latent_dim = integer("latent_dim");
+  c.depth = integer("depth");
+  c.width_g = integer("width_g");
+  c.width_h = integer("width_h");
+  c.width_l = integer("width_l");
+  c.encoder_hidden = integer("encoder_hidden");
+  c.stress_uses_mu = read_value(a, "stress_uses_mu", path).toBool();
+  SceneFingerprint s;
+  s.scene_name = read_value(a, "scene_name", path).toStringRef();
+  s.particles = read_value(a, "scene_particles", path).toInt();
+  s.x_hash = std::stoull(read_value(a, "scene_x_hash", path).toStringRef(), nullptr, 16);
+  NeuralModel m(c, s, read_value(a, "has_mu", path).toBool());
+  m.mu_min = read_value(a, "mu_min", path).toDouble();
+  m.mu_max = read_value(a, "mu_max", path).toDouble();
+  m.norm_X = read_normalizer(a, "X");
+  m.norm_x = read_normalizer(a, "x");
+  m.norm_z = read_normalizer(a, "z");
+  m.norm_mu = read_normalizer(a, "mu");
+  m.norm_tau = read_normalizer(a, "tau");
+  m.norm_C = read_normalizer(a, "C");
+  const std::pair<const char*, torch::nn::Module*> nets[] = {
+      {"encoder", m.encoder.get()}, {"g", m.g.get()}, {"h", m.h.get()}, {"l", m.l.get()}};
+  for (const auto& [name, net] : nets) {
+    torch::serialize::InputArchive sub;
+    a.read(name, sub);
+    net->load(sub);
+  }
+  return m;
+}
+
+void NeuralModel::save(const std::string& path) const {
+  const std::string tmp = path + ".tmp";
+  try {
+    torch::serialize::OutputArchive a;
+    write(a);
+    a.save_to(tmp);
+  } catch (const c10::Error& e) {
+    std::filesystem::remove(tmp);
+    fail("cannot write model ", path, ": ", e.what_without_backtrace());
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) fail("cannot write model ", path, ": ", ec.message());
+}
+
+NeuralModel NeuralModel::load(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) fail("model file ", path, " does not exist");
+  try {
+    torch::serialize::InputArchive a;
+    a.load_from(path);
+    NeuralModel m = read(a, path);
+    m.set_eval_mode();
+    return m;
+  } catch (const c10::Error& e) {
+    fail("cannot read model ", path,
+         " (not an nsf model, or damaged): ", e.what_without_backtrace());
+  }
+}
+
+void NeuralModel::check_scene(const SceneFingerprint& data, const std::string& what) const {
+  if (!scene.matches(data))
+    fail("the model was trained for ", scene.describe(), ", but ", what, " is ", data.describe(),
+         "; train a model for this scene (nsf train)");
+}
+
+void NeuralModel::set_eval_mode() {
+  encoder->eval();
+  g->eval();
+  h->eval();
+  l->eval();
+}
+
+torch::Tensor NeuralModel::encode(const torch::Tensor& x) {
+  const torch::Tensor xn = norm_x.apply(x);
+  return encoder->forward(xn.reshape({x.size(0), -1}));
+}
+
+torch::Tensor NeuralModel::g_input(const torch::Tensor& Xn, const torch::Tensor& z) const {
+  return torch::cat({Xn, z}, 1);
+}
+
+torch::Tensor NeuralModel::h_input(const torch::Tensor& Xn, const torch::Tensor& z,
+                                   const torch::Tensor& mu) const {
+  if (stress_has_mu()) return torch::cat({Xn, norm_z.apply(z), norm_mu.apply(mu)}, 1);
+  return torch::cat({Xn, norm_z.apply(z)}, 1);
+}
+
+torch::Tensor NeuralModel::l_input(const torch::Tensor& Xn, const torch::Tensor& z) const {
+  return torch::cat({Xn, norm_z.apply(z)}, 1);
+}
+
+torch::Tensor NeuralModel::deform(const torch::Tensor& Xn, const torch::Tensor& z) {
+  return norm_x.invert(g->forward(g_input(Xn, z)));
+}
+
+torch::Tensor NeuralModel::stress(const torch::Tensor& Xn, const torch::Tensor& z,
+                                  const torch::Tensor& mu) {
+  return norm_tau.invert(h->forward(h_input(Xn, z, mu)));
+}
+
+torch::Tensor NeuralModel::affine(const torch::Tensor& Xn, const torch::Tensor& z) {
+  return norm_C.invert(l->forward(l_input(Xn, z)));
+}
+
+}  // namespace nsf

@@ -1,0 +1,90 @@
+#pragma once
+// The trained model as a whole: encoder, the three decoders, normalisation statistics, the
+// parameter range and the scene it was trained for. One file on disk (docs/TRAINING.md). Torch
+// level; the runtime facade without torch types is nn/neural_fields.h.
+#include <torch/serialize/archive.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+#include "nn/config.h"
+#include "nn/networks.h"
+
+namespace nsf {
+
+// Per-component affine normalisation to zero mean / unit variance.
+struct Normalizer {
+  torch::Tensor mean, std;  // float32, one entry per component
+
+  static Normalizer identity(int64_t dim);
+  // From per-component sums Σv and Σv² over `count` samples. A component that never varies
+  // (τ of an unloaded direction, say) gets unit scale instead of a division by ~0.
+  static Normalizer from_moments(const std::vector<double>& sum, const std::vector<double>& sum_sq,
+                                 double count);
+  torch::Tensor apply(const torch::Tensor& v) const { return (v - mean) / std; }
+  torch::Tensor invert(const torch::Tensor& v) const { return v * std + mean; }
+};
+
+// Identifies the scene a model belongs to: the reference positions X fix the particle indexing
+// every network relies on, so the hash covers their exact bits.
+struct SceneFingerprint {
+  std::string scene_name;
+  int64_t particles = 0;
+  uint64_t x_hash = 0;
+
+  static SceneFingerprint of(const std::string& scene_name, const std::vector<Vec3>& X);
+  bool matches(const SceneFingerprint& o) const {
+    return particles == o.particles && x_hash == o.x_hash;
+  }
+  std::string describe() const;  // "scene 'bread' (40000 particles, X hash 0123abcd…)"
+};
+
+class NeuralModel {
+ public:
+  NeuralModel(const NetConfig& config, const SceneFingerprint& scene, bool has_mu);
+
+  // Atomic: written to "<path>.tmp" and renamed, so a crash never leaves a half model.
+  void save(const std::string& path) const;
+  // Throws nsf::Error naming the file for a missing, foreign or damaged file.
+  static NeuralModel load(const std::string& path);
+  // Throws nsf::Error when `data` (what: e.g. the dataset path) is another scene.
+  void check_scene(const SceneFingerprint& data, const std::string& what) const;
+
+  // Archive form, shared by the model file and the training checkpoint.
+  void write(torch::serialize::OutputArchive& a) const;
+  static NeuralModel read(torch::serialize::InputArchive& a, const std::string& path);
+
+  bool stress_has_mu() const { return has_mu && config.stress_uses_mu; }
+  int64_t latent_dim() const { return config.latent_dim; }
+
+  // ---- batched evaluation, physical units in and out (float32) ----
+  // x: B × |P| × 3 current positions → B × r latents.
+  torch::Tensor encode(const torch::Tensor& x);
+  // Decoder inputs per point: Xn = normalised rest positions (N × 3), z = latents (N × r),
+  // mu (N × 1, physical; ignored unless stress_has_mu()).
+  torch::Tensor deform(const torch::Tensor& Xn, const torch::Tensor& z);  // N × 3
+  torch::Tensor stress(const torch::Tensor& Xn, const torch::Tensor& z,
+                       const torch::Tensor& mu);                          // N × 6
+  torch::Tensor affine(const torch::Tensor& Xn, const torch::Tensor& z);  // N × 9
+  // The normalised decoder inputs the trainer and the functions above share.
+  torch::Tensor g_input(const torch::Tensor& Xn, const torch::Tensor& z) const;
+  torch::Tensor h_input(const torch::Tensor& Xn, const torch::Tensor& z,
+                        const torch::Tensor& mu) const;
+  torch::Tensor l_input(const torch::Tensor& Xn, const torch::Tensor& z) const;
+
+  void set_eval_mode();
+
+  NetConfig config;
+  SceneFingerprint scene;
+  bool has_mu = false;
+  double mu_min = 0, mu_max = 0;
+  Encoder encoder{nullptr};
+  FieldMlp g{nullptr}, h{nullptr}, l{nullptr};
+  // X: rest positions, x: current positions (also the encoder's input), z: latents as seen by
+  // h and l (g learns with raw encoder output), mu, tau (6), C (9).
+  Normalizer norm_X, norm_x, norm_z, norm_mu, norm_tau, norm_C;
+};
+
+}  // namespace nsf

@@ -1,0 +1,147 @@
+#include "nn/neural_fields.h"
+
+#include "core/error.h"
+#include "nn/model.h"
+
+namespace nsf {
+
+namespace {
+
+// Bounds the activations of one call (points × width floats per layer) for large point sets.
+constexpr int64_t kChunk = 65536;
+
+torch::Tensor latent_tensor(const Latent& z, int64_t r) {
+  if (z.size() != r) fail("latent of size ", z.size(), " for a model with r = ", r);
+  return torch::from_blob(const_cast<double*>(z.data()), {1, r}, torch::kFloat64)
+      .to(torch::kFloat32);
+}
+
+torch::Tensor positions_tensor(const std::vector<Vec3>& v) {
+  return torch::from_blob(const_cast<double*>(v.data()->data()), {int64_t(v.size()), 3},
+                          torch::kFloat64)
+      .to(torch::kFloat32);
+}
+
+// Runs f over chunks of the prepared points and returns the concatenated rows as double.
+template <typename F>
+torch::Tensor chunked(const torch::Tensor& Xn, const torch::Tensor& z, F&& f) {
+  torch::NoGradGuard no_grad;
+  const int64_t n = Xn.size(0);
+  std::vector<torch::Tensor> parts;
+  for (int64_t a = 0; a < n; a += kChunk) {
+    const torch::Tensor X = Xn.slice(0, a, std::min(n, a + kChunk));
+    parts.push_back(f(X, z.expand({X.size(0), z.size(1)})));
+  }
+  if (parts.empty()) return torch::empty({0, 0}, torch::kFloat64);
+  return torch::cat(parts, 0).to(torch::kFloat64).contiguous();
+}
+
+}  // namespace
+
+struct NeuralFields::Points::Impl {
+  torch::Tensor Xn;  // N × 3 normalised rest positions
+};
+
+NeuralFields::Points::Points() = default;
+NeuralFields::Points::~Points() = default;
+NeuralFields::Points::Points(Points&&) noexcept = default;
+NeuralFields::Points& NeuralFields::Points::operator=(Points&&) noexcept = default;
+size_t NeuralFields::Points::size() const {
+  return impl_ ? size_t(impl_->Xn.size(0)) : 0;
+}
+
+NeuralFields::NeuralFields() = default;
+NeuralFields::~NeuralFields() = default;
+NeuralFields::NeuralFields(NeuralFields&&) noexcept = default;
+NeuralFields& NeuralFields::operator=(NeuralFields&&) noexcept = default;
+
+NeuralFields NeuralFields::load(const std::string& path) {
+  NeuralFields f;
+  f.model_ = std::make_unique<NeuralModel>(NeuralModel::load(path));
+  return f;
+}
+
+int NeuralFields::latent_dim() const {
+  return model_->config.latent_dim;
+}
+size_t NeuralFields::particle_count() const {
+  return size_t(model_->scene.particles);
+}
+const std::string& NeuralFields::scene_name() const {
+  return model_->scene.scene_name;
+}
+bool NeuralFields::stress_uses_mu() const {
+  return model_->stress_has_mu();
+}
+double NeuralFields::mu_min() const {
+  return model_->mu_min;
+}
+double NeuralFields::mu_max() const {
+  return model_->mu_max;
+}
+NeuralModel& NeuralFields::model() {
+  return *model_;
+}
+
+void NeuralFields::check_scene(const std::string& scene_name, const std::vector<Vec3>& X,
+                               const std::string& what) const {
+  model_->check_scene(SceneFingerprint::of(scene_name, X), what);
+}
+
+std::vector<Latent> NeuralFields::encode(const std::vector<std::vector<Vec3>>& frames) const {
+  torch::NoGradGuard no_grad;
+  const int64_t P = model_->scene.particles;
+  std::vector<Latent> out;
+  for (const auto& x : frames) {
+    if (int64_t(x.size()) != P)
+      fail("encode: frame has ", x.size(), " particles, the model's scene has ", P);
+    const torch::Tensor z =
+        model_->encode(positions_tensor(x).reshape({1, P, 3})).to(torch::kFloat64).contiguous();
+    out.emplace_back(Eigen::Map<const Latent>(z.data_ptr<double>(), z.size(1)));
+  }
+  return out;
+}
+
+Latent NeuralFields::encode(const std::vector<Vec3>& x) const {
+  return encode(std::vector<std::vector<Vec3>>{x})[0];
+}
+
+NeuralFields::Points NeuralFields::prepare(const std::vector<Vec3>& X) const {
+  Points p;
+  p.impl_ = std::make_unique<Points::Impl>();
+  p.impl_->Xn = X.empty() ? torch::empty({0, 3}) : model_->norm_X.apply(positions_tensor(X));
+  return p;
+}
+
+void NeuralFields::deform(const Points& X, const Latent& z, std::vector<Vec3>& x) const {
+  const torch::Tensor out =
+      chunked(X.impl_->Xn, latent_tensor(z, latent_dim()),
+              [&](const auto& a, const auto& b) { return model_->deform(a, b); });
+  x.resize(X.size());
+  if (!x.empty()) std::copy_n(out.data_ptr<double>(), 3 * x.size(), x[0].data());
+}
+
+void NeuralFields::stress(const Points& X, const Latent& z, double mu,
+                          std::vector<Mat3>& tau) const {
+  const torch::Tensor m = torch::full({1, 1}, float(mu));
+  const torch::Tensor out =
+      chunked(X.impl_->Xn, latent_tensor(z, latent_dim()), [&](const auto& a, const auto& b) {
+        return model_->stress(a, b, m.expand({a.size(0), 1}));
+      });
+  tau.resize(X.size());
+  const double* s = tau.empty() ? nullptr : out.data_ptr<double>();
+  for (size_t p = 0; p < tau.size(); ++p, s += 6)  // xx yy zz xy yz xz
+    tau[p] << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
+}
+
+void NeuralFields::affine(const Points& X, const Latent& z, std::vector<Mat3>& C) const {
+  const torch::Tensor out =
+      chunked(X.impl_->Xn, latent_tensor(z, latent_dim()),
+              [&](const auto& a, const auto& b) { return model_->affine(a, b); });
+  C.resize(X.size());
+  const double* c = C.empty() ? nullptr : out.data_ptr<double>();
+  for (size_t p = 0; p < C.size(); ++p, c += 9)  // row-major, as in the run files
+    C[p] << c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8];
+}
+
+}  // namespace nsf

@@ -1,0 +1,73 @@
+#pragma once
+// Run-time access to a trained model without torch in the interface: the reduced-order stepper,
+// `nsf eval` and other programs evaluate the encoder e and the fields g, h, l over many
+// particles per call. Latents and results are double at the interface; the networks run in float.
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace nsf {
+
+class NeuralModel;
+
+using Latent = Eigen::VectorXd;  // ẑ ∈ R^r
+
+class NeuralFields {
+ public:
+  // Loads a model file (nsf train). Throws nsf::Error naming the file when it cannot be used.
+  static NeuralFields load(const std::string& path);
+  ~NeuralFields();
+  NeuralFields(NeuralFields&&) noexcept;
+  NeuralFields& operator=(NeuralFields&&) noexcept;
+
+  int latent_dim() const;
+  size_t particle_count() const;  // |P| of the scene it was trained for
+  const std::string& scene_name() const;
+  bool stress_uses_mu() const;
+  double mu_min() const;  // the training runs' μ range (extrapolation beyond it is risky)
+  double mu_max() const;
+
+  // Throws nsf::Error unless X (rest positions of `what`, e.g. a run file) is the model's scene.
+  void check_scene(const std::string& scene_name, const std::vector<Vec3>& X,
+                   const std::string& what) const;
+
+  // e(xⁿ): one full frame of current positions (|P| of them, particle order of the scene).
+  Latent encode(const std::vector<Vec3>& x) const;
+  std::vector<Latent> encode(const std::vector<std::vector<Vec3>>& frames) const;
+
+  // A set of reference positions prepared once for repeated evaluation (the normalised X; the
+  // place to keep per-particle precomputed X-parts of the first layers). Any X in Ω₀ works,
+  // not only the training particles: g queried at more points boosts the resolution (Fig. 6).
+  class Points {
+   public:
+    Points();
+    ~Points();
+    Points(Points&&) noexcept;
+    Points& operator=(Points&&) noexcept;
+    size_t size() const;
+
+   private:
+    friend class NeuralFields;
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+  };
+  Points prepare(const std::vector<Vec3>& X) const;
+
+  // The fields at every prepared point for one latent, in one batched call each.
+  void deform(const Points& X, const Latent& z, std::vector<Vec3>& x) const;  // g → x
+  void stress(const Points& X, const Latent& z, double mu,
+              std::vector<Mat3>& tau) const;  // h → τ (symmetric); mu ignored unless used
+  void affine(const Points& X, const Latent& z, std::vector<Mat3>& C) const;  // l → C
+
+  // The torch-level model, for code that already includes nn/model.h (trainer, tools).
+  NeuralModel& model();
+
+ private:
+  NeuralFields();
+  std::unique_ptr<NeuralModel> model_;
+};
+
+}  // namespace nsf

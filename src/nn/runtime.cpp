@@ -1,0 +1,51 @@
+#include "nn/runtime.h"
+
+#include <ATen/Context.h>
+#include <ATen/Parallel.h>
+#include <dlfcn.h>
+
+#include <thread>
+
+namespace nsf {
+
+namespace {
+
+// OpenBLAS's entry points looked up at run time: libtorch links libblas.so.3, which the
+// alternatives system may point at OpenBLAS or at the reference BLAS, so linking them directly
+// would fail for the latter.
+template <typename Fn>
+Fn openblas_symbol(const char* name) {
+  return reinterpret_cast<Fn>(dlsym(RTLD_DEFAULT, name));
+}
+
+}  // namespace
+
+int set_nn_threads(int requested) {
+  int n = requested > 0 ? requested : static_cast<int>(std::thread::hardware_concurrency());
+  if (n < 1) n = 1;
+  at::set_num_threads(n);
+  if (auto set = openblas_symbol<void (*)(int)>("openblas_set_num_threads")) set(n);
+  return at::get_num_threads();
+}
+
+bool blas_is_openblas() {
+  return openblas_symbol<char* (*)()>("openblas_get_config") != nullptr;
+}
+
+std::string blas_info() {
+  auto config = openblas_symbol<char* (*)()>("openblas_get_config");
+  if (!config)
+    return "WARNING: libblas.so.3 is not OpenBLAS (the reference BLAS is 6-10x slower); run "
+           "scripts/install-deps.sh or `update-alternatives --config "
+           "libblas.so.3-x86_64-linux-gnu`";
+  std::string s = std::string("OpenBLAS ") + config();
+  if (auto threads = openblas_symbol<int (*)()>("openblas_get_num_threads"))
+    s += " (" + std::to_string(threads()) + " threads)";
+  return s;
+}
+
+void seed_torch(unsigned long long seed) {
+  at::manual_seed(seed);
+}
+
+}  // namespace nsf

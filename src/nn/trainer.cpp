@@ -1,0 +1,467 @@
+#include "nn/trainer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <random>
+#include <sstream>
+#include <vector>
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "core/timer.h"
+#include "nn/dataset.h"
+#include "nn/model.h"
+#include "nn/runtime.h"
+
+#include <torch/optim/adam.h>
+
+namespace nsf {
+
+namespace fs = std::filesystem;
+
+std::string checkpoint_path_for(const std::string& model_path) {
+  return model_path + ".ckpt";
+}
+
+std::string loss_csv_path_for(const std::string& model_path) {
+  return (fs::path(model_path).replace_extension("").string()) + ".loss.csv";
+}
+
+namespace {
+
+struct LossRow {
+  int stage;
+  long step;
+  double loss, lr;
+};
+
+// Sizes of the decoder targets per stage: x (3), τ (6), C (9).
+constexpr int kTargetDim[kStageCount] = {3, 6, 9};
+constexpr const char* kNetworkNames[kStageCount] = {"g", "h", "l"};
+
+class Trainer {
+ public:
+  Trainer(const std::string& data_dir, const std::string& out, const TrainOptions& o)
+      : opt_(o),
+        cfg_(o.config),
+        out_(out),
+        ckpt_(checkpoint_path_for(out)),
+        data_(data_dir),
+        store_(data_, cfg_.memory_budget_gib),
+        model_(cfg_.net, SceneFingerprint::of(data_.scene_name(), data_.rest_positions()),
+               data_.has_mu()),
+        rng_(cfg_.seed) {
+    for (int s = 0; s < kStageCount; ++s) {
+      if (o.epochs[s] <= 0) continue;
+      const double points = double(store_.size()) * double(data_.particle_count());
+      const double per_step =
+          double(cfg_.frames_per_batch[s]) *
+          double(std::min<size_t>(data_.particle_count(), cfg_.particles_per_frame));
+      cfg_.steps[s] = std::max(1L, long(std::ceil(o.epochs[s] * points / per_step)));
+    }
+  }
+
+  TrainReport run();
+
+ private:
+  void say(const std::string& s) const {
+    if (!cfg_.quiet) std::fprintf(stderr, "%s\n", s.c_str());
+  }
+  std::string config_key() const;
+  void compute_statistics();
+  void compute_latents();
+  void start_stage();
+  std::vector<torch::Tensor> stage_parameters();
+  double train_step();
+  void save_checkpoint() const;
+  void load_checkpoint();
+  void write_loss_curves(TrainReport& report) const;
+
+  TrainOptions opt_;
+  TrainConfig cfg_;
+  std::string out_, ckpt_;
+  Dataset data_;
+  FrameStore store_;
+  NeuralModel model_;
+  torch::Tensor Xn_;       // |P| × 3 normalised rest positions
+  torch::Tensor latents_;  // frames × r, ẑ_n = e(xⁿ) once stage 1 is done
+  torch::Tensor mu_;       // frames × 1 (physical μ of each training frame's run)
+  std::mt19937_64 rng_;
+  int stage_ = 0;
+  long step_ = 0;
+  std::vector<LossRow> history_;
+  std::unique_ptr<torch::optim::Adam> adam_;
+};
+
+std::string Trainer::config_key() const {
+  const NetConfig& n = cfg_.net;
+  std::ostringstream os;
+  os << model_.scene.describe() << " r=" << n.latent_dim << " depth=" << n.depth
+     << " widths=" << n.width_g << "," << n.width_h << "," << n.width_l
+     << " enc=" << n.encoder_hidden << " mu=" << n.stress_uses_mu << " steps=" << cfg_.steps[0]
+     << "," << cfg_.steps[1] << "," << cfg_.steps[2] << " batch=" << cfg_.frames_per_batch[0] << ","
+     << cfg_.frames_per_batch[1] << "," << cfg_.frames_per_batch[2] << "x"
+     << cfg_.particles_per_frame << " seed=" << cfg_.seed << " runs=" << data_.train().size();
+  return os.str();
+}
+
+void Trainer::compute_statistics() {
+  // Moments in double over every training particle of every frame: one pass over the data.
+  std::vector<double> s[3], q[3];
+  for (int k = 0; k < 3; ++k) s[k].assign(kTargetDim[k], 0.0), q[k].assign(kTargetDim[k], 0.0);
+  for (size_t i = 0; i < store_.size(); ++i) {
+    const FrameData& f = store_.get(i);
+    const std::vector<float>* fields[3] = {&f.x, &f.tau, &f.C};
+    for (int k = 0; k < 3; ++k) {
+      const int d = kTargetDim[k];
+      const std::vector<float>& v = *fields[k];
+      for (size_t j = 0; j < v.size(); ++j) s[k][j % d] += v[j], q[k][j % d] += double(v[j]) * v[j];
+    }
+  }
+  const double points = double(store_.size()) * data_.particle_count();
+  model_.norm_x = Normalizer::from_moments(s[0], q[0], points);
+  model_.norm_tau = Normalizer::from_moments(s[1], q[1], points);
+  model_.norm_C = Normalizer::from_moments(s[2], q[2], points);
+
+  std::vector<double> xs(3, 0.0), xq(3, 0.0);
+  for (const Vec3& X : data_.rest_positions())
+    for (int i = 0; i < 3; ++i) xs[i] += X[i], xq[i] += X[i] * X[i];
+  model_.norm_X = Normalizer::from_moments(xs, xq, double(data_.particle_count()));
+
+  // μ statistics over runs (not frames): each run is one parameter sample.
+  std::vector<double> ms(1, 0.0), mq(1, 0.0);
+  model_.mu_min = model_.mu_max = data_.train()[0].mu;
+  for (const SimulationFile& r : data_.train()) {
+    ms[0] += r.mu, mq[0] += r.mu * r.mu;
+    model_.mu_min = std::min(model_.mu_min, r.mu), model_.mu_max = std::max(model_.mu_max, r.mu);
+  }
+  model_.norm_mu = Normalizer::from_moments(ms, mq, double(data_.train().size()));
+}
+
+void Trainer::compute_latents() {
+  torch::NoGradGuard no_grad;
+  const int64_t P = static_cast<int64_t>(data_.particle_count());
+  const int64_t n = static_cast<int64_t>(store_.size());
+  latents_ = torch::empty({n, model_.latent_dim()});
+  for (int64_t i = 0; i < n; ++i) {
+    const FrameData& f = store_.get(i);
+    const torch::Tensor x = torch::from_blob(const_cast<float*>(f.x.data()), {1, P, 3});
+    latents_[i] = model_.encode(x)[0];
+  }
+  std::vector<double> s(model_.latent_dim(), 0.0), q(model_.latent_dim(), 0.0);
+  auto acc = latents_.accessor<float, 2>();
+  for (int64_t i = 0; i < n; ++i)
+    for (int64_t j = 0; j < model_.latent_dim(); ++j)
+      s[j] += acc[i][j], q[j] += acc[i][j] * acc[i][j];
+  model_.norm_z = Normalizer::from_moments(s, q, double(n));
+}
+
+std::vector<torch::Tensor> Trainer::stage_parameters() {
+  if (stage_ == 0) {
+    auto p = model_.encoder->parameters();
+    for (auto& t : model_.g->parameters()) p.push_back(t);
+    return p;
+  }
+  return stage_ == 1 ? model_.h->parameters() : model_.l->parameters();
+}
+
+void Trainer::start_stage() {
+  adam_ = std::make_unique<torch::optim::Adam>(stage_parameters(),
+                                               torch::optim::AdamOptions(kLearningRates[0]));
+}
+
+double Trainer::train_step() {
+  const int64_t P = static_cast<int64_t>(data_.particle_count());
+  const int64_t B = cfg_.frames_per_batch[stage_];
+  const int64_t n = std::min<int64_t>(P, cfg_.particles_per_frame);
+  const int d = kTargetDim[stage_];
+
+  // Frames first, then particles within each frame (App. D's batches of whole frames do not fit
+  // a CPU budget; this keeps a step's memory independent of the dataset size).
+  std::uniform_int_distribution<size_t> pick_frame(0, store_.size() - 1);
+  std::uniform_int_distribution<int64_t> pick_particle(0, P - 1);
+  std::vector<int64_t> frames(B), particles(B * n);
+  torch::Tensor target = torch::empty({B * n, d});
+  torch::Tensor full_x = stage_ == 0 ? torch::empty({B, P, 3}) : torch::Tensor();
+  float* t = target.data_ptr<float>();
+  for (int64_t b = 0; b < B; ++b) {
+    frames[b] = static_cast<int64_t>(pick_frame(rng_));
+    const FrameData& f = store_.get(frames[b]);
+    const std::vector<float>& src = stage_ == 0 ? f.x : stage_ == 1 ? f.tau : f.C;
+    if (stage_ == 0) std::copy(f.x.begin(), f.x.end(), full_x[b].data_ptr<float>());
+    for (int64_t j = 0; j < n; ++j) {
+      const int64_t p = n == P ? j : pick_particle(rng_);
+      particles[b * n + j] = p;
+      std::copy(&src[d * p], &src[d * p] + d, t + (b * n + j) * d);
+    }
+  }
+  const torch::Tensor pidx = torch::tensor(particles, torch::kInt64);
+  const torch::Tensor fidx = torch::tensor(frames, torch::kInt64).repeat_interleave(n);
+  const torch::Tensor Xn = Xn_.index_select(0, pidx);
+
+  torch::Tensor pred, goal;
+  if (stage_ == 0) {
+    const torch::Tensor z = model_.encode(full_x).repeat_interleave(n, 0);
+    pred = model_.g->forward(model_.g_input(Xn, z));
+    goal = model_.norm_x.apply(target);
+  } else if (stage_ == 1) {
+    const torch::Tensor z = latents_.index_select(0, fidx);
+    pred = model_.h->forward(model_.h_input(Xn, z, mu_.index_select(0, fidx)));
+    goal = model_.norm_tau.apply(target);
+  } else {
+    const torch::Tensor z = latents_.index_select(0, fidx);
+    pred = model_.l->forward(model_.l_input(Xn, z));
+    goal = model_.norm_C.apply(target);
+  }
+  torch::Tensor loss = torch::mse_loss(pred, goal);
+  adam_->zero_grad();
+  loss.backward();
+  adam_->step();
+  return loss.item<double>();
+}
+
+void Trainer::save_checkpoint() const {
+  torch::serialize::OutputArchive a, m, o;
+  model_.write(m);
+  a.write("model", m);
+  a.write("config_key", c10::IValue(config_key()));
+  a.write("stage", c10::IValue(int64_t(stage_)));
+  a.write("step", c10::IValue(int64_t(step_)));
+  std::ostringstream rng;
+  rng << rng_;
+  a.write("rng", c10::IValue(rng.str()));
+  if (adam_) {
+    adam_->save(o);
+    a.write("optimizer", o);
+  }
+  if (latents_.defined()) a.write("latents", latents_, true);
+  torch::Tensor h = torch::empty({int64_t(history_.size()), 4}, torch::kFloat64);
+  for (size_t i = 0; i < history_.size(); ++i) {
+    const LossRow& r = history_[i];
+    h[i][0] = r.stage, h[i][1] = double(r.step), h[i][2] = r.loss, h[i][3] = r.lr;
+  }
+  a.write("history", h, true);
+  const std::string tmp = ckpt_ + ".tmp";
+  a.save_to(tmp);
+  fs::rename(tmp, ckpt_);  // atomic: a kill mid-write leaves the previous checkpoint intact
+}
+
+void Trainer::load_checkpoint() {
+  torch::serialize::InputArchive a, m;
+  try {
+    a.load_from(ckpt_);
+  } catch (const c10::Error& e) {
+    fail("cannot read checkpoint ", ckpt_, ": ", e.what_without_backtrace());
+  }
+  c10::IValue v;
+  a.read("config_key", v);
+  if (v.toStringRef() != config_key())
+    fail("checkpoint ", ckpt_, " was written for other settings:\n  checkpoint: ", v.toStringRef(),
+         "\n  now:        ", config_key(), "\nrerun with the same options, or delete it");
+  a.read("model", m);
+  model_ = NeuralModel::read(m, ckpt_);
+  a.read("stage", v);
+  stage_ = static_cast<int>(v.toInt());
+  a.read("step", v);
+  step_ = v.toInt();
+  a.read("rng", v);
+  std::istringstream rng(v.toStringRef());
+  rng >> rng_;
+  torch::Tensor lat;
+  if (a.try_read("latents", lat, true)) latents_ = lat;
+  torch::Tensor h;
+  a.read("history", h, true);
+  history_.clear();
+  auto acc = h.accessor<double, 2>();
+  for (int64_t i = 0; i < h.size(0); ++i)
+    history_.push_back({int(acc[i][0]), long(acc[i][1]), acc[i][2], acc[i][3]});
+  if (stage_ < kStageCount) {
+    start_stage();
+    torch::serialize::InputArchive o;
+    if (step_ > 0 && a.try_read("optimizer", o)) adam_->load(o);
+  }
+}
+
+void Trainer::write_loss_curves(TrainReport& report) const {
+  report.loss_csv = loss_csv_path_for(out_);
+  std::ofstream csv(report.loss_csv);
+  csv << "stage,network,step,loss,loss_smooth,lr\n";
+  // A trailing mean over 50 steps: single-batch losses are too noisy to read a trend from.
+  double window_sum = 0;
+  std::vector<double> window;
+  int last_stage = -1;
+  for (const LossRow& r : history_) {
+    if (r.stage != last_stage) window.clear(), window_sum = 0, last_stage = r.stage;
+    window.push_back(r.loss);
+    window_sum += r.loss;
+    if (window.size() > 50) window_sum -= window[window.size() - 51];
+    const double smooth = window_sum / double(std::min<size_t>(window.size(), 50));
+    csv << r.stage + 1 << "," << kNetworkNames[r.stage] << "," << r.step << "," << r.loss << ","
+        << smooth << "," << r.lr << "\n";
+  }
+  csv.close();
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
+    say("note: gnuplot not found, loss curves only as CSV (" + report.loss_csv + ")");
+    return;
+  }
+  const std::string png = fs::path(report.loss_csv).replace_extension(".png").string();
+  const std::string script = report.loss_csv + ".gp";
+  {
+    std::ofstream gp(script);
+    gp << "set terminal pngcairo size 900,500 noenhanced\n"
+       << "set output '" << png << "'\n"
+       << "set datafile separator ','\n"
+       << "set logscale y\nset grid\nset key top right\n"
+       << "set xlabel 'optimiser step'\nset ylabel 'normalised MSE'\n"
+       << "set title 'nsf train: " << model_.scene.scene_name << "'\n"
+       << "f = '" << report.loss_csv << "'\n"
+       << "plot f every ::1 using 3:($1==1?$5:1/0) with lines lw 2 title 'g (deformation + e)', "
+          "\\\n"
+       << "     f every ::1 using 3:($1==2?$5:1/0) with lines lw 2 title 'h (stress)', \\\n"
+       << "     f every ::1 using 3:($1==3?$5:1/0) with lines lw 2 title 'l (affine)'\n";
+  }
+  const std::string cmd = "gnuplot '" + script + "' 2>&1";
+  if (std::system(cmd.c_str()) == 0) {
+    report.loss_png = png;
+  } else {
+    // pngcairo is missing in some gnuplot builds; the plain png terminal always exists.
+    std::string text;
+    {
+      std::ifstream in(script);
+      std::stringstream ss;
+      ss << in.rdbuf();
+      text = ss.str();
+    }
+    text.replace(text.find("pngcairo"), 8, "png");
+    std::ofstream(script) << text;
+    if (std::system(cmd.c_str()) == 0)
+      report.loss_png = png;
+    else
+      say("note: gnuplot failed, loss curves only as CSV (" + report.loss_csv + ")");
+  }
+  fs::remove(script);
+}
+
+TrainReport Trainer::run() {
+  TrainReport report;
+  report.model_path = out_;
+  report.checkpoint_path = ckpt_;
+  const bool resumed = opt_.resume && fs::exists(ckpt_);
+  if (opt_.resume && !resumed) say("no checkpoint " + ckpt_ + " yet: starting from scratch");
+  if (resumed) {
+    load_checkpoint();
+    say("resuming from " + ckpt_ + ": stage " + std::to_string(stage_ + 1) + ", step " +
+        std::to_string(step_));
+  } else {
+    compute_statistics();
+    start_stage();
+  }
+  Xn_ = model_.norm_X.apply(torch::from_blob(const_cast<double*>(data_.rest_positions()[0].data()),
+                                             {int64_t(data_.particle_count()), 3}, torch::kFloat64)
+                                .to(torch::kFloat32));
+  std::vector<float> mu;
+  for (size_t i = 0; i < store_.size(); ++i)
+    mu.push_back(float(data_.train()[store_.sim_of(i)].mu));
+  mu_ = torch::tensor(mu).reshape({-1, 1});
+
+  long steps_this_process = 0;
+  for (; stage_ < kStageCount; ++stage_, step_ = 0) {
+    if (stage_ > 0 && !latents_.defined()) compute_latents();
+    const long total = cfg_.steps[stage_];
+    const int64_t points_per_step =
+        cfg_.frames_per_batch[stage_] *
+        std::min<int64_t>(int64_t(data_.particle_count()), cfg_.particles_per_frame);
+    std::unique_ptr<Progress> bar;
+    if (!cfg_.quiet)
+      bar = std::make_unique<Progress>(
+          std::string("stage ") + std::to_string(stage_ + 1) + "/3 " + kStageNames[stage_], total,
+          "steps");
+    StageReport& rep = report.stages[stage_];
+    const long first = step_;
+    const double start = now_seconds();
+    double ema = -1;
+    for (; step_ < total; ++step_) {
+      if (opt_.stop_after >= 0 && steps_this_process >= opt_.stop_after) return report;
+      const double lr = learning_rate(step_, total);
+      for (auto& group : adam_->param_groups())
+        static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
+      const double loss = train_step();
+      if (!std::isfinite(loss))
+        fail("training diverged in stage ", stage_ + 1, " (", kStageNames[stage_], ") at step ",
+             step_, ": loss ", loss);
+      history_.push_back({stage_, step_, loss, lr});
+      ++steps_this_process;
+      ema = ema < 0 ? loss : 0.98 * ema + 0.02 * loss;
+      const double secs = now_seconds() - start;
+      if (bar) {
+        char extra[96];
+        std::snprintf(extra, sizeof extra, "loss %.3e lr %.0e %s pts/s", ema, lr,
+                      Progress::format_rate(double(step_ + 1 - first) * points_per_step /
+                                            std::max(secs, 1e-9))
+                          .c_str());
+        bar->update(step_ + 1, extra);
+      }
+      if (cfg_.checkpoint_every > 0 && (step_ + 1) % cfg_.checkpoint_every == 0 &&
+          step_ + 1 < total) {
+        ++step_;  // the checkpoint resumes *after* this step
+        save_checkpoint();
+        --step_;
+      }
+    }
+    rep.steps = total - first;
+    rep.seconds = now_seconds() - start;
+    rep.points_per_second = rep.steps * double(points_per_step) / std::max(rep.seconds, 1e-9);
+    if (stage_ == 0)
+      rep.frames_per_second =
+          rep.steps * double(cfg_.frames_per_batch[0]) / std::max(rep.seconds, 1e-9);
+    const long tail = std::max<long>(1, total / 20);
+    double sum = 0;
+    long count = 0;
+    for (auto it = history_.rbegin(); it != history_.rend() && count < tail; ++it)
+      if (it->stage == stage_) sum += it->loss, ++count;
+    rep.final_loss = count ? sum / count : 0;
+    if (bar) bar->finish();
+    std::ostringstream os;
+    os << "stage " << stage_ + 1 << " (" << kStageNames[stage_] << "): " << rep.steps
+       << " steps in " << Progress::format_seconds(rep.seconds) << ", "
+       << Progress::format_rate(rep.points_per_second) << " points/s through "
+       << kNetworkNames[stage_];
+    if (stage_ == 0)
+      os << " (+ " << Progress::format_rate(rep.frames_per_second) << " frames/s encoded)";
+    os << ", final loss " << rep.final_loss;
+    say(os.str());
+    // The next stage trains on latents of the finished encoder: compute them before the
+    // checkpoint so that a resumed run reuses the exact same numbers.
+    if (stage_ == 0) compute_latents();
+    if (stage_ + 1 < kStageCount) {
+      const int next = stage_ + 1;
+      ++stage_, step_ = 0;
+      start_stage();
+      save_checkpoint();
+      stage_ = next - 1;
+    }
+  }
+  model_.save(out_);
+  write_loss_curves(report);
+  fs::remove(ckpt_);
+  report.completed = true;
+  return report;
+}
+
+}  // namespace
+
+TrainReport train_model(const std::string& data_dir, const std::string& out_path,
+                        const TrainOptions& options) {
+  if (fs::path(out_path).has_parent_path())
+    fs::create_directories(fs::path(out_path).parent_path());
+  seed_torch(options.config.seed);
+  Trainer t(data_dir, out_path, options);
+  return t.run();
+}
+
+}  // namespace nsf

@@ -1,0 +1,44 @@
+#pragma once
+// `nsf train`: the three training stages of §4.5 — (1) encoder e and deformation decoder g on
+// positions, (2) stress decoder h and (3) affine decoder l on the frozen latents ẑ_n = e(xⁿ).
+// Torch-free interface; the loop lives in trainer.cpp.
+#include <array>
+#include <string>
+
+#include "nn/config.h"
+
+namespace nsf {
+
+struct TrainOptions {
+  TrainConfig config;
+  bool resume = false;  // continue from "<out>.ckpt" when it exists
+  // Stop (as if killed) after this many optimiser steps in this process; < 0 = never. For tests
+  // and time-boxed runs: a later --resume continues from the last checkpoint.
+  long stop_after = -1;
+  // Epochs per stage (one epoch = every particle of every training frame once); a stage with a
+  // value > 0 gets ceil(epochs · frames · |P| / points per step) steps instead of config.steps.
+  std::array<double, kStageCount> epochs = {-1, -1, -1};
+};
+
+struct StageReport {
+  long steps = 0;  // optimiser steps taken in this process
+  double seconds = 0;
+  double points_per_second = 0;  // decoder training points (particle samples) per second
+  double frames_per_second = 0;  // stage 1 only: full frames through the encoder per second
+  double final_loss = 0;         // mean normalised MSE over the stage's last steps
+};
+
+struct TrainReport {
+  std::array<StageReport, kStageCount> stages;
+  std::string model_path, checkpoint_path, loss_csv, loss_png;  // png empty without gnuplot
+  bool completed = false;  // false when stop_after ended the run early
+};
+
+TrainReport train_model(const std::string& data_dir, const std::string& out_path,
+                        const TrainOptions& options);
+
+// Where train_model keeps its checkpoint and loss curves for a model path.
+std::string checkpoint_path_for(const std::string& model_path);
+std::string loss_csv_path_for(const std::string& model_path);
+
+}  // namespace nsf

@@ -1,0 +1,60 @@
+#pragma once
+// A tiny synthetic dataset with a known two-dimensional latent structure, written with RunWriter
+// in the layout `nsf sweep` produces: x = X + a(t, μ)·f(X) + b(t)·k(X), τ and C linear in a, b.
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <string>
+
+#include "io/run_writer.h"
+#include "mpm/particles.h"
+
+namespace nsf::test {
+
+inline Particles synthetic_particles(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.2, 0.8);
+  Particles ps;
+  for (int p = 0; p < n; ++p)
+    ps.add(Vec3(u(rng), u(rng), u(rng)), Vec3::Zero(), 1.0, 1.0, MaterialPoint{}, 0, 0);
+  return ps;
+}
+
+inline void set_synthetic_frame(Particles& ps, double t, double mu) {
+  const double a = 0.1 * mu * std::sin(3.0 * t), b = 0.05 * std::cos(2.0 * t);
+  for (size_t p = 0; p < ps.size(); ++p) {
+    const Vec3& X = ps.X[p];
+    ps.x[p] = X + a * Vec3(std::sin(3.0 * X.y()), 0.0, 0.2) + b * Vec3(0.0, X.x() * X.x(), X.z());
+    Mat3 s;
+    s << a, b, 0.0, b, -a * X.y(), 0.3 * a, 0.0, 0.3 * a, b * X.x();
+    ps.tau[p] = 1e3 * s;
+    ps.C[p] << b, a, 0.0, -a, b * X.z(), 0.1, 0.0, a * X.x(), -b;
+  }
+}
+
+// Writes <dir>/train_k.h5 and test_k.h5 (attribute mu) and a manifest.json.
+inline void write_synthetic_dataset(const std::filesystem::path& dir, int particles,
+                                    unsigned seed = 7, int frames = 12) {
+  std::filesystem::create_directories(dir);
+  const double train_mu[] = {0.5, 1.0, 1.5, 2.0}, test_mu[] = {1.25};
+  SimSettings s;
+  s.dt = 0.05;
+  s.substeps = 1;
+  auto write = [&](const std::string& name, double mu) {
+    Particles ps = synthetic_particles(particles, seed);
+    RunWriter w((dir / name).string(), ps, s, "synthetic", "{\"name\": \"synthetic\"}");
+    w.set_attribute("mu", mu);
+    for (int f = 0; f < frames; ++f) {
+      set_synthetic_frame(ps, 0.1 * f, mu);
+      w.write_frame(ps, 0.1 * f);
+    }
+    w.finish();
+  };
+  for (int k = 0; k < 4; ++k) write("train_" + std::to_string(k) + ".h5", train_mu[k]);
+  write("test_0.h5", test_mu[0]);
+  std::ofstream(dir / "manifest.json")
+      << R"({"scene": "synthetic", "train": ["train_0.h5", "train_1.h5", "train_2.h5", )"
+      << R"("train_3.h5"], "test": [{"file": "test_0.h5", "mu": 1.25}]})";
+}
+
+}  // namespace nsf::test

@@ -1,0 +1,95 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "nn/config.h"
+#include "nn/networks.h"
+
+using nsf::Encoder;
+using nsf::FieldMlp;
+
+namespace {
+
+// Conv1d(kernel 6, stride 4) until the length is ≤ 12 (App. E): the expected layer count and the
+// flattened size reaching the first Linear, computed independently of the module.
+std::pair<int64_t, int64_t> expected_encoder_shape(int64_t particles) {
+  int64_t length = 3 * particles, layers = 0;
+  while (length > 12) length = (length - 6) / 4 + 1, ++layers;
+  return {layers, (layers ? 3 : 1) * length};
+}
+
+}  // namespace
+
+TEST(NnEncoder, OutputShapeForSeveralParticleCounts) {
+  torch::manual_seed(0);
+  for (int64_t P : {1, 4, 5, 100, 1000, 12345}) {
+    for (int64_t r : {5, 6}) {
+      Encoder e(P, r);
+      const auto [layers, flat] = expected_encoder_shape(P);
+      EXPECT_EQ(e->conv_layers(), layers) << P;
+      EXPECT_EQ(e->flat_length(), flat) << P;
+      const torch::Tensor z = e->forward(torch::randn({3, 3 * P}));
+      ASSERT_EQ(z.dim(), 2);
+      EXPECT_EQ(z.size(0), 3);
+      EXPECT_EQ(z.size(1), r);
+      EXPECT_TRUE(torch::isfinite(z).all().item<bool>());
+    }
+  }
+  // The documented sizes: 12345 particles → 37035 → 9258 → 2314 → 577 → 143 → 35 → 8.
+  EXPECT_EQ(Encoder(12345, 6)->conv_layers(), 6);
+  EXPECT_EQ(Encoder(12345, 6)->flat_length(), 24);
+}
+
+TEST(NnEncoder, RejectsAnotherParticleCount) {
+  Encoder e(100, 6);
+  EXPECT_ANY_THROW(e->forward(torch::zeros({1, 3 * 101})));
+}
+
+TEST(NnFieldMlp, LayersWidthsAndXavierInit) {
+  torch::manual_seed(0);
+  const int64_t in = 9, out = 6, width = 384, depth = 5;
+  FieldMlp h(in, out, width, depth);
+  ASSERT_EQ(h->layers().size(), size_t(depth + 1));
+  for (size_t i = 0; i < h->layers().size(); ++i) {
+    const auto& w = h->layers()[i]->weight;
+    const int64_t fan_in = i == 0 ? in : width, fan_out = i == size_t(depth) ? out : width;
+    EXPECT_EQ(w.size(0), fan_out);
+    EXPECT_EQ(w.size(1), fan_in);
+    const double bound = std::sqrt(6.0 / double(fan_in + fan_out));
+    EXPECT_LE(w.abs().max().item<double>(), bound + 1e-6);
+    EXPECT_GT(w.abs().max().item<double>(), 0.5 * bound);  // uniform, fills its range
+    EXPECT_EQ(h->layers()[i]->bias.abs().max().item<double>(), 0.0);
+  }
+  const torch::Tensor y = h->forward(torch::randn({1000, in}));
+  EXPECT_EQ(y.size(0), 1000);
+  EXPECT_EQ(y.size(1), out);
+}
+
+TEST(NnConfig, Table1DefaultsAndFallback) {
+  std::string row;
+  const nsf::NetConfig sand = nsf::default_net_config("sand", &row);
+  EXPECT_EQ(row, "sand");
+  EXPECT_EQ(sand.latent_dim, 6);
+  EXPECT_EQ(sand.width_g, 48 * 3);
+  EXPECT_EQ(sand.width_h, 72 * 6);
+  EXPECT_EQ(sand.width_l, 72 * 9);
+  EXPECT_EQ(sand.depth, 5);
+  const nsf::NetConfig metal = nsf::default_net_config("metal_frame", &row);
+  EXPECT_EQ(row, "metal");
+  EXPECT_EQ(metal.latent_dim, 5);
+  EXPECT_EQ(metal.width_h, 48 * 6);
+  const nsf::NetConfig ball = nsf::default_net_config("squishy_ball", &row);
+  EXPECT_EQ(ball.width_l, 72 * 9);
+  nsf::default_net_config("something_else", &row);
+  EXPECT_EQ(row, "default");
+}
+
+TEST(NnConfig, LearningRateStepsCoverTheStage) {
+  EXPECT_EQ(nsf::learning_rate(0, 100), 1e-3);
+  EXPECT_EQ(nsf::learning_rate(19, 100), 1e-3);
+  EXPECT_EQ(nsf::learning_rate(20, 100), 5e-4);
+  EXPECT_EQ(nsf::learning_rate(59, 100), 2e-4);
+  EXPECT_EQ(nsf::learning_rate(79, 100), 1e-4);
+  EXPECT_EQ(nsf::learning_rate(99, 100), 5e-5);
+  EXPECT_EQ(nsf::learning_rate(2, 3), 1e-4);  // fewer steps than rates: still ends lower
+}
