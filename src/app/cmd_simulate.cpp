@@ -8,8 +8,8 @@
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/progress.h"
+#include "data/run_to_file.h"
 #include "io/png_render.h"
-#include "io/run_writer.h"
 #include "mpm/simulation.h"
 
 namespace nsf::app {
@@ -58,7 +58,6 @@ void write_picture(const Simulation& sim, const std::string& path) {
 void run_simulate(const SimulateArgs& a) {
   const int threads = set_threads(a.threads);
   Scene scene = load_scene(a.scene, a.overrides);
-  const std::string scene_json = scene.source.dump();
   const std::string name = scene.name;
   Simulation sim(std::move(scene));
   const SimSettings& s = sim.settings();
@@ -67,17 +66,12 @@ void run_simulate(const SimulateArgs& a) {
                "%d threads\n", name.c_str(), np, sim.grid().dims()[0], sim.grid().dims()[1],
                sim.grid().dims()[2], s.frames, s.substeps, threads);
 
-  RunWriter writer(a.out, sim.particles(), s, name, scene_json);
-  writer.write_frame(sim.particles(), sim.time());
   Progress progress("simulate", s.frames, "frames");
   const double start = now_seconds();
-  for (int f = 1; f <= s.frames; ++f) {
-    sim.advance_frame();
-    writer.write_frame(sim.particles(), sim.time());
+  run_to_file(sim, a.out, {}, [&](int f) {
     const double rate = double(np) * sim.step_count() / (now_seconds() - start);
     if (!a.quiet) progress.update(f, Progress::format_rate(rate) + " particle-steps/s");
-  }
-  writer.finish();
+  });
   const double wall = now_seconds() - start;
   if (!a.quiet) progress.finish();
   if (!a.png.empty()) {
