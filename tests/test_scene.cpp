@@ -429,6 +429,12 @@ TEST(Docs, SceneSnippetsAreValid) {
       scene["objects"][0]["shape"]["max"] = {0.75, 0.75, 0.75};
       scene["objects"][0]["weak_regions"] = j["weak_regions"];
       EXPECT_NO_THROW(build_scene(scene));
+    } else if (j.contains("sweep")) {
+      // The cake's colliders are what the sweep example sets.
+      json scene = read_scene_json(
+          (fs::path(NSF_SOURCE_DIR) / "scenes" / "paper" / "cake_small.json").string());
+      scene["sweep"] = j["sweep"];
+      EXPECT_NO_THROW(build_scene(scene));
     } else if (j.contains("transform")) {
       json shape = {{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.1}};
       shape["transform"] = j["transform"];

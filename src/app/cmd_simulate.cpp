@@ -8,10 +8,10 @@
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/progress.h"
+#include "data/run_to_file.h"
 #include "io/image.h"
 #include "io/png_render.h"
 #include "io/text.h"
-#include "io/run_writer.h"
 #include "mpm/simulation.h"
 
 namespace nsf::app {
@@ -85,7 +85,6 @@ void write_filmstrip(const Simulation& sim, const std::vector<std::vector<Vec3>>
 void run_simulate(const SimulateArgs& a) {
   const int threads = set_threads(a.threads);
   Scene scene = load_scene(a.scene, a.overrides);
-  const std::string scene_json = scene.source.dump();
   const std::string name = scene.name;
   Simulation sim(std::move(scene));
   const SimSettings& s = sim.settings();
@@ -96,24 +95,19 @@ void run_simulate(const SimulateArgs& a) {
                name.c_str(), np, sim.grid().dims()[0], sim.grid().dims()[1], sim.grid().dims()[2],
                s.frames, s.substeps, threads);
 
-  RunWriter writer(a.out, sim.particles(), s, name, scene_json);
-  writer.write_frame(sim.particles(), sim.time());
   // Snapshots for the picture: the first frame, two in between, and the last.
   std::vector<std::vector<Vec3>> snapshots{sim.particles().x};
   std::vector<double> snapshot_times{sim.time()};
   Progress progress("simulate", s.frames, "frames");
   const double start = now_seconds();
-  for (int f = 1; f <= s.frames; ++f) {
-    sim.advance_frame();
-    writer.write_frame(sim.particles(), sim.time());
+  run_to_file(sim, a.out, {}, [&](int f) {
     if (!a.png.empty() && (f == s.frames || f * 3 / s.frames != (f - 1) * 3 / s.frames)) {
       snapshots.push_back(sim.particles().x);
       snapshot_times.push_back(sim.time());
     }
     const double rate = double(np) * sim.step_count() / (now_seconds() - start);
     if (!a.quiet) progress.update(f, Progress::format_rate(rate) + " particle-steps/s");
-  }
-  writer.finish();
+  });
   const double wall = now_seconds() - start;
   if (!a.quiet) progress.finish();
   if (!a.png.empty()) {

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", NSF_VERSION);
   nsf::app::add_simulate_command(app);
   nsf::app::add_nn_commands(app);
+  nsf::app::add_sweep_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -48,6 +48,11 @@ void apply_overrides(nlohmann::json& scene, const std::vector<std::string>& over
 // Validates the JSON and builds the scene. Throws nsf::Error naming the key and value at fault.
 Scene build_scene(const nlohmann::json& scene);
 
+// Reads a file and applies overrides, without building (a sweep builds one scene per μ). Fills
+// in "name" from the file name when the file has none. Throws nsf::Error naming the file.
+nlohmann::json read_scene_json(const std::string& path,
+                               const std::vector<std::string>& overrides = {});
+
 // Reads a file, applies overrides, builds. Throws nsf::Error for a missing or malformed file.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 

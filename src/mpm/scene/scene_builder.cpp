@@ -6,6 +6,7 @@
 #include "mpm/scene/scene.h"
 #include "mpm/scene/scene_keys.h"
 #include "mpm/scene/settings_json.h"
+#include "mpm/scene/sweep_spec.h"
 
 namespace nsf {
 
@@ -36,6 +37,8 @@ Scene build_scene(const nlohmann::json& j) {
     for (size_t i = 0; i < colliders.size(); ++i)
       scene.colliders.push_back(make_collider(colliders[i], js::child("colliders", i)));
   }
+  // Checked here so that every scene load catches a broken sweep, not only `nsf sweep`.
+  if (j.contains("sweep")) parse_sweep(j.at("sweep"), j);
   return scene;
 }
 

@@ -32,7 +32,7 @@ std::string parse_detail(const std::string& what) {
 
 }  // namespace
 
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+nlohmann::json read_scene_json(const std::string& path, const std::vector<std::string>& overrides) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail("scene file '", path, "' cannot be opened (missing or unreadable)");
   std::stringstream buf;
@@ -50,8 +50,16 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   }
   try {
     apply_overrides(j, overrides);
-    if (j.is_object() && !j.contains("name"))
-      j["name"] = std::filesystem::path(path).stem().string();
+  } catch (const Error& e) {
+    fail(path, ": ", e.what());
+  }
+  if (j.is_object() && !j.contains("name")) j["name"] = std::filesystem::path(path).stem().string();
+  return j;
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  const nlohmann::json j = read_scene_json(path, overrides);
+  try {
     return build_scene(j);
   } catch (const Error& e) {
     fail(path, ": ", e.what());

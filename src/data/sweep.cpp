@@ -1,0 +1,163 @@
+#include "data/sweep.h"
+
+#include <omp.h>
+
+#include <atomic>
+#include <filesystem>
+#include <mutex>
+#include <thread>
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "core/timer.h"
+#include "data/manifest.h"
+#include "data/run_to_file.h"
+#include "io/run_reader.h"
+#include "mpm/scene/settings_json.h"
+#include "mpm/scene/sweep_spec.h"
+#include "mpm/simulation.h"
+
+namespace nsf {
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Job {
+  SweepRun run;
+  nlohmann::json scene;  // μ applied
+  std::string path;
+  int frames = 0;
+};
+
+// Shared by the worker threads: the next job to take, the progress line, the first error.
+struct Pool {
+  std::atomic<size_t> next{0};
+  std::atomic<bool> failed{false};
+  std::mutex mutex;  // guards everything below
+  Progress* progress = nullptr;
+  long frames_done = 0;
+  int runs_done = 0;
+  std::string error;
+};
+
+void simulate_job(const Job& job, const std::string& parameter, Pool& pool, int total_runs) {
+  Scene scene;
+  try {
+    scene = build_scene(job.scene);
+  } catch (const Error& e) {
+    fail(job.path, ": scene at mu = ", job.run.mu, ": ", e.what());
+  }
+  Simulation sim(std::move(scene));
+  RunAttributes attributes;
+  attributes.numbers["mu"] = job.run.mu;
+  attributes.strings["split"] = job.run.split;
+  attributes.strings["sweep_parameter"] = parameter;
+  run_to_file(sim, job.path, attributes, [&](int) {
+    std::lock_guard<std::mutex> lock(pool.mutex);
+    ++pool.frames_done;
+    if (pool.progress)
+      pool.progress->update(pool.frames_done, "runs " + std::to_string(pool.runs_done) + "/" +
+                                                  std::to_string(total_runs) + " done");
+  });
+  std::lock_guard<std::mutex> lock(pool.mutex);
+  ++pool.runs_done;
+}
+
+void worker(const std::vector<Job>& jobs, const std::string& parameter, int threads, Pool& pool) {
+  // OpenMP's thread count is per calling thread, so each job slot sets its own.
+  omp_set_num_threads(threads);
+  for (;;) {
+    const size_t i = pool.next++;
+    if (i >= jobs.size() || pool.failed) return;
+    try {
+      simulate_job(jobs[i], parameter, pool, int(jobs.size()));
+    } catch (const std::exception& e) {
+      // Other slots finish their current run (it is valid data) but take no new one.
+      std::lock_guard<std::mutex> lock(pool.mutex);
+      if (!pool.failed.exchange(true)) pool.error = e.what();
+    }
+  }
+}
+
+}  // namespace
+
+bool is_complete_run(const std::string& path, const std::string& scene_json, int frames) {
+  if (!fs::exists(path)) return false;
+  try {
+    RunReader r(path);
+    return r.frame_count() == size_t(frames) + 1 && r.scene_json() == scene_json;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& opt) {
+  if (!opt.only.empty() && opt.only != "train" && opt.only != "test")
+    fail("sweep: --only must be 'train' or 'test', got '", opt.only, "'");
+  if (opt.jobs < 1 || opt.threads < 1) fail("sweep: jobs and threads must be at least 1");
+  const nlohmann::json base = read_scene_json(scene_path, opt.overrides);
+  if (!base.is_object() || !base.contains("sweep"))
+    fail(scene_path, ": the scene has no 'sweep' section (docs/SCENES.md, \"Sweeps\")");
+  SweepSpec spec;
+  try {
+    build_scene(base);  // validates everything once, with the file's own μ
+    spec = parse_sweep(base.at("sweep"), base);
+  } catch (const Error& e) {
+    fail(scene_path, ": ", e.what());
+  }
+  fs::create_directories(opt.out_dir);
+
+  const std::vector<SweepRun> plan = plan_sweep(spec);
+  SweepSummary summary;
+  std::vector<Job> pending;
+  long pending_frames = 0;
+  for (const SweepRun& run : plan) {
+    if (!opt.only.empty() && run.split != opt.only) continue;
+    ++summary.planned;
+    Job job{run, base, (fs::path(opt.out_dir) / run.file()).string(), 0};
+    try {
+      apply_overrides(job.scene, sweep_overrides(spec, run.mu));
+      job.frames = parse_settings(job.scene.at("simulation"), "simulation").frames;
+    } catch (const Error& e) {
+      fail(scene_path, ": sweep run ", run.file(), " (mu = ", run.mu, "): ", e.what());
+    }
+    if (is_complete_run(job.path, job.scene.dump(), job.frames)) {
+      ++summary.skipped;
+      continue;
+    }
+    pending_frames += job.frames;
+    pending.push_back(std::move(job));
+  }
+
+  const double start = now_seconds();
+  Pool pool;
+  Progress progress("sweep " + base.value("name", std::string("scene")), pending_frames, "frames");
+  if (!opt.quiet) pool.progress = &progress;
+  std::vector<std::thread> slots;
+  const int jobs = std::min<int>(opt.jobs, std::max<int>(1, int(pending.size())));
+  for (int j = 0; j < jobs; ++j)
+    slots.emplace_back(worker, std::cref(pending), std::cref(spec.parameter), opt.threads,
+                       std::ref(pool));
+  for (std::thread& t : slots) t.join();
+  summary.ran = pool.runs_done;
+  summary.seconds = now_seconds() - start;
+  if (!opt.quiet && !pending.empty()) progress.finish();
+
+  // The manifest lists every complete run of the whole sweep, also those of an earlier
+  // `--only` pass, so train and test may be generated separately.
+  std::vector<SweepRun> complete;
+  for (const SweepRun& run : plan) {
+    nlohmann::json j = base;
+    apply_overrides(j, sweep_overrides(spec, run.mu));
+    const int frames = parse_settings(j.at("simulation"), "simulation").frames;
+    if (is_complete_run((fs::path(opt.out_dir) / run.file()).string(), j.dump(), frames))
+      complete.push_back(run);
+  }
+  write_json_atomically(
+      (fs::path(opt.out_dir) / "manifest.json").string(),
+      make_manifest(base.value("name", std::string()), scene_path, spec, opt.overrides, complete));
+  if (pool.failed) fail("sweep stopped: ", pool.error);
+  return summary;
+}
+
+}  // namespace nsf

@@ -1,0 +1,135 @@
+#include "mpm/scene/sweep_spec.h"
+
+#include <cmath>
+#include <cstdlib>
+
+#include "core/error.h"
+#include "core/json_util.h"
+#include "mpm/scene/scene.h"
+
+namespace nsf {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Evaluates one template expression (the text between braces).
+double evaluate(const std::string& expr, double mu, const std::string& tmpl) {
+  auto bad = [&](const char* why) {
+    fail("sweep template '", tmpl, "': '{", expr, "}' ", why,
+         " (allowed: mu, mu*K, f(mu), f(mu)*K with f = sin_deg, cos_deg, tan_deg)");
+  };
+  std::string head = expr, factor;
+  const size_t star = expr.find('*');
+  if (star != std::string::npos) head = expr.substr(0, star), factor = expr.substr(star + 1);
+  double v = 0;
+  const double rad = mu * kPi / 180.0;
+  if (head == "mu")
+    v = mu;
+  else if (head == "sin_deg(mu)")
+    v = std::sin(rad);
+  else if (head == "cos_deg(mu)")
+    v = std::cos(rad);
+  else if (head == "tan_deg(mu)")
+    v = std::tan(rad);
+  else
+    bad("is not a known expression");
+  if (star != std::string::npos) {
+    char* end = nullptr;
+    const double k = std::strtod(factor.c_str(), &end);
+    if (factor.empty() || *end != '\0' || !std::isfinite(k)) bad("has a malformed factor");
+    v *= k;
+  }
+  return v;
+}
+
+std::string expand(const std::string& tmpl, double mu) {
+  std::string out;
+  size_t i = 0;
+  while (i < tmpl.size()) {
+    const size_t open = tmpl.find('{', i);
+    if (open == std::string::npos) {
+      out += tmpl.substr(i);
+      break;
+    }
+    const size_t close = tmpl.find('}', open);
+    if (close == std::string::npos) fail("sweep template '", tmpl, "': '{' without '}'");
+    out += tmpl.substr(i, open - i);
+    // nlohmann prints the shortest text that reads back as the same double.
+    out += nlohmann::json(evaluate(tmpl.substr(open + 1, close - open - 1), mu, tmpl)).dump();
+    i = close + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+SweepSpec parse_sweep(const nlohmann::json& j, const nlohmann::json& scene) {
+  namespace js = nsf::json;
+  const std::string path = "sweep";
+  js::require_object(j, path);
+  js::check_keys(j, path, {"parameter", "set", "range", "train", "test"});
+  SweepSpec s;
+  s.parameter = js::get_string(j, path, "parameter");
+  if (s.parameter.empty()) fail("scene: '", path, ".parameter' must not be empty");
+
+  if (!j.contains("set") || !j.at("set").is_array() || j.at("set").empty())
+    fail("scene: '", path, ".set' must be a non-empty array of override templates, got ",
+         j.contains("set") ? j.at("set").dump() : std::string("nothing"));
+  for (size_t i = 0; i < j.at("set").size(); ++i) {
+    const nlohmann::json& t = j.at("set")[i];
+    const std::string where = js::child(js::child(path, "set"), i);
+    if (!t.is_string()) fail("scene: '", where, "' must be a string, got ", t.dump());
+    const std::string text = t.get<std::string>();
+    if (text.find('=') == std::string::npos || text.find('{') == std::string::npos)
+      fail("scene: '", where, "' = \"", text, "\" must look like \"path=value\" with {mu} in it");
+    s.set.push_back(text);
+  }
+
+  const nlohmann::json* range = j.contains("range") ? &j.at("range") : nullptr;
+  if (!range || !range->is_array() || range->size() != 2 || !(*range)[0].is_number() ||
+      !(*range)[1].is_number() || !((*range)[0].get<double>() < (*range)[1].get<double>()))
+    fail("scene: '", path, ".range' must be [lo, hi] with lo < hi, got ",
+         range ? range->dump() : std::string("nothing"));
+  s.lo = (*range)[0].get<double>();
+  s.hi = (*range)[1].get<double>();
+  s.train = js::get_int(j, path, "train", 2, 100000);
+  // Each test value needs its own interval between training values.
+  s.test = js::get_int(j, path, "test", 0, 0, s.train - 1);
+
+  // Try the templates at both ends, on a copy without the sweep (no recursion).
+  for (double mu : {s.lo, s.hi}) {
+    nlohmann::json probe = scene;
+    probe.erase("sweep");
+    try {
+      apply_overrides(probe, sweep_overrides(s, mu));
+    } catch (const Error& e) {
+      fail("scene: '", path, ".set' does not apply at mu = ", mu, ": ", e.what());
+    }
+  }
+  return s;
+}
+
+std::vector<SweepRun> plan_sweep(const SweepSpec& s) {
+  std::vector<SweepRun> runs;
+  std::vector<double> train(s.train);
+  for (int i = 0; i < s.train; ++i) {
+    // The last value is exactly hi, not lo + (n-1)·step with rounding.
+    train[i] = i + 1 == s.train ? s.hi : s.lo + (s.hi - s.lo) * i / (s.train - 1);
+    runs.push_back({"train", i, train[i]});
+  }
+  const int intervals = s.train - 1;
+  for (int k = 0; k < s.test; ++k) {
+    // Interval floor((k + ½)·intervals/test): evenly spread, distinct because test ≤ intervals.
+    const int j = int((k + 0.5) * intervals / s.test);
+    runs.push_back({"test", k, 0.5 * (train[j] + train[j + 1])});
+  }
+  return runs;
+}
+
+std::vector<std::string> sweep_overrides(const SweepSpec& spec, double mu) {
+  std::vector<std::string> out;
+  for (const std::string& t : spec.set) out.push_back(expand(t, mu));
+  return out;
+}
+
+}  // namespace nsf

@@ -1,0 +1,39 @@
+#pragma once
+// The optional "sweep" section of a scene (docs/SCENES.md, "Sweeps"): which problem parameter μ
+// the paper's datasets vary, over which range, how many training and test runs, and how μ enters
+// the scene (override templates such as "material.E={mu*1000}").
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace nsf {
+
+struct SweepSpec {
+  std::string parameter;         // name stored with every run, e.g. "friction_angle"
+  std::vector<std::string> set;  // override templates, each "path=value" with {…} expressions
+  double lo = 0, hi = 1;         // range of μ, lo < hi
+  int train = 2, test = 0;       // run counts
+};
+
+// One planned simulation of a sweep.
+struct SweepRun {
+  std::string split;  // "train" or "test"
+  int index = 0;      // position within its split
+  double mu = 0;
+  std::string file() const { return split + "_" + std::to_string(index) + ".h5"; }
+};
+
+// Reads and validates the section; `scene` is the whole scene, on which every template is tried
+// (with μ = lo) so that a misspelled override path fails at load, not after hours of sweeping.
+SweepSpec parse_sweep(const nlohmann::json& sweep, const nlohmann::json& scene);
+
+// Training μ evenly spaced over [lo, hi] including both ends; test μ at midpoints of the
+// intervals between neighbouring training values, spread over the range (interpolation only).
+std::vector<SweepRun> plan_sweep(const SweepSpec& spec);
+
+// The overrides for one μ: every {expr} of every template replaced by its value. expr is
+// `mu`, `mu*K`, `f(mu)` or `f(mu)*K` with f one of sin_deg, cos_deg, tan_deg (argument in
+// degrees) and K a number.
+std::vector<std::string> sweep_overrides(const SweepSpec& spec, double mu);
+
+}  // namespace nsf
