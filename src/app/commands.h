@@ -5,6 +5,8 @@
 namespace nsf::app {
 
 void add_simulate_command(CLI::App& app);
+void add_render_command(CLI::App& app);
+void add_export_command(CLI::App& app);
 
 // Sets the OpenMP thread count (0 = all cores) and returns the count in use.
 int set_threads(int requested);

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", NSF_VERSION);
   nsf::app::add_simulate_command(app);
+  nsf::app::add_render_command(app);
+  nsf::app::add_export_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

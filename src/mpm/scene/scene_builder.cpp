@@ -36,6 +36,7 @@ Scene build_scene(const nlohmann::json& j) {
     for (size_t i = 0; i < colliders.size(); ++i)
       scene.colliders.push_back(make_collider(colliders[i], js::child("colliders", i)));
   }
+  scene.camera = parse_camera(j);
   return scene;
 }
 
