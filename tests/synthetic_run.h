@@ -24,7 +24,7 @@ inline const char* kSyntheticScene = R"({
     {"shape": {"type": "box", "min": [0.2, 0.1, 0.4], "max": [0.4, 0.3, 0.6]},
      "material": {"type": "fixed_corotated", "E": 1e4, "nu": 0.3}},
     {"shape": {"type": "sphere", "center": [0.6, 0.2, 0.5], "radius": 0.1},
-     "material": {"type": "drucker_prager", "E": 1e4, "nu": 0.3}}
+     "material": {"type": "drucker_prager", "E": 1e4, "nu": 0.3, "friction_angle": 30}}
   ],
   "colliders": [{"type": "plane", "point": [0, 0.1, 0], "normal": [0, 1, 0]}]
 })";

@@ -429,6 +429,8 @@ TEST(Docs, SceneSnippetsAreValid) {
       scene["objects"][0]["shape"]["max"] = {0.75, 0.75, 0.75};
       scene["objects"][0]["weak_regions"] = j["weak_regions"];
       EXPECT_NO_THROW(build_scene(scene));
+    } else if (j.contains("camera")) {
+      EXPECT_TRUE(parse_camera(j).has_value());
     } else if (j.contains("transform")) {
       json shape = {{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.1}};
       shape["transform"] = j["transform"];

@@ -17,7 +17,12 @@ void write_ply(const std::string& path, const RunFrame& f, const std::vector<uin
   const char* pos_type = options.double_positions ? "double" : "float";
   std::ostringstream h;
   h << "ply\nformat binary_little_endian 1.0\n";
-  if (!options.comment.empty()) h << "comment " << options.comment << "\n";
+  if (!options.comment.empty()) {
+    std::string line = options.comment;  // a line break would end the comment mid-header
+    for (char& c : line)
+      if (c == '\n' || c == '\r') c = ' ';
+    h << "comment " << line << "\n";
+  }
   h << "element vertex " << n << "\n";
   for (const char* p : {"x", "y", "z"}) h << "property " << pos_type << " " << p << "\n";
   for (const char* p : {"vx", "vy", "vz", "speed", "von_mises"})

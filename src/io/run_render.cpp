@@ -147,7 +147,8 @@ RenderPlan plan_render(const RunReader& run, const std::vector<size_t>& frames,
   plan.color = o.color;
   plan.scene_name = run.scene_name();
   plan.frame_count = run.frame_count();
-  plan.text_scale = std::max(1, std::min(o.width, o.height) / 360);
+  // 2x text from 480 pixels up: the 5x7 font at 1x is hard to read in a video.
+  plan.text_scale = std::max(1, static_cast<int>(std::lround(std::min(o.width, o.height) / 320.0)));
 
   // One pass over the frames: the box every frame fits in, and the colour scale.
   const bool scalar = o.color == ColorBy::Speed || o.color == ColorBy::Stress;
