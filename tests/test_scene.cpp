@@ -435,6 +435,8 @@ TEST(Docs, SceneSnippetsAreValid) {
           (fs::path(NSF_SOURCE_DIR) / "scenes" / "paper" / "cake_small.json").string());
       scene["sweep"] = j["sweep"];
       EXPECT_NO_THROW(build_scene(scene));
+    } else if (j.contains("camera")) {
+      EXPECT_TRUE(parse_camera(j).has_value());
     } else if (j.contains("transform")) {
       json shape = {{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 0.1}};
       shape["transform"] = j["transform"];

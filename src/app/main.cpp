@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
   nsf::app::add_simulate_command(app);
   nsf::app::add_nn_commands(app);
   nsf::app::add_sweep_command(app);
+  nsf::app::add_render_command(app);
+  nsf::app::add_export_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

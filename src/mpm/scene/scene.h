@@ -2,6 +2,7 @@
 // A scene: simulation settings, the particles built from its objects, their materials and the
 // colliders. Loaded from JSON (docs/SCENES.md), with command-line overrides applied first.
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "mpm/colliders/collider.h"
 #include "mpm/materials/material.h"
 #include "mpm/particles.h"
+#include "mpm/scene/camera_json.h"
 
 namespace nsf {
 
@@ -39,6 +41,7 @@ struct Scene {
   Particles particles;
   std::vector<std::unique_ptr<Material>> materials;  // indexed by Particles::material
   std::vector<std::unique_ptr<Collider>> colliders;
+  std::optional<SceneCamera> camera;  // for `nsf render`; the simulation ignores it
   nlohmann::json source;  // the scene as loaded, overrides applied (stored in output files)
 };
 

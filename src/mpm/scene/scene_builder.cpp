@@ -39,6 +39,7 @@ Scene build_scene(const nlohmann::json& j) {
   }
   // Checked here so that every scene load catches a broken sweep, not only `nsf sweep`.
   if (j.contains("sweep")) parse_sweep(j.at("sweep"), j);
+  scene.camera = parse_camera(j);
   return scene;
 }
 

@@ -8,7 +8,8 @@ namespace nsf {
 
 inline const std::vector<std::string>& top_level_keys() {
   static const std::vector<std::string> keys = {"name",    "description", "simulation",
-                                                "objects", "colliders",   "sweep"};
+                                                "objects", "colliders",   "sweep",
+                                                "camera"};
   return keys;
 }
 

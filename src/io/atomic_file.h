@@ -1,0 +1,29 @@
+#pragma once
+// A file that appears under its final name only when complete: writes go to "<path>.tmp", which
+// commit() renames into place. Destroyed without commit() (an error, an exception), it deletes the
+// temp file, so a reader or a viewer polling the directory never sees half a file.
+#include <fstream>
+#include <string>
+
+namespace nsf {
+
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::string path);  // binary mode; fails naming the path if not writable
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  std::ofstream& stream() { return out_; }
+  void commit();  // flushes, checks for write errors (disk full) and renames
+
+ private:
+  std::string path_, tmp_;
+  std::ofstream out_;
+  bool committed_ = false;
+};
+
+// The whole file at once.
+void write_file_atomic(const std::string& path, const std::string& contents);
+
+}  // namespace nsf

@@ -1,0 +1,130 @@
+#include "io/legend.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "io/text.h"
+
+namespace nsf {
+
+namespace {
+
+const Rgb kInk = {35, 35, 40};
+
+Rgb to_rgb(const Color& c) {
+  const auto byte = [](float v) {
+    return static_cast<uint8_t>(std::clamp(v * 255.0f + 0.5f, 0.0f, 255.0f));
+  };
+  return {byte(c.x()), byte(c.y()), byte(c.z())};
+}
+
+// Lightens a rectangle towards white: a backdrop that keeps the scene faintly visible.
+void panel(Image& img, int x0, int y0, int x1, int y1) {
+  x0 = std::max(x0, 0), y0 = std::max(y0, 0);
+  x1 = std::min(x1, img.width), y1 = std::min(y1, img.height);
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const Rgb c = img.at(x, y);
+      const auto mix = [](uint8_t v) { return static_cast<uint8_t>(v / 5 + 255 * 4 / 5); };
+      img.set(x, y, {mix(c.r), mix(c.g), mix(c.b)});
+    }
+}
+
+void fill(Image& img, int x0, int y0, int x1, int y1, Rgb c) {
+  for (int y = std::max(y0, 0); y < std::min(y1, img.height); ++y)
+    for (int x = std::max(x0, 0); x < std::min(x1, img.width); ++x) img.set(x, y, c);
+}
+
+void frame(Image& img, int x0, int y0, int x1, int y1, Rgb c) {
+  fill(img, x0, y0, x1, y0 + 1, c);
+  fill(img, x0, y1 - 1, x1, y1, c);
+  fill(img, x0, y0, x0 + 1, y1, c);
+  fill(img, x1 - 1, y0, x1, y1, c);
+}
+
+}  // namespace
+
+std::vector<double> nice_ticks(double lo, double hi, int target) {
+  if (!(hi > lo) || !std::isfinite(lo) || !std::isfinite(hi)) return {lo};
+  const double raw = (hi - lo) / std::max(target - 1, 1);
+  const double p = std::pow(10.0, std::floor(std::log10(raw)));
+  const double m = raw / p;
+  const double step = p * (m < 1.5 ? 1 : m < 3.5 ? 2 : m < 7.5 ? 5 : 10);
+  std::vector<double> out;
+  // A hair of slack so that an end which is itself round (0, 1.5) gets its tick.
+  for (double k = std::ceil(lo / step - 1e-9); k * step <= hi + 1e-9 * step; k += 1)
+    out.push_back(k * step == 0 ? 0.0 : k * step);  // no "-0"
+  return out;
+}
+
+std::string format_tick(double value, double spacing) {
+  char buf[32];
+  const double mag = std::max(std::abs(value), std::abs(spacing));
+  if (value == 0) return "0";
+  if (mag >= 1e6 || mag < 1e-3) {
+    std::snprintf(buf, sizeof buf, "%.2g", value);
+  } else {
+    const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(spacing) + 1e-9)));
+    std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
+  }
+  return buf;
+}
+
+void draw_label(Image& img, int x, int y, const std::string& text, int scale) {
+  const int pad = 3 * scale;
+  panel(img, x - pad, y - pad, x + text_width(text, scale) + pad, y + text_height(scale) + pad);
+  draw_text(img, x, y, text, kInk, scale);
+}
+
+void draw_colorbar(Image& img, double lo, double hi, const std::string& title, int scale,
+                   bool clipped) {
+  const int margin = 8 * scale, pad = 4 * scale;
+  const int bar_w = 8 * scale, bar_h = std::max(img.height / 2, 40);
+  const double span = hi > lo ? hi - lo : 1.0;
+  std::vector<double> ticks = nice_ticks(lo, hi);
+  const double spacing = ticks.size() > 1 ? ticks[1] - ticks[0] : span;
+  const std::string top_label = ">" + format_tick(hi, spacing / 10);
+  int label_w = clipped ? text_width(top_label, scale) : 0;
+  for (double t : ticks) label_w = std::max(label_w, text_width(format_tick(t, spacing), scale));
+  const int block_w = std::max(bar_w + pad + label_w, text_width(title, scale));
+  const int x0 = img.width - margin - block_w;
+  const int y0 = margin + text_height(scale) + 2 * pad;  // below the title
+  panel(img, x0 - pad, margin - pad, x0 + block_w + pad, y0 + bar_h + text_height(scale) / 2 + pad);
+  draw_text(img, x0, margin, title, kInk, scale);
+  for (int y = 0; y < bar_h; ++y) {
+    const Rgb c = to_rgb(viridis(1.0 - static_cast<double>(y) / std::max(bar_h - 1, 1)));
+    fill(img, x0, y0 + y, x0 + bar_w, y0 + y + 1, c);
+  }
+  frame(img, x0, y0, x0 + bar_w, y0 + bar_h, kInk);
+  const auto tick = [&](double t, const std::string& label) {
+    const int y = y0 + static_cast<int>(std::lround((1 - (t - lo) / span) * (bar_h - 1)));
+    fill(img, x0 + bar_w, y, x0 + bar_w + pad / 2, y + std::max(scale / 2, 1), kInk);
+    draw_text(img, x0 + bar_w + pad, y - text_height(scale) / 2, label, kInk, scale);
+  };
+  // A round tick too close to the ">hi" label would print on top of it.
+  const double room = 1.5 * text_height(scale) * span / bar_h;
+  for (double t : ticks)
+    if (!clipped || t < hi - room) tick(t, format_tick(t, spacing));
+  if (clipped) tick(hi, top_label);
+}
+
+void draw_swatches(Image& img, const std::vector<LegendEntry>& entries, int scale) {
+  if (entries.empty()) return;
+  const int margin = 8 * scale, pad = 4 * scale, box = text_height(scale);
+  const int line = text_height(scale) + pad;
+  int name_w = 0;
+  for (const LegendEntry& e : entries) name_w = std::max(name_w, text_width(e.name, scale));
+  const int block_w = box + pad + name_w;
+  const int x0 = img.width - margin - block_w;
+  panel(img, x0 - pad, margin - pad, x0 + block_w + pad,
+        margin + line * static_cast<int>(entries.size()));
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const int y = margin + line * static_cast<int>(i);
+    fill(img, x0, y, x0 + box, y + box, to_rgb(entries[i].color));
+    frame(img, x0, y, x0 + box, y + box, kInk);
+    draw_text(img, x0 + box + pad, y, entries[i].name, kInk, scale);
+  }
+}
+
+}  // namespace nsf

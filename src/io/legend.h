@@ -1,0 +1,35 @@
+#pragma once
+// Keys drawn onto rendered frames so a picture explains itself: a colour bar with ticks for a
+// scalar field, or colour swatches with names for objects and materials.
+#include <string>
+#include <vector>
+
+#include "io/colormap.h"
+#include "io/image.h"
+
+namespace nsf {
+
+// A vertical viridis bar at the right edge for values in [lo, hi], labelled with round tick
+// values, under `title` (e.g. "SPEED (M/S)"). `scale` is the text scale (see text.h).
+// `clipped`: some values lie above hi; the top end is then labelled ">hi" so that the top colour
+// reads as "this much or more".
+void draw_colorbar(Image& img, double lo, double hi, const std::string& title, int scale,
+                   bool clipped = false);
+
+// One swatch per entry, stacked at the right edge.
+struct LegendEntry {
+  Color color;
+  std::string name;
+};
+void draw_swatches(Image& img, const std::vector<LegendEntry>& entries, int scale);
+
+// Text on a pale rounded-off panel, so it stays legible over particles and ground alike.
+void draw_label(Image& img, int x, int y, const std::string& text, int scale);
+
+// Round tick values (1, 2 or 5 times a power of ten apart) inside [lo, hi], about `target` many.
+std::vector<double> nice_ticks(double lo, double hi, int target = 5);
+
+// A tick value with no more digits than the spacing needs: 0.05, 12, 1500, 2.5E-05.
+std::string format_tick(double value, double spacing);
+
+}  // namespace nsf

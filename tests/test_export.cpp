@@ -1,0 +1,365 @@
+// `nsf export`: every format read back with a minimal reader written here, against the frame
+// as RunReader sees it; collection files; bad input.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "io/colormap.h"
+#include "io/run_reader.h"
+#include "synthetic_run.h"
+
+namespace fs = std::filesystem;
+using nsf::Mat3;
+using nsf::Vec3;
+using nsf::testing::run_cli;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+template <typename T>
+T get_le(const std::string& buf, size_t& pos) {
+  T v;
+  std::memcpy(&v, buf.data() + pos, sizeof(T));
+  pos += sizeof(T);
+  return v;
+}
+
+template <typename T>
+T get_be(const std::string& buf, size_t& pos) {
+  char b[sizeof(T)];
+  for (size_t i = 0; i < sizeof(T); ++i) b[i] = buf[pos + sizeof(T) - 1 - i];
+  pos += sizeof(T);
+  T v;
+  std::memcpy(&v, b, sizeof(T));
+  return v;
+}
+
+std::string next_line(const std::string& buf, size_t& pos) {
+  const size_t end = buf.find('\n', pos);
+  std::string line = buf.substr(pos, end - pos);
+  pos = end + 1;
+  return line;
+}
+
+// A PLY file as property name -> one value per vertex (as double).
+std::map<std::string, std::vector<double>> read_ply(const fs::path& path) {
+  const std::string buf = slurp(path);
+  size_t pos = 0;
+  EXPECT_EQ(next_line(buf, pos), "ply");
+  EXPECT_EQ(next_line(buf, pos), "format binary_little_endian 1.0");
+  size_t n = 0;
+  std::vector<std::pair<std::string, std::string>> props;  // type, name
+  for (std::string line; (line = next_line(buf, pos)) != "end_header";) {
+    std::istringstream ls(line);
+    std::string word, type, name;
+    ls >> word;
+    if (word == "element") {
+      ls >> name >> n;
+      EXPECT_EQ(name, "vertex");
+    } else if (word == "property") {
+      ls >> type >> name;
+      props.emplace_back(type, name);
+    }
+  }
+  std::map<std::string, std::vector<double>> out;
+  for (size_t i = 0; i < n; ++i)
+    for (const auto& [type, name] : props) {
+      double v = 0;
+      if (type == "float")
+        v = get_le<float>(buf, pos);
+      else if (type == "double")
+        v = get_le<double>(buf, pos);
+      else if (type == "ushort")
+        v = get_le<uint16_t>(buf, pos);
+      else
+        ADD_FAILURE() << "unexpected PLY type " << type;
+      out[name].push_back(v);
+    }
+  EXPECT_EQ(pos, buf.size()) << "trailing bytes in " << path;
+  return out;
+}
+
+// A legacy binary VTK POLYDATA file: each section (POINTS, VERTICES, VECTORS velocity, ...) as
+// doubles, plus the TIME field.
+std::map<std::string, std::vector<double>> read_vtk(const fs::path& path) {
+  const std::string buf = slurp(path);
+  size_t pos = 0;
+  EXPECT_EQ(next_line(buf, pos), "# vtk DataFile Version 3.0");
+  next_line(buf, pos);  // title
+  EXPECT_EQ(next_line(buf, pos), "BINARY");
+  EXPECT_EQ(next_line(buf, pos), "DATASET POLYDATA");
+  std::map<std::string, std::vector<double>> out;
+  size_t n = 0;
+  const auto read_block = [&](const std::string& key, const std::string& type, size_t count) {
+    std::vector<double>& v = out[key];
+    for (size_t i = 0; i < count; ++i) {
+      if (type == "double")
+        v.push_back(get_be<double>(buf, pos));
+      else if (type == "int")
+        v.push_back(get_be<int32_t>(buf, pos));
+      else if (type == "unsigned_short")
+        v.push_back(get_be<uint16_t>(buf, pos));
+      else
+        ADD_FAILURE() << "unexpected VTK type " << type;
+    }
+    EXPECT_EQ(buf[pos], '\n');
+    ++pos;
+  };
+  while (pos < buf.size()) {
+    std::istringstream ls(next_line(buf, pos));
+    std::string word, name, type;
+    size_t a = 0, b = 0;
+    ls >> word;
+    if (word == "FIELD") {
+      ls >> name >> a;
+      EXPECT_EQ(a, 1u);
+      std::istringstream arr(next_line(buf, pos));
+      arr >> name >> a >> b >> type;
+      read_block(name, type, a * b);
+    } else if (word == "POINTS") {
+      ls >> n >> type;
+      read_block("POINTS", type, 3 * n);
+    } else if (word == "VERTICES") {
+      ls >> a >> b;
+      read_block("VERTICES", "int", b);
+    } else if (word == "POINT_DATA") {
+      ls >> a;
+      EXPECT_EQ(a, n);
+    } else if (word == "SCALARS") {
+      ls >> name >> type;
+      EXPECT_EQ(next_line(buf, pos), "LOOKUP_TABLE default");
+      read_block(name, type, n);
+    } else if (word == "VECTORS" || word == "TENSORS") {
+      ls >> name >> type;
+      read_block(name, type, (word == "VECTORS" ? 3 : 9) * n);
+    } else {
+      ADD_FAILURE() << "unexpected VTK section '" << word << "'";
+      break;
+    }
+  }
+  return out;
+}
+
+// A VTU file with raw appended data: each DataArray by name, as doubles; TimeValue included.
+std::map<std::string, std::vector<double>> read_vtu(const fs::path& path) {
+  const std::string buf = slurp(path);
+  std::map<std::string, std::vector<double>> out;
+  const std::string marker = "<AppendedData encoding=\"raw\">";
+  const size_t app = buf.find('_', buf.find(marker)) + 1;
+  const std::string xml = buf.substr(0, app);
+  EXPECT_NE(xml.find("byte_order=\"LittleEndian\""), std::string::npos);
+  EXPECT_NE(xml.find("header_type=\"UInt64\""), std::string::npos);
+  const std::regex array_re(
+      "<DataArray type=\"(\\w+)\" Name=\"(\\w+)\" NumberOfComponents=\"\\d+\" "
+      "format=\"appended\" offset=\"(\\d+)\"/>");
+  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), array_re);
+       it != std::sregex_iterator(); ++it) {
+    const std::string type = (*it)[1], name = (*it)[2];
+    size_t pos = app + std::stoull((*it)[3]);
+    const uint64_t bytes = get_le<uint64_t>(buf, pos);
+    const size_t end = pos + bytes;
+    std::vector<double>& v = out[name];
+    while (pos < end) {
+      if (type == "Float64")
+        v.push_back(get_le<double>(buf, pos));
+      else if (type == "Int64")
+        v.push_back(static_cast<double>(get_le<int64_t>(buf, pos)));
+      else if (type == "UInt16")
+        v.push_back(get_le<uint16_t>(buf, pos));
+      else if (type == "UInt8")
+        v.push_back(get_le<uint8_t>(buf, pos));
+      else
+        ADD_FAILURE() << "unexpected VTU type " << type;
+    }
+  }
+  std::smatch m;
+  const std::regex time_re("Name=\"TimeValue\"[^>]*>([^<]+)</DataArray>");
+  if (std::regex_search(xml, m, time_re)) out["TimeValue"] = {std::stod(m[1])};
+  return out;
+}
+
+std::vector<double> flat(const std::vector<Vec3>& v) {
+  std::vector<double> out;
+  for (const Vec3& p : v) out.insert(out.end(), {p.x(), p.y(), p.z()});
+  return out;
+}
+
+std::vector<double> flat(const std::vector<Mat3>& v) {  // row-major
+  std::vector<double> out;
+  for (const Mat3& m : v)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) out.push_back(m(i, j));
+  return out;
+}
+
+template <typename T>
+std::vector<double> flat(const std::vector<T>& v) {
+  return std::vector<double>(v.begin(), v.end());
+}
+
+class Export : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("nsf_export_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    run_ = (dir_ / "run.h5").string();
+    nsf::testing::write_synthetic_run(run_, 4);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Runs export and expects success.
+  void export_run(const std::string& args) {
+    std::string out;
+    ASSERT_EQ(run_cli("export '" + run_ + "' -q " + args, out), 0) << out;
+  }
+
+  fs::path dir_;
+  std::string run_;
+};
+
+TEST_F(Export, PlyHoldsTheFrameAsFloats) {
+  export_run("--format ply --out '" + (dir_ / "ply").string() + "'");
+  nsf::RunReader run(run_);
+  for (size_t k = 0; k < run.frame_count(); ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04zu.ply", k);
+    auto ply = read_ply(dir_ / "ply" / name);
+    const nsf::RunFrame f = run.read_frame(k);
+    const size_t n = f.x.size();
+    ASSERT_EQ(ply["x"].size(), n);
+    for (size_t i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_EQ(ply[std::string(1, "xyz"[a])][i], float(f.x[i][a]));
+        EXPECT_EQ(ply[std::string("v") + "xyz"[a]][i], float(f.v[i][a]));
+      }
+      EXPECT_EQ(ply["speed"][i], float(f.v[i].norm()));
+      EXPECT_EQ(ply["von_mises"][i], float(nsf::von_mises(f.tau[i])));
+      EXPECT_EQ(ply["material"][i], run.material()[i]);
+      EXPECT_EQ(ply["object"][i], run.object()[i]);
+    }
+  }
+}
+
+TEST_F(Export, PlyDoublePositionsAreExact) {
+  export_run("--format ply --double --frames -1 --out '" + (dir_ / "ply").string() + "'");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_ / "ply"), fs::directory_iterator()), 1);
+  auto ply = read_ply(dir_ / "ply" / "frame_0003.ply");
+  const nsf::RunFrame f = nsf::RunReader(run_).read_frame(3);
+  for (size_t i = 0; i < f.x.size(); ++i) EXPECT_EQ(ply["y"][i], f.x[i].y());
+}
+
+TEST_F(Export, LegacyVtkHoldsTheFrame) {
+  export_run("--format vtk --frames 1:3 --out '" + (dir_ / "vtk").string() + "'");
+  EXPECT_FALSE(fs::exists(dir_ / "vtk" / "frame_0000.vtk"));
+  EXPECT_FALSE(fs::exists(dir_ / "vtk" / "frame_0003.vtk"));
+  nsf::RunReader run(run_);
+  for (size_t k : {1, 2}) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04zu.vtk", k);
+    auto vtk = read_vtk(dir_ / "vtk" / name);
+    const nsf::RunFrame f = run.read_frame(k);
+    EXPECT_EQ(vtk["TIME"], std::vector<double>{f.time});
+    EXPECT_EQ(vtk["POINTS"], flat(f.x));
+    EXPECT_EQ(vtk["velocity"], flat(f.v));
+    EXPECT_EQ(vtk["tau"], flat(f.tau));
+    EXPECT_EQ(vtk["F"], flat(f.F));
+    EXPECT_EQ(vtk["speed"], flat(nsf::speeds(f.v)));
+    EXPECT_EQ(vtk["von_mises"], flat(nsf::von_mises(f.tau)));
+    EXPECT_EQ(vtk["material"], flat(run.material()));
+    EXPECT_EQ(vtk["object"], flat(run.object()));
+    ASSERT_EQ(vtk["VERTICES"].size(), 2 * f.x.size());
+    for (size_t i = 0; i < f.x.size(); ++i) {
+      EXPECT_EQ(vtk["VERTICES"][2 * i], 1);
+      EXPECT_EQ(vtk["VERTICES"][2 * i + 1], double(i));
+    }
+  }
+  // The series file gives ParaView the times.
+  const auto series = nlohmann::json::parse(slurp(dir_ / "vtk" / "run.vtk.series"));
+  ASSERT_EQ(series["files"].size(), 2u);
+  EXPECT_EQ(series["files"][1]["name"], "frame_0002.vtk");
+  EXPECT_EQ(series["files"][1]["time"].get<double>(), run.times()[2]);
+}
+
+TEST_F(Export, VtuHoldsTheFrameAndPvdListsTheTimes) {
+  export_run("--format vtu --out '" + (dir_ / "vtu").string() + "'");
+  nsf::RunReader run(run_);
+  for (size_t k = 0; k < run.frame_count(); ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04zu.vtu", k);
+    auto vtu = read_vtu(dir_ / "vtu" / name);
+    const nsf::RunFrame f = run.read_frame(k);
+    const size_t n = f.x.size();
+    EXPECT_EQ(vtu["TimeValue"], std::vector<double>{f.time});
+    EXPECT_EQ(vtu["Points"], flat(f.x));
+    EXPECT_EQ(vtu["velocity"], flat(f.v));
+    EXPECT_EQ(vtu["tau"], flat(f.tau));
+    EXPECT_EQ(vtu["F"], flat(f.F));
+    EXPECT_EQ(vtu["speed"], flat(nsf::speeds(f.v)));
+    EXPECT_EQ(vtu["von_mises"], flat(nsf::von_mises(f.tau)));
+    EXPECT_EQ(vtu["material"], flat(run.material()));
+    EXPECT_EQ(vtu["object"], flat(run.object()));
+    ASSERT_EQ(vtu["connectivity"].size(), n);
+    ASSERT_EQ(vtu["offsets"].size(), n);
+    EXPECT_EQ(vtu["types"], std::vector<double>(n, 1.0));  // VTK_VERTEX
+    EXPECT_EQ(vtu["offsets"].back(), double(n));
+  }
+  const std::string pvd = slurp(dir_ / "vtu" / "run.pvd");
+  const std::regex entry_re(
+      "<DataSet timestep=\"([^\"]+)\" group=\"\" part=\"0\" file=\"([^\"]+)\"/>");
+  std::vector<std::pair<double, std::string>> entries;
+  for (auto it = std::sregex_iterator(pvd.begin(), pvd.end(), entry_re);
+       it != std::sregex_iterator(); ++it)
+    entries.emplace_back(std::stod((*it)[1]), (*it)[2]);
+  ASSERT_EQ(entries.size(), run.frame_count());
+  for (size_t k = 0; k < entries.size(); ++k) {
+    EXPECT_EQ(entries[k].first, run.times()[k]);
+    EXPECT_TRUE(fs::exists(dir_ / "vtu" / entries[k].second)) << entries[k].second;
+  }
+  for (const auto& e : fs::directory_iterator(dir_ / "vtu"))
+    EXPECT_NE(e.path().extension(), ".tmp") << e.path();
+}
+
+TEST_F(Export, BadInputFailsClearlyAndWritesNothing) {
+  const std::string out = (dir_ / "out").string();
+  const fs::path corrupt = dir_ / "corrupt.h5";
+  std::ofstream(corrupt) << "this is not an HDF5 file";
+  struct Case {
+    std::string args, expect;
+  };
+  const std::vector<Case> cases = {
+      {"'" + (dir_ / "missing.h5").string() + "' --format vtu", "missing.h5"},
+      {"'" + corrupt.string() + "' --format vtu", "corrupt.h5"},
+      {"'" + run_ + "' --format obj", "--format"},
+      {"'" + run_ + "' --format vtu --frames 7", "--frames"},
+      {"'" + run_ + "' --format vtu --frames 3:1", "--frames"},
+      {"'" + run_ + "' --format vtu --frames 0:2:0", "step"},
+      {"'" + run_ + "' --format vtu --frames x:y", "--frames"},
+  };
+  for (const Case& c : cases) {
+    std::string output;
+    EXPECT_NE(run_cli("export " + c.args + " --out '" + out + "'", output), 0) << c.args;
+    EXPECT_NE(output.find(c.expect), std::string::npos) << c.args << "\n" << output;
+    EXPECT_NE(output.find("error"), std::string::npos) << output;
+    EXPECT_FALSE(fs::exists(out)) << c.args;
+  }
+}
+
+}  // namespace
