@@ -52,7 +52,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     apply_overrides(j, overrides);
     if (j.is_object() && !j.contains("name"))
       j["name"] = std::filesystem::path(path).stem().string();
-    return build_scene(j);
+    return build_scene(j, std::filesystem::path(path).parent_path().string());
   } catch (const Error& e) {
     fail(path, ": ", e.what());
   }
