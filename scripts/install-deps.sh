@@ -9,6 +9,7 @@ PACKAGES=(
   libeigen3-dev libhdf5-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev gnuplot-nox ffmpeg
+  libassimp-dev
 )
 
 missing=()

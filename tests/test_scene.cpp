@@ -423,7 +423,8 @@ TEST(Docs, SceneSnippetsAreValid) {
       c["motion"] = j["motion"];
       EXPECT_NO_THROW(make_collider(c, "colliders[0]"));
     } else if (j.contains("shape")) {
-      EXPECT_NO_THROW(parse_shape(j["shape"], "shape"));
+      // Mesh files in snippets are those of the example scenes.
+      EXPECT_NO_THROW(parse_shape(j["shape"], "shape", ShapeContext{kExamples.string()}));
     } else if (j.contains("weak_regions")) {
       json scene = small_scene();
       scene["objects"][0]["shape"]["max"] = {0.75, 0.75, 0.75};

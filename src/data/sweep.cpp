@@ -27,6 +27,7 @@ struct Job {
   nlohmann::json scene;  // μ applied
   std::string path;
   int frames = 0;
+  std::string scene_dir;  // relative mesh paths in the scene resolve against it
 };
 
 // Shared by the worker threads: the next job to take, the progress line, the first error.
@@ -43,7 +44,7 @@ struct Pool {
 void simulate_job(const Job& job, const std::string& parameter, Pool& pool, int total_runs) {
   Scene scene;
   try {
-    scene = build_scene(job.scene);
+    scene = build_scene(job.scene, job.scene_dir);
   } catch (const Error& e) {
     fail(job.path, ": scene at mu = ", job.run.mu, ": ", e.what());
   }
@@ -98,9 +99,10 @@ SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& opt) {
   const nlohmann::json base = read_scene_json(scene_path, opt.overrides);
   if (!base.is_object() || !base.contains("sweep"))
     fail(scene_path, ": the scene has no 'sweep' section (docs/SCENES.md, \"Sweeps\")");
+  const std::string scene_dir = fs::path(scene_path).parent_path().string();
   SweepSpec spec;
   try {
-    build_scene(base);  // validates everything once, with the file's own μ
+    build_scene(base, scene_dir);  // validates everything once, with the file's own μ
     spec = parse_sweep(base.at("sweep"), base);
   } catch (const Error& e) {
     fail(scene_path, ": ", e.what());
@@ -114,7 +116,7 @@ SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& opt) {
   for (const SweepRun& run : plan) {
     if (!opt.only.empty() && run.split != opt.only) continue;
     ++summary.planned;
-    Job job{run, base, (fs::path(opt.out_dir) / run.file()).string(), 0};
+    Job job{run, base, (fs::path(opt.out_dir) / run.file()).string(), 0, scene_dir};
     try {
       apply_overrides(job.scene, sweep_overrides(spec, run.mu));
       job.frames = parse_settings(job.scene.at("simulation"), "simulation").frames;

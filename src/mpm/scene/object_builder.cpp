@@ -56,7 +56,8 @@ struct WeakRegion {
   bool used = false;
 };
 
-std::vector<WeakRegion> parse_weak_regions(const Json& obj, const std::string& path) {
+std::vector<WeakRegion> parse_weak_regions(const Json& obj, const std::string& path,
+                                           const ShapeContext& context) {
   std::vector<WeakRegion> out;
   if (!obj.contains("weak_regions")) return out;
   const std::string wpath = js::child(path, "weak_regions");
@@ -71,7 +72,7 @@ std::vector<WeakRegion> parse_weak_regions(const Json& obj, const std::string& p
            "' sets neither 'stiffness_scale' nor 'yield_scale', so it would do nothing");
     if (!w[i].contains("shape"))
       fail("scene: missing required key '", js::child(r.path, "shape"), "'");
-    r.shape = parse_shape(w[i].at("shape"), js::child(r.path, "shape"));
+    r.shape = parse_shape(w[i].at("shape"), js::child(r.path, "shape"), context);
     r.stiffness_scale = js::get_number(w[i], r.path, "stiffness_scale", 1.0, js::non_negative());
     r.yield_scale = js::get_number(w[i], r.path, "yield_scale", 1.0, js::non_negative());
     out.push_back(std::move(r));
@@ -99,16 +100,17 @@ void check_inside_domain(const std::vector<Vec3>& pts, const std::string& path,
 
 }  // namespace
 
-void add_object(const Json& obj, const std::string& path, size_t index, Scene& scene) {
+void add_object(const Json& obj, const std::string& path, size_t index, const ShapeContext& context,
+                Scene& scene) {
   const SimSettings& s = scene.settings;
   js::check_keys(obj, path, object_keys());
   if (!obj.contains("shape")) fail("scene: missing required key '", js::child(path, "shape"), "'");
-  ShapePtr shape = parse_shape(obj.at("shape"), js::child(path, "shape"));
+  ShapePtr shape = parse_shape(obj.at("shape"), js::child(path, "shape"), context);
   ObjectMaterial mat = parse_material(obj, path, scene);
   const double density = js::get_number(obj, path, "density", s.density, js::positive());
   const Vec3 v0 = js::get_vec3(obj, path, "velocity", Vec3::Zero());
   const Vec3 omega = js::get_vec3(obj, path, "angular_velocity", Vec3::Zero());
-  std::vector<WeakRegion> weak = parse_weak_regions(obj, path);
+  std::vector<WeakRegion> weak = parse_weak_regions(obj, path, context);
 
   const Lattice lattice{s.domain_lo, s.domain_hi, s.dx, s.ppc};
   std::vector<Vec3> pts = sample_shape(*shape, lattice);

@@ -49,7 +49,9 @@ struct Scene {
 void apply_overrides(nlohmann::json& scene, const std::vector<std::string>& overrides);
 
 // Validates the JSON and builds the scene. Throws nsf::Error naming the key and value at fault.
-Scene build_scene(const nlohmann::json& scene);
+// Relative file paths in the scene (mesh shapes) resolve against base_dir, normally the scene
+// file's directory; empty means the working directory.
+Scene build_scene(const nlohmann::json& scene, const std::string& base_dir = "");
 
 // Reads a file and applies overrides, without building (a sweep builds one scene per μ). Fills
 // in "name" from the file name when the file has none. Throws nsf::Error naming the file.

@@ -10,7 +10,7 @@
 
 namespace nsf {
 
-Scene build_scene(const nlohmann::json& j) {
+Scene build_scene(const nlohmann::json& j, const std::string& base_dir) {
   namespace js = nsf::json;
   js::check_keys(j, "", top_level_keys());
   Scene scene;
@@ -29,7 +29,7 @@ Scene build_scene(const nlohmann::json& j) {
     fail("scene: 'objects' has ", objects.size(), " entries; at most ",
          std::numeric_limits<uint16_t>::max(), " are supported");
   for (size_t i = 0; i < objects.size(); ++i)
-    add_object(objects[i], js::child("objects", i), i, scene);
+    add_object(objects[i], js::child("objects", i), i, ShapeContext{base_dir}, scene);
 
   if (j.contains("colliders")) {
     const nlohmann::json& colliders = j.at("colliders");

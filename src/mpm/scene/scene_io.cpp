@@ -60,7 +60,7 @@ nlohmann::json read_scene_json(const std::string& path, const std::vector<std::s
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   const nlohmann::json j = read_scene_json(path, overrides);
   try {
-    return build_scene(j);
+    return build_scene(j, std::filesystem::path(path).parent_path().string());
   } catch (const Error& e) {
     fail(path, ": ", e.what());
   }

@@ -1,11 +1,14 @@
 #include "mpm/scene/shape_json.h"
 
+#include <filesystem>
 #include <functional>
 #include <map>
 
 #include "core/error.h"
 #include "core/json_util.h"
 #include "core/rotation.h"
+#include "mpm/scene/mesh/mesh_io.h"
+#include "mpm/scene/mesh/mesh_shape.h"
 
 namespace nsf {
 namespace {
@@ -62,7 +65,8 @@ ShapePtr parse_torus(const Json& j, const std::string& path) {
                     axis_index(js::get_string(j, path, "axis", "y"), js::child(path, "axis")));
 }
 
-ShapePtr parse_csg(CsgOp op, size_t min_children, const Json& j, const std::string& path) {
+ShapePtr parse_csg(CsgOp op, size_t min_children, const Json& j, const std::string& path,
+                   const ShapeContext& context) {
   js::check_keys(j, path, {"type", "children", "transform"});
   std::string cpath = js::child(path, "children");
   if (!j.contains("children")) fail("scene: missing required key '", cpath, "'");
@@ -71,7 +75,8 @@ ShapePtr parse_csg(CsgOp op, size_t min_children, const Json& j, const std::stri
     fail("scene: '", cpath, "' must be an array of at least ", min_children, " shapes, got ",
          c.dump());
   std::vector<ShapePtr> children;
-  for (size_t i = 0; i < c.size(); ++i) children.push_back(parse_shape(c[i], js::child(cpath, i)));
+  for (size_t i = 0; i < c.size(); ++i)
+    children.push_back(parse_shape(c[i], js::child(cpath, i), context));
   return make_csg(op, std::move(children));
 }
 
@@ -90,6 +95,18 @@ Vec3 parse_scale(const Json& t, const std::string& path) {
   return s;
 }
 
+// A triangle-mesh file; "scale" (like transform.scale) converts its units before any transform.
+ShapePtr parse_mesh(const Json& j, const std::string& path, const ShapeContext& context) {
+  js::check_keys(j, path, {"type", "file", "scale", "transform"});
+  const std::string name = js::get_string(j, path, "file");
+  std::filesystem::path file(name);
+  if (file.is_relative() && !context.base_dir.empty()) file = context.base_dir / file;
+  TriangleMesh mesh = read_triangle_mesh(file.string(), js::child(path, "file"));
+  const Vec3 scale = parse_scale(j, path);
+  for (Vec3& v : mesh.vertices) v = v.cwiseProduct(scale);
+  return make_mesh_shape(std::move(mesh));
+}
+
 ShapePtr apply_transform(ShapePtr shape, const Json& j, const std::string& path) {
   if (!j.contains("transform")) return shape;
   std::string tpath = js::child(path, "transform");
@@ -100,28 +117,37 @@ ShapePtr apply_transform(ShapePtr shape, const Json& j, const std::string& path)
   return make_transformed(std::move(shape), translate, R, parse_scale(t, tpath));
 }
 
-using Parser = std::function<ShapePtr(const Json&, const std::string&)>;
+using Parser = std::function<ShapePtr(const Json&, const std::string&, const ShapeContext&)>;
+
+// Primitives need nothing from the context.
+template <ShapePtr (*parse)(const Json&, const std::string&)>
+ShapePtr primitive(const Json& j, const std::string& path, const ShapeContext&) {
+  return parse(j, path);
+}
+
+template <CsgOp op, size_t min_children>
+ShapePtr csg(const Json& j, const std::string& path, const ShapeContext& context) {
+  return parse_csg(op, min_children, j, path, context);
+}
 
 const std::map<std::string, Parser>& parsers() {
   static const std::map<std::string, Parser> table = {
-      {"box", parse_box},
-      {"sphere", parse_sphere},
-      {"cylinder", parse_cylinder},
-      {"capsule", parse_capsule},
-      {"torus", parse_torus},
-      {"union",
-       [](const Json& j, const std::string& p) { return parse_csg(CsgOp::Union, 1, j, p); }},
-      {"intersection",
-       [](const Json& j, const std::string& p) { return parse_csg(CsgOp::Intersection, 1, j, p); }},
-      {"difference",
-       [](const Json& j, const std::string& p) { return parse_csg(CsgOp::Difference, 2, j, p); }},
+      {"box", primitive<parse_box>},
+      {"sphere", primitive<parse_sphere>},
+      {"cylinder", primitive<parse_cylinder>},
+      {"capsule", primitive<parse_capsule>},
+      {"torus", primitive<parse_torus>},
+      {"mesh", parse_mesh},
+      {"union", csg<CsgOp::Union, 1>},
+      {"intersection", csg<CsgOp::Intersection, 1>},
+      {"difference", csg<CsgOp::Difference, 2>},
   };
   return table;
 }
 
 }  // namespace
 
-ShapePtr parse_shape(const Json& j, const std::string& path) {
+ShapePtr parse_shape(const Json& j, const std::string& path, const ShapeContext& context) {
   js::require_object(j, path);
   std::string type = js::get_string(j, path, "type");
   auto it = parsers().find(type);
@@ -131,7 +157,7 @@ ShapePtr parse_shape(const Json& j, const std::string& path) {
     fail("scene: '", js::child(path, "type"), "' = \"", type, "\" is not a shape (known: ", known,
          ")");
   }
-  return apply_transform(it->second(j, path), j, path);
+  return apply_transform(it->second(j, path, context), j, path);
 }
 
 }  // namespace nsf

@@ -7,7 +7,13 @@
 
 namespace nsf {
 
+// What a shape may need besides its JSON: mesh files name paths relative to the scene file.
+struct ShapeContext {
+  std::string base_dir;  // relative file paths resolve against it; empty: the working directory
+};
+
 // `path` names the node in errors, e.g. "objects[0].shape.children[1]".
-ShapePtr parse_shape(const nlohmann::json& j, const std::string& path);
+ShapePtr parse_shape(const nlohmann::json& j, const std::string& path,
+                     const ShapeContext& context = {});
 
 }  // namespace nsf
