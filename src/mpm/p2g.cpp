@@ -43,7 +43,6 @@ inline void scatter_particle(const Stencil& st, double dx, const Vec3& mv, doubl
 
 void Simulation::p2g() {
   ScopedTimer timer(times_.p2g);
-  clear_active_grid();
   Particles& P = scene_.particles;
   const double dx = grid_.dx(), inv_dx = grid_.inv_dx(), dt = scene_.settings.dt;
   const double Dinv = apic_scale(inv_dx);
@@ -53,28 +52,36 @@ void Simulation::p2g() {
   const size_t sj = n[2], si = size_t(n[1]) * n[2];
   GridNode* g = grid_.data();
 
-  // Blocks of one colour never touch the same node, so they scatter in parallel without locks.
-  for (const auto& blocks : color_blocks_) {
-#pragma omp parallel for schedule(dynamic, 1)
-    for (long bi = 0; bi < long(blocks.size()); ++bi) {
-      const uint32_t b = blocks[bi];
-      for (uint32_t q = block_start_[b]; q < block_start_[b + 1]; ++q) {
-        const uint32_t p = order_[q];
-        const Stencil st = quadratic_stencil(P.x[p], lo, inv_dx);
-        const double m = P.mass[p];
-        Mat3 Cp;
-        switch (transfer) {
-          case Transfer::APIC:
-            Cp = P.C[p];
-            break;
-          case Transfer::RPIC:
-            Cp = 0.5 * (P.C[p] - P.C[p].transpose());
-            break;
-          default:
-            Cp = Mat3::Zero();
+  // One thread team for the clear and all eight colours: the colours still need a barrier
+  // between them, but not a fork/join each, which is what costs most when the CPU is
+  // oversubscribed.
+#pragma omp parallel
+  {
+    clear_active_grid();
+    // Blocks of one colour never touch the same node, so they scatter in parallel without locks;
+    // the implicit barrier at the end of each `omp for` keeps the colours apart.
+    for (const auto& blocks : color_blocks_) {
+#pragma omp for schedule(dynamic, 1)
+      for (long bi = 0; bi < long(blocks.size()); ++bi) {
+        const uint32_t b = blocks[bi];
+        for (uint32_t q = block_start_[b]; q < block_start_[b + 1]; ++q) {
+          const uint32_t p = order_[q];
+          const Stencil st = quadratic_stencil(P.x[p], lo, inv_dx);
+          const double m = P.mass[p];
+          Mat3 Cp;
+          switch (transfer) {
+            case Transfer::APIC:
+              Cp = P.C[p];
+              break;
+            case Transfer::RPIC:
+              Cp = 0.5 * (P.C[p] - P.C[p].transpose());
+              break;
+            default:
+              Cp = Mat3::Zero();
+          }
+          const Mat3 A = m * Cp - (dt * P.vol0[p] * Dinv) * P.tau[p];
+          scatter_particle(st, dx, m * P.v[p], m, A, g, si, sj);
         }
-        const Mat3 A = m * Cp - (dt * P.vol0[p] * Dinv) * P.tau[p];
-        scatter_particle(st, dx, m * P.v[p], m, A, g, si, sj);
       }
     }
   }

@@ -19,8 +19,8 @@ class Simulation {
  public:
   explicit Simulation(Scene scene);
 
-  void step();          // advance by one time step dt
-  void advance_frame(); // advance by settings.substeps steps
+  void step();           // advance by one time step dt
+  void advance_frame();  // advance by settings.substeps steps
 
   double time() const { return time_; }
   long step_count() const { return steps_; }
@@ -49,9 +49,9 @@ class Simulation {
   StepTimes times_;
 
   // Particles bucketed by 4x4x4-cell grid block; blocks of one colour never share a node.
-  std::vector<int> block_dims_;              // blocks per axis
-  std::vector<uint32_t> order_;              // particle indices sorted by block
-  std::vector<uint32_t> block_start_;        // offsets into order_, one more than blocks
+  std::vector<int> block_dims_;                      // blocks per axis
+  std::vector<uint32_t> order_;                      // particle indices sorted by block
+  std::vector<uint32_t> block_start_;                // offsets into order_, one more than blocks
   std::vector<std::vector<uint32_t>> color_blocks_;  // non-empty blocks of each of 8 colours
   // Blocks whose nodes some particle's stencil reaches (non-empty blocks and their +1
   // neighbours); only these are cleared and updated, so empty space costs nothing.
@@ -60,7 +60,7 @@ class Simulation {
   // Calls f(i, j, k) for every grid node of block b.
   template <typename Fn>
   void for_each_node_in_block(uint32_t b, Fn&& f) const;
-  void clear_active_grid();
+  void clear_active_grid();  // call from inside a parallel region
 };
 
 template <typename Fn>
@@ -69,7 +69,8 @@ void Simulation::for_each_node_in_block(uint32_t b, Fn&& f) const {
   const int nb1 = block_dims_[1], nb2 = block_dims_[2];
   const int bk = b % nb2, bj = (b / nb2) % nb1, bi = b / (nb2 * nb1);
   const Vec3i n = grid_.dims();
-  const int i1 = std::min(n[0], (bi + 1) * kBlockCells), j1 = std::min(n[1], (bj + 1) * kBlockCells),
+  const int i1 = std::min(n[0], (bi + 1) * kBlockCells),
+            j1 = std::min(n[1], (bj + 1) * kBlockCells),
             k1 = std::min(n[2], (bk + 1) * kBlockCells);
   for (int i = bi * kBlockCells; i < i1; ++i)
     for (int j = bj * kBlockCells; j < j1; ++j)
