@@ -1,11 +1,12 @@
 // ns per 3×3 SVD: nsf::svd3 against Eigen::JacobiSVD, on general matrices and on the near-rotation
-// deformation gradients an MPM step actually sees.
+// deformation gradients an MPM step actually sees; and the fast polar rotation (core/polar3.h).
 #include <benchmark/benchmark.h>
 
 #include <Eigen/SVD>
 #include <random>
 #include <vector>
 
+#include "core/polar3.h"
 #include "core/svd3.h"
 
 namespace {
@@ -41,6 +42,26 @@ void BM_svd3(benchmark::State& state) {
   }
 }
 
+// The fixed-corotated fast path: R and J only, Newton polar iteration (falls back to svd3 when it
+// declines, which never happens on these inputs).
+void BM_fast_polar(benchmark::State& state) {
+  const auto inputs = make_inputs(true);
+  Mat3 R;
+  double J;
+  size_t i = 0;
+  for (auto _ : state) {
+    const Mat3& F = inputs[i++ & 1023];
+    if (!nsf::fast_polar_rotation(F, R, J)) {
+      Mat3 U, V;
+      Vec3 s;
+      nsf::svd3(F, U, s, V);
+      R = U * V.transpose();
+    }
+    benchmark::DoNotOptimize(R);
+    benchmark::DoNotOptimize(J);
+  }
+}
+
 template <bool NearRotation>
 void BM_eigen_jacobi(benchmark::State& state) {
   const auto inputs = make_inputs(NearRotation);
@@ -57,6 +78,7 @@ BENCHMARK_TEMPLATE(BM_svd3, false)->Name("svd3/gaussian");
 BENCHMARK_TEMPLATE(BM_eigen_jacobi, false)->Name("eigen_jacobi/gaussian");
 BENCHMARK_TEMPLATE(BM_svd3, true)->Name("svd3/near_rotation");
 BENCHMARK_TEMPLATE(BM_eigen_jacobi, true)->Name("eigen_jacobi/near_rotation");
+BENCHMARK(BM_fast_polar)->Name("fast_polar/near_rotation");
 
 }  // namespace
 

@@ -112,9 +112,11 @@ void Simulation::sort_particles() {
 
 void Simulation::clear_active_grid() {
   // Last step's blocks too, so no stale node values survive anywhere on the grid.
+  // Called inside P2G's parallel region: the loops are shared out over its team (orphaned `omp
+  // for`), and the barrier after each keeps the two lists, which overlap, from racing.
   GridNode* g = grid_.data();
   for (const auto* list : {&previous_active_blocks_, &active_blocks_}) {
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static)
     for (long q = 0; q < long(list->size()); ++q)
       for_each_node_in_block((*list)[q], [&](int i, int j, int k) {
         g[grid_.index(i, j, k)] = GridNode{{0, 0, 0}, 0};

@@ -60,7 +60,7 @@ class Simulation {
   // Calls f(i, j, k) for every grid node of block b.
   template <typename Fn>
   void for_each_node_in_block(uint32_t b, Fn&& f) const;
-  void clear_active_grid();
+  void clear_active_grid();  // call from inside a parallel region
 };
 
 template <typename Fn>
