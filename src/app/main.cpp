@@ -21,7 +21,7 @@ int set_threads(int requested) {
   if (threads > 1 && load > cores - 0.5)
     std::cerr << "nsf: note: the machine is busy (load average " << load << " on " << cores
               << " cores); with " << threads << " threads each step waits for the slowest, so "
-              << "--threads 1 may be faster.\n";
+              << "--threads 1 or OMP_WAIT_POLICY=passive in the environment may be faster.\n";
   return threads;
 }
 
