@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   nsf::app::add_sweep_command(app);
   nsf::app::add_render_command(app);
   nsf::app::add_export_command(app);
+  nsf::app::add_contact_sheet_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -90,4 +90,17 @@ Image side_by_side(const Image& a, const Image& b, int gap, Rgb fill) {
   return out;
 }
 
+Image above_below(const Image& a, const Image& b, int gap, Rgb fill) {
+  gap = std::max(gap, 0);
+  Image out(std::max(a.width, b.width), a.height + gap + b.height, fill);
+  const auto blit = [&](const Image& src, int y0) {
+    for (int y = 0; y < src.height; ++y)
+      std::memcpy(out.rgb.data() + 3 * (static_cast<size_t>(y0 + y) * out.width),
+                  src.rgb.data() + 3 * static_cast<size_t>(y) * src.width, 3 * src.width);
+  };
+  blit(a, 0);
+  blit(b, a.height + gap);
+  return out;
+}
+
 }  // namespace nsf

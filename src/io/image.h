@@ -40,4 +40,7 @@ Image read_png(const std::string& path);
 // a | b, tops aligned, separated by `gap` pixels; the shorter one is padded with `fill`.
 Image side_by_side(const Image& a, const Image& b, int gap = 8, Rgb fill = {255, 255, 255});
 
+// a above b, left edges aligned, separated by `gap` pixels; the narrower one is padded with `fill`.
+Image above_below(const Image& a, const Image& b, int gap = 8, Rgb fill = {255, 255, 255});
+
 }  // namespace nsf

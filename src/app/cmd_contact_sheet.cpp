@@ -1,0 +1,43 @@
+// `nsf contact-sheet a.h5 b.h5 ... --out sheet.png`: one row of frames per run.
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "core/error.h"
+#include "io/contact_sheet.h"
+
+namespace nsf::app {
+
+namespace {
+struct SheetArgs {
+  std::vector<std::string> runs;
+  std::string out, color = "object", size = "480x360";
+  int columns = 4;
+};
+}  // namespace
+
+void add_contact_sheet_command(CLI::App& app) {
+  auto a = std::make_shared<SheetArgs>();
+  CLI::App* cmd =
+      app.add_subcommand("contact-sheet", "One PNG with a row of frames for each run file");
+  cmd->add_option("runs", a->runs, "Run files (HDF5)")->required();
+  cmd->add_option("--out,-o", a->out, "Output PNG")->required();
+  cmd->add_option("--columns", a->columns, "Frames per run, first to last")
+      ->check(CLI::Range(1, 32))
+      ->capture_default_str();
+  cmd->add_option("--color,-c", a->color, "Colour by material, object, speed or stress")
+      ->capture_default_str();
+  cmd->add_option("--size", a->size, "Size of each panel, WIDTHxHEIGHT")->capture_default_str();
+  cmd->callback([a] {
+    RunRenderOptions o;
+    o.color = parse_color_by(a->color);
+    if (std::sscanf(a->size.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 16 ||
+        o.height < 16 || o.width > 8192 || o.height > 8192)
+      fail("--size must be WIDTHxHEIGHT between 16 and 8192, got '", a->size, "'");
+    write_png(contact_sheet(a->runs, a->columns, o), a->out);
+    std::printf("wrote %s (%zu runs)\n", a->out.c_str(), a->runs.size());
+  });
+}
+
+}  // namespace nsf::app
