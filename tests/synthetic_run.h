@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "cli_runner.h"
 #include "io/run_writer.h"
 #include "mpm/particles.h"
 #include "mpm/scene/scene.h"
@@ -70,21 +71,6 @@ inline void write_synthetic_run(const std::string& path, int frames,
     w.write_frame(ps, 0.05 * f);
   }
   w.finish();
-}
-
-// Runs the nsf executable with `args`; returns its exit code and its stdout + stderr in `output`.
-inline int run_cli(const std::string& args, std::string& output, const std::string& env = "") {
-  namespace fs = std::filesystem;
-  const fs::path log = fs::temp_directory_path() / ("nsf_cli_" + std::to_string(::getpid()) + "_" +
-                                                    std::to_string(std::rand()) + ".log");
-  const std::string cmd = env + " '" NSF_CLI "' " + args + " > '" + log.string() + "' 2>&1";
-  const int status = std::system(cmd.c_str());
-  std::ifstream in(log);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  output = ss.str();
-  fs::remove(log);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 inline bool ffmpeg_available() {

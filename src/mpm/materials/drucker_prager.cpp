@@ -11,13 +11,9 @@ namespace nsf {
 
 MaterialPoint DruckerPrager::make_point(const ParamMap& params, const std::string& path) const {
   ParamReader r(params, path, parameter_names());
-  double E = r.get("E", positive_range());
-  double nu = r.get("nu", poisson_range());
+  MaterialPoint mp = r.elastic_point();
   double phi = r.get("friction_angle", {0.0, 90.0, true, true});
   double cohesion = r.get("cohesion", 0.0, json::non_negative());
-  MaterialPoint mp;
-  mp.mu = shear_modulus(E, nu);
-  mp.lambda = lame_lambda(E, nu);
   const double sin_phi = std::sin(phi * M_PI / 180.0);
   mp.alpha = std::sqrt(2.0 / 3.0) * 2.0 * sin_phi / (3.0 - sin_phi);  // App. F.3
   mp.cohesion = cohesion;

@@ -9,11 +9,7 @@ namespace nsf {
 
 MaterialPoint FixedCorotated::make_point(const ParamMap& params, const std::string& path) const {
   ParamReader r(params, path, parameter_names());
-  double E = r.get("E", positive_range());
-  double nu = r.get("nu", poisson_range());
-  MaterialPoint mp;
-  mp.mu = shear_modulus(E, nu);
-  mp.lambda = lame_lambda(E, nu);
+  MaterialPoint mp = r.elastic_point();
   return mp;
 }
 

@@ -11,11 +11,7 @@ namespace nsf {
 
 MaterialPoint HerschelBulkley::make_point(const ParamMap& params, const std::string& path) const {
   ParamReader r(params, path, parameter_names());
-  double E = r.get("E", positive_range());
-  double nu = r.get("nu", poisson_range());
-  MaterialPoint mp;
-  mp.mu = shear_modulus(E, nu);
-  mp.lambda = lame_lambda(E, nu);
+  MaterialPoint mp = r.elastic_point();
   mp.yield_stress = r.get("yield_stress", json::non_negative());
   mp.viscosity = r.get("viscosity", json::non_negative());
   return mp;

@@ -38,6 +38,15 @@ class ParamReader {
   double get(const std::string& key, double fallback, json::Range r) const {
     return params_.count(key) ? get(key, r) : fallback;
   }
+  // Every model's elasticity: Lamé parameters from "E" and "nu" (App. F table).
+  MaterialPoint elastic_point() const {
+    const double E = get("E", positive_range());
+    const double nu = get("nu", poisson_range());
+    MaterialPoint mp;
+    mp.mu = shear_modulus(E, nu);
+    mp.lambda = lame_lambda(E, nu);
+    return mp;
+  }
 
  private:
   const ParamMap& params_;

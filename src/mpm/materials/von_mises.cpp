@@ -9,11 +9,7 @@ namespace nsf {
 
 MaterialPoint VonMises::make_point(const ParamMap& params, const std::string& path) const {
   ParamReader r(params, path, parameter_names());
-  double E = r.get("E", positive_range());
-  double nu = r.get("nu", poisson_range());
-  MaterialPoint mp;
-  mp.mu = shear_modulus(E, nu);
-  mp.lambda = lame_lambda(E, nu);
+  MaterialPoint mp = r.elastic_point();
   mp.yield_stress = r.get("yield_stress", positive_range());
   mp.hardening = r.get("hardening", 0.0, json::non_negative());
   mp.softening = r.get("softening", 0.0, json::non_negative());
