@@ -8,24 +8,15 @@
 #include <vector>
 
 #include "core/svd3.h"
+#include "random_matrices.h"
 
 namespace {
 
 using nsf::Mat3;
 using nsf::Vec3;
 
-Mat3 random_rotation(std::mt19937_64& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  Eigen::Quaterniond q(n(rng), n(rng), n(rng), n(rng));
-  return q.normalized().toRotationMatrix();
-}
-
-Mat3 gaussian(std::mt19937_64& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  Mat3 A;
-  for (int i = 0; i < 9; ++i) A.data()[i] = n(rng);
-  return A;
-}
+using nsf::testing::gaussian;
+using nsf::testing::random_rotation;
 
 Mat3 with_singular_values(std::mt19937_64& rng, const Vec3& s) {
   return random_rotation(rng) * s.asDiagonal() * random_rotation(rng).transpose();
