@@ -230,6 +230,32 @@ TEST_F(RunIo, RejectedWriterLeavesOtherFilesAlone) {
   EXPECT_TRUE(fs::exists(path + ".tmp"));
 }
 
+TEST_F(RunIo, SecondWriterToTheSamePathDoesNotDestroyTheFirst) {
+  const std::string path = file("run.h5");
+  nsf::Particles ps = make_particles(3);
+  nsf::RunWriter first(path, ps, settings(), "cube", kJson);
+  first.write_frame(ps, 0.0);
+  try {
+    nsf::RunWriter second(path, ps, settings(), "cube", kJson);
+    ADD_FAILURE() << "a second writer to a run being written was accepted";
+  } catch (const nsf::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("another process"), std::string::npos) << e.what();
+  }
+  first.write_frame(ps, 0.1);
+  first.finish();
+  EXPECT_EQ(nsf::RunReader(path).frame_count(), 2u);
+}
+
+TEST_F(RunIo, StaleTemporaryFromAnInterruptedRunIsOverwritten) {
+  const std::string path = file("run.h5");
+  std::ofstream(path + ".tmp") << "left over by a crash";
+  nsf::Particles ps = make_particles(3);
+  nsf::RunWriter w(path, ps, settings(), "cube", kJson);
+  w.write_frame(ps, 0.0);
+  w.finish();
+  EXPECT_EQ(nsf::RunReader(path).frame_count(), 1u);
+}
+
 TEST_F(RunIo, FinishReplacesAnOlderRun) {
   const std::string path = file("run.h5");
   write_run(path, 4, 1);

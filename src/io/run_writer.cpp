@@ -1,7 +1,12 @@
 #include "io/run_writer.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <filesystem>
 #include <system_error>
 #include <vector>
@@ -200,6 +205,19 @@ struct RunWriter::Impl {
   }
 };
 
+// A stale <path>.tmp from an interrupted run is simply overwritten, but truncating one that another
+// live process is still writing would destroy that run. HDF5 holds an flock() on files it has
+// open for writing, so a lock we cannot take means a live writer.
+static void refuse_if_being_written(const std::string& tmp, const std::string& path) {
+  const int fd = ::open(tmp.c_str(), O_RDONLY);
+  if (fd < 0) return;
+  const bool busy = ::flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);
+  if (busy)
+    nsf::fail(path, ": another process is writing this run right now (", tmp,
+              " is locked); wait for it to finish or choose another output path");
+}
+
 RunWriter::RunWriter(const std::string& path, const Particles& p, const SimSettings& s,
                      const std::string& scene_name, const std::string& scene_json,
                      const RunWriterOptions& options)
@@ -218,6 +236,7 @@ RunWriter::RunWriter(const std::string& path, const Particles& p, const SimSetti
   if (options.gzip_level > 0 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) <= 0) {
     h5::fail(w.tmp, "this HDF5 library has no gzip filter");
   }
+  refuse_if_being_written(w.tmp, path);
   w.file = Handle(h5::check(H5Fcreate(w.tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
                             w.tmp, "cannot create file"),
                   H5Fclose);
