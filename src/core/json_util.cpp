@@ -35,7 +35,8 @@ void check_keys(const json& obj, const std::string& path, const std::vector<std:
   }
 }
 
-void check_keys(const json& obj, const std::string& path, std::initializer_list<const char*> allowed) {
+void check_keys(const json& obj, const std::string& path,
+                std::initializer_list<const char*> allowed) {
   check_keys(obj, path, std::vector<std::string>(allowed.begin(), allowed.end()));
 }
 
@@ -106,7 +107,8 @@ std::string get_string(const json& obj, const std::string& path, const char* key
 bool get_bool(const json& obj, const std::string& path, const char* key, bool fallback) {
   if (!obj.contains(key)) return fallback;
   const json& v = obj.at(key);
-  if (!v.is_boolean()) fail("scene: '", child(path, key), "' must be true or false, got ", v.dump());
+  if (!v.is_boolean())
+    fail("scene: '", child(path, key), "' must be true or false, got ", v.dump());
   return v.get<bool>();
 }
 

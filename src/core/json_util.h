@@ -18,7 +18,8 @@ std::string child(const std::string& path, const std::string& key);
 std::string child(const std::string& path, size_t index);
 
 // Rejects keys not in `allowed` (typos must not be silently ignored).
-void check_keys(const json& obj, const std::string& path, std::initializer_list<const char*> allowed);
+void check_keys(const json& obj, const std::string& path,
+                std::initializer_list<const char*> allowed);
 void check_keys(const json& obj, const std::string& path, const std::vector<std::string>& allowed);
 void require_object(const json& j, const std::string& path);
 
@@ -28,9 +29,15 @@ struct Range {
   bool lo_open = false;  // true: value must be > lo, false: >= lo
   bool hi_open = false;
 };
-inline Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
-inline Range non_negative() { return {0.0, std::numeric_limits<double>::infinity(), false, false}; }
-inline Range closed(double lo, double hi) { return {lo, hi, false, false}; }
+inline Range positive() {
+  return {0.0, std::numeric_limits<double>::infinity(), true, false};
+}
+inline Range non_negative() {
+  return {0.0, std::numeric_limits<double>::infinity(), false, false};
+}
+inline Range closed(double lo, double hi) {
+  return {lo, hi, false, false};
+}
 
 double get_number(const json& obj, const std::string& path, const char* key, Range r = {});
 double get_number(const json& obj, const std::string& path, const char* key, double fallback,

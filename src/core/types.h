@@ -1,5 +1,6 @@
 #pragma once
-// Basic numeric types. The full-order engine runs in double precision (the paper's data are double).
+// Basic numeric types. The full-order engine runs in double precision (the paper's data are
+// double).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>

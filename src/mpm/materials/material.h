@@ -45,8 +45,14 @@ std::unique_ptr<Material> make_material(const std::string& type);  // throws on 
 std::vector<std::string> material_types();
 
 // Lamé parameters from Young's modulus and Poisson ratio (App. F table).
-inline double shear_modulus(double E, double nu) { return E / (2.0 * (1.0 + nu)); }
-inline double lame_lambda(double E, double nu) { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }
-inline double bulk_modulus(double E, double nu) { return E / (3.0 * (1.0 - 2.0 * nu)); }
+inline double shear_modulus(double E, double nu) {
+  return E / (2.0 * (1.0 + nu));
+}
+inline double lame_lambda(double E, double nu) {
+  return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+}
+inline double bulk_modulus(double E, double nu) {
+  return E / (3.0 * (1.0 - 2.0 * nu));
+}
 
 }  // namespace nsf

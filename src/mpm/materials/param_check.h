@@ -9,8 +9,12 @@
 
 namespace nsf {
 
-inline json::Range positive_range() { return json::positive(); }
-inline json::Range poisson_range() { return {-1.0, 0.5, true, true}; }
+inline json::Range positive_range() {
+  return json::positive();
+}
+inline json::Range poisson_range() {
+  return {-1.0, 0.5, true, true};
+}
 
 class ParamReader {
  public:
@@ -23,8 +27,8 @@ class ParamReader {
       if (!ok) {
         std::string known;
         for (const auto& a : allowed) known += (known.empty() ? "" : ", ") + a;
-        fail("scene: unknown material parameter '", json::child(path_, k), "' (this model takes: ",
-             known, ")");
+        fail("scene: unknown material parameter '", json::child(path_, k),
+             "' (this model takes: ", known, ")");
       }
     }
   }

@@ -2,8 +2,8 @@
 // A scene: simulation settings, the particles built from its objects, their materials and the
 // colliders. Loaded from JSON (docs/SCENES.md), with command-line overrides applied first.
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,17 +22,17 @@ struct SimSettings {
   Vec3 domain_lo = Vec3::Zero();
   Vec3 domain_hi = Vec3::Ones();
   double dx = 1.0 / 64;
-  double dt = 1e-4;           // time step
-  int frames = 10;            // saved frames after the initial state
-  int substeps = 1;           // time steps per saved frame
-  int ppc = 2;                // particles per cell along each axis (ppc^3 per cell)
-  double density = 1000.0;    // default density, kg/m^3 (an object may override it)
+  double dt = 1e-4;         // time step
+  int frames = 10;          // saved frames after the initial state
+  int substeps = 1;         // time steps per saved frame
+  int ppc = 2;              // particles per cell along each axis (ppc^3 per cell)
+  double density = 1000.0;  // default density, kg/m^3 (an object may override it)
   Vec3 gravity = Vec3(0, -9.8, 0);
   Transfer transfer = Transfer::APIC;
-  double cfl = 0.6;           // dt must satisfy dt <= cfl * dx / wave_speed
+  double cfl = 0.6;                      // dt must satisfy dt <= cfl * dx / wave_speed
   Contact wall_contact = Contact::Slip;  // the domain walls
   double wall_friction = 0.0;
-  int wall_nodes = 3;         // grid nodes of each domain face that act as the wall
+  int wall_nodes = 3;  // grid nodes of each domain face that act as the wall
 };
 
 struct Scene {

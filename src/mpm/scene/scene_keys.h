@@ -7,9 +7,8 @@
 namespace nsf {
 
 inline const std::vector<std::string>& top_level_keys() {
-  static const std::vector<std::string> keys = {"name",    "description", "simulation",
-                                                "objects", "colliders",   "sweep",
-                                                "camera"};
+  static const std::vector<std::string> keys = {"name",      "description", "simulation", "objects",
+                                                "colliders", "sweep",       "camera"};
   return keys;
 }
 
