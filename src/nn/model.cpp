@@ -12,7 +12,7 @@ namespace nsf {
 namespace {
 
 constexpr const char* kFormat = "nsf-model";
-constexpr int64_t kFormatVersion = 1;
+constexpr int64_t kFormatVersion = 2;  // 2: g predicts x − X (displacement, norm_u)
 
 torch::Tensor to_tensor(const std::vector<double>& v) {
   std::vector<float> f(v.begin(), v.end());
@@ -94,6 +94,7 @@ NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
   l = FieldMlp(3 + r, 9, c.width_l, c.depth);
   norm_X = Normalizer::identity(3);
   norm_x = Normalizer::identity(3);
+  norm_u = Normalizer::identity(3);
   norm_z = Normalizer::identity(r);
   norm_mu = Normalizer::identity(1);
   norm_tau = Normalizer::identity(6);
@@ -123,6 +124,9 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   write_normalizer(a, "mu", norm_mu);
   write_normalizer(a, "tau", norm_tau);
   write_normalizer(a, "C", norm_C);
+  a.write("displacement", c10::IValue(displacement));
+  write_normalizer(a, "u", norm_u);
+  if (displacement) a.write("rest", rest, /*is_buffer=*/true);
   const std::pair<const char*, const torch::nn::Module*> nets[] = {
       {"encoder", encoder.get()}, {"g", g.get()}, {"h", h.get()}, {"l", l.get()}};
   for (const auto& [name, net] : nets) {
@@ -165,6 +169,12 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   m.norm_mu = read_normalizer(a, "mu");
   m.norm_tau = read_normalizer(a, "tau");
   m.norm_C = read_normalizer(a, "C");
+  c10::IValue residual;
+  m.displacement = version >= 2 && a.try_read("displacement", residual) && residual.toBool();
+  if (m.displacement) {
+    m.norm_u = read_normalizer(a, "u");
+    a.read("rest", m.rest, /*is_buffer=*/true);
+  }
   const std::pair<const char*, torch::nn::Module*> nets[] = {
       {"encoder", m.encoder.get()}, {"g", m.g.get()}, {"h", m.h.get()}, {"l", m.l.get()}};
   for (const auto& [name, net] : nets) {
@@ -218,7 +228,7 @@ void NeuralModel::set_eval_mode() {
 }
 
 torch::Tensor NeuralModel::encode(const torch::Tensor& x) {
-  const torch::Tensor xn = norm_x.apply(x);
+  const torch::Tensor xn = displacement ? norm_u.apply(x - rest.unsqueeze(0)) : norm_x.apply(x);
   return encoder->forward(xn.reshape({x.size(0), -1}));
 }
 
@@ -237,6 +247,7 @@ torch::Tensor NeuralModel::l_input(const torch::Tensor& Xn, const torch::Tensor&
 }
 
 torch::Tensor NeuralModel::deform(const torch::Tensor& Xn, const torch::Tensor& z) {
+  if (displacement) return norm_X.invert(Xn) + norm_u.invert(g->forward(g_input(Xn, z)));
   return norm_x.invert(g->forward(g_input(Xn, z)));
 }
 

@@ -85,6 +85,12 @@ class NeuralModel {
   // X: rest positions, x: current positions (also the encoder's input), z: latents as seen by
   // h and l (g learns with raw encoder output), mu, tau (6), C (9).
   Normalizer norm_X, norm_x, norm_z, norm_mu, norm_tau, norm_C;
+  // Displacement form (format version 2): the encoder sees u = x − X and g predicts u, both
+  // normalised by norm_u; deform() adds X back. The rest shape, identical in every frame, no
+  // longer swamps the frame-to-frame signal. Off for models of format version 1 (x, norm_x).
+  bool displacement = true;
+  Normalizer norm_u;
+  torch::Tensor rest;  // |P| × 3 physical rest positions X (float32), set with displacement
 };
 
 }  // namespace nsf

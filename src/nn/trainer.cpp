@@ -112,10 +112,15 @@ std::string Trainer::config_key() const {
 
 void Trainer::compute_statistics() {
   // Moments in double over every training particle of every frame: one pass over the data.
-  std::vector<double> s[3], q[3];
+  std::vector<double> s[3], q[3], us(3, 0.0), uq(3, 0.0);
   for (int k = 0; k < 3; ++k) s[k].assign(kTargetDim[k], 0.0), q[k].assign(kTargetDim[k], 0.0);
+  const std::vector<Vec3>& X = data_.rest_positions();
   for (size_t i = 0; i < store_.size(); ++i) {
     const FrameData& f = store_.get(i);
+    for (size_t j = 0; j < f.x.size(); ++j) {
+      const double u = double(f.x[j]) - X[j / 3][int(j % 3)];
+      us[j % 3] += u, uq[j % 3] += u * u;
+    }
     const std::vector<float>* fields[3] = {&f.x, &f.tau, &f.C};
     for (int k = 0; k < 3; ++k) {
       const int d = kTargetDim[k];
@@ -125,6 +130,10 @@ void Trainer::compute_statistics() {
   }
   const double points = double(store_.size()) * data_.particle_count();
   model_.norm_x = Normalizer::from_moments(s[0], q[0], points);
+  model_.norm_u = Normalizer::from_moments(us, uq, points);
+  model_.rest =
+      torch::from_blob(const_cast<double*>(X[0].data()), {int64_t(X.size()), 3}, torch::kFloat64)
+          .to(torch::kFloat32);
   model_.norm_tau = Normalizer::from_moments(s[1], q[1], points);
   model_.norm_C = Normalizer::from_moments(s[2], q[2], points);
 
@@ -208,7 +217,8 @@ double Trainer::train_step() {
   if (stage_ == 0) {
     const torch::Tensor z = model_.encode(full_x).repeat_interleave(n, 0);
     pred = model_.g->forward(model_.g_input(Xn, z));
-    goal = model_.norm_x.apply(target);
+    goal = model_.displacement ? model_.norm_u.apply(target - model_.norm_X.invert(Xn))
+                               : model_.norm_x.apply(target);
   } else if (stage_ == 1) {
     const torch::Tensor z = latents_.index_select(0, fidx);
     pred = model_.h->forward(model_.h_input(Xn, z, mu_.index_select(0, fidx)));
