@@ -2,6 +2,8 @@
 // wrong stops with an nsf::Error naming the particle (or dt) and what to change.
 #include <gtest/gtest.h>
 
+#include "error_matchers.h"
+
 #include <cmath>
 #include <limits>
 #include <string>
@@ -26,21 +28,8 @@ Scene block_scene(double dt = 1e-4) {
   return build_scene(j);
 }
 
-// Runs f and returns the message of the nsf::Error it must throw.
-template <typename Fn>
-std::string error_of(Fn&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no nsf::Error was thrown";
-  return "";
-}
-
-void expect_contains(const std::string& msg, const std::string& part) {
-  EXPECT_NE(msg.find(part), std::string::npos) << "'" << part << "' missing from: " << msg;
-}
+using testing::error_of;
+using testing::expect_contains;
 
 TEST(Guards, ParticleOutsideTheDomainIsNamedWithTheFix) {
   Scene s = block_scene();
