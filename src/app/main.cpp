@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
   nsf::app::add_render_command(app);
   nsf::app::add_export_command(app);
   nsf::app::add_contact_sheet_command(app);
+  nsf::app::add_rom_command(app);
+  nsf::app::add_demo_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -28,4 +28,11 @@ double current_rss_mib() {
   return status_field_mib("VmRSS:");
 }
 
+bool reset_peak_rss() {
+  std::ofstream f("/proc/self/clear_refs");
+  f << "5";
+  f.flush();
+  return bool(f);
+}
+
 }  // namespace nsf

@@ -43,19 +43,20 @@ inline void gather_particle(const Stencil& st, double dx, const GridNode* g, siz
 
 }  // namespace
 
-void Simulation::g2p() {
+void Simulation::g2p(double dt, const std::vector<uint32_t>* gather) {
   ScopedTimer timer(times_.g2p);
   Particles& P = scene_.particles;
-  const double dx = grid_.dx(), inv_dx = grid_.inv_dx(), dt = scene_.settings.dt;
+  const double dx = grid_.dx(), inv_dx = grid_.inv_dx();
   const double Dinv = apic_scale(inv_dx);
   const Vec3 lo = grid_.lo();
   const Vec3i n = grid_.dims();
   const size_t sj = n[2], si = size_t(n[1]) * n[2];
   const GridNode* g = grid_.data();
-  const long np = long(P.size());
+  const long np = long(gather ? gather->size() : P.size());
 
 #pragma omp parallel for schedule(static)
-  for (long p = 0; p < np; ++p) {
+  for (long q = 0; q < np; ++q) {
+    const long p = gather ? long((*gather)[q]) : q;
     const Stencil st = quadratic_stencil(P.x[p], lo, inv_dx);
     Vec3 v;
     Mat3 B;

@@ -7,11 +7,10 @@
 
 namespace nsf {
 
-void Simulation::grid_update() {
+void Simulation::grid_update(double dt) {
   ScopedTimer timer(times_.grid_update);
   const SimSettings& s = scene_.settings;
   const Vec3i n = grid_.dims();
-  const double dt = s.dt;
   const Vec3 gdt = s.gravity * dt;
   GridNode* g = grid_.data();
   const auto& colliders = scene_.colliders;

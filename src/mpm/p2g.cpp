@@ -41,10 +41,10 @@ inline void scatter_particle(const Stencil& st, double dx, const Vec3& mv, doubl
 
 }  // namespace
 
-void Simulation::p2g() {
+void Simulation::p2g(double dt) {
   ScopedTimer timer(times_.p2g);
   Particles& P = scene_.particles;
-  const double dx = grid_.dx(), inv_dx = grid_.inv_dx(), dt = scene_.settings.dt;
+  const double dx = grid_.dx(), inv_dx = grid_.inv_dx();
   const double Dinv = apic_scale(inv_dx);
   const Transfer transfer = scene_.settings.transfer;
   const Vec3 lo = grid_.lo();

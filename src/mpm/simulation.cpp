@@ -48,15 +48,19 @@ void Simulation::check_time_step() const {
 
 void Simulation::step() {
   // §3.3: P2G (with the stress force fused in), grid update, G2P, return map.
-  for (auto& c : scene_.colliders) c->set_time(time_);
-  sort_particles();
-  p2g();
-  grid_update();
-  g2p();
+  transfer(scene_.settings.dt, time_);
   update_stress();
   time_ += scene_.settings.dt;
   ++steps_;
   check_particles();
+}
+
+void Simulation::transfer(double dt, double t, const std::vector<uint32_t>* gather) {
+  for (auto& c : scene_.colliders) c->set_time(t);
+  sort_particles();
+  p2g(dt);
+  grid_update(dt);
+  g2p(dt, gather);
 }
 
 void Simulation::advance_frame() {

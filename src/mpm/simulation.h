@@ -22,6 +22,13 @@ class Simulation {
   void step();           // advance by one time step dt
   void advance_frame();  // advance by settings.substeps steps
 
+  // The transfers of one step over whatever particles() holds, without the return map: colliders
+  // at time t, P2G of every particle with its current τ, grid update, then G2P (x, v, C and the
+  // trial F) for the `gather` particles only, or for all when `gather` is null. The reduced-order
+  // model (§5.2) runs this on its integration particles N with inferred states and G2P on the
+  // sample particles S; time() and step_count() do not change and no guard runs.
+  void transfer(double dt, double t, const std::vector<uint32_t>* gather = nullptr);
+
   double time() const { return time_; }
   long step_count() const { return steps_; }
   const Scene& scene() const { return scene_; }
@@ -36,9 +43,9 @@ class Simulation {
 
  private:
   void sort_particles();  // bucket particles by grid block for the race-free coloured scatter
-  void p2g();
-  void grid_update();
-  void g2p();
+  void p2g(double dt);
+  void grid_update(double dt);
+  void g2p(double dt, const std::vector<uint32_t>* gather);
   void update_stress();
   void check_particles() const;  // guards: NaN, leaving the domain, CFL on particle speed
 

@@ -8,7 +8,7 @@ namespace nsf {
 
 inline const std::vector<std::string>& top_level_keys() {
   static const std::vector<std::string> keys = {"name",      "description", "simulation", "objects",
-                                                "colliders", "sweep",       "camera"};
+                                                "colliders", "sweep",       "camera",     "rom"};
   return keys;
 }
 

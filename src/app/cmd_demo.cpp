@@ -1,0 +1,125 @@
+// `nsf demo`: the main job. The whole chain on one small scene — sweep (training data), train,
+// a reduced-order run at the held-out μ — then a summary and ground truth | ROM pictures.
+// Reuses a dataset and a model that already exist, so a second run is quick.
+#include <cstdio>
+#include <filesystem>
+
+#include "app/commands.h"
+#include "core/error.h"
+#include "core/timer.h"
+#include "data/sweep.h"
+#include "io/run_comparison.h"
+#include "nn/dataset.h"
+#include "nn/neural_fields.h"
+#include "nn/runtime.h"
+#include "nn/trainer.h"
+#include "rom/rom_run.h"
+
+namespace nsf::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct DemoArgs {
+  std::string scene = "scenes/paper/jelly_small.json";
+  std::string data, model, out = "out";
+  std::vector<long> steps = {2000, 1500, 1500};
+  int samples = 0;
+  int threads = 2;
+};
+
+std::string stem_of(const std::string& path) {
+  return fs::path(path).stem().string();
+}
+
+// A model file is reused only if it belongs to the dataset's scene; otherwise it is retrained.
+bool usable_model(const std::string& model, const Dataset& data) {
+  if (!fs::exists(model)) return false;
+  try {
+    NeuralFields f = NeuralFields::load(model);
+    f.check_scene(stem_of(model), data.rest_positions(), "dataset");
+    return true;
+  } catch (const Error& e) {
+    std::printf("not reusing %s: %s\n", model.c_str(), e.what());
+    return false;
+  }
+}
+
+void run_demo(const DemoArgs& a) {
+  const double start = now_seconds();
+  const std::string name = stem_of(a.scene);
+  const std::string data = a.data.empty() ? "data/" + name : a.data;
+  const std::string model = a.model.empty() ? "models/" + name + ".nsf" : a.model;
+  fs::create_directories(a.out);
+  set_nn_threads(a.threads);
+
+  std::printf("== 1/3 training data: nsf sweep %s --out %s\n", a.scene.c_str(), data.c_str());
+  SweepOptions so;
+  so.out_dir = data;
+  so.jobs = std::max(1, a.threads);
+  so.threads = 1;
+  const SweepSummary sweep = run_sweep(a.scene, so);
+  std::printf("   %d runs (%d simulated now, %d reused) in %.1f s\n", sweep.planned, sweep.ran,
+              sweep.skipped, sweep.seconds);
+
+  const Dataset dataset(data);
+  if (dataset.test().empty()) fail("demo: dataset ", data, " has no test run to hold out");
+  std::printf("== 2/3 neural fields: nsf train %s --out %s\n", data.c_str(), model.c_str());
+  if (usable_model(model, dataset)) {
+    std::printf("   reusing %s (delete it to retrain)\n", model.c_str());
+  } else {
+    TrainOptions to;
+    to.config = TrainConfig{};
+    to.config.net = default_net_config(dataset.scene_name());
+    for (int s = 0; s < kStageCount; ++s) to.config.steps[s] = a.steps[s];
+    to.config.threads = a.threads;
+    train_model(data, model, to);
+  }
+
+  const SimulationFile& held_out = dataset.test()[0];
+  std::printf("== 3/3 reduced-order run at the held-out mu = %g (not in the training set)\n",
+              held_out.mu);
+  RomRunOptions ro;
+  ro.model_path = model;
+  ro.scene_path = a.scene;
+  if (held_out.has_mu) ro.mu = held_out.mu;
+  if (a.samples > 0) ro.samples = a.samples;
+  ro.threads = a.threads;
+  ro.out_path = a.out + "/" + name + "_rom.h5";
+  ro.fom_out = a.out + "/" + name + "_full_order.h5";
+  const RomReport r = run_rom(ro);
+  const ComparisonFiles pics =
+      write_comparison(ro.fom_out, ro.out_path, "ground truth (full order)", "reduced order",
+                       a.out + "/" + name + "_compare");
+
+  std::printf("\n== summary\n%s", format_rom_report(r).c_str());
+  std::printf("  picture:   %s (top: ground truth, bottom: reduced order)\n", pics.still.c_str());
+  if (!pics.video.empty()) std::printf("  animation: %s\n", pics.video.c_str());
+  if (!pics.note.empty()) std::printf("  note: %s\n", pics.note.c_str());
+  std::printf("  demo total: %.1f s\n", now_seconds() - start);
+}
+
+}  // namespace
+
+void add_demo_command(CLI::App& app) {
+  auto a = std::make_shared<DemoArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "demo", "The whole chain on a small scene: sweep, train, reduced-order run, pictures");
+  cmd->add_option("--scene", a->scene, "Scene with a sweep")->capture_default_str();
+  cmd->add_option("--data", a->data, "Dataset directory (default data/<scene name>)");
+  cmd->add_option("--model", a->model, "Model file (default models/<scene name>.nsf)");
+  cmd->add_option("--out,-o", a->out, "Directory for the runs and pictures")->capture_default_str();
+  cmd->add_option("--steps", a->steps, "Training steps of the three stages, when training")
+      ->delimiter(',')
+      ->expected(3)
+      ->capture_default_str();
+  cmd->add_option("--samples,-k", a->samples, "Sample particles (default: the scene's)");
+  cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->callback([a] {
+    set_threads(a->threads);
+    run_demo(*a);
+  });
+}
+
+}  // namespace nsf::app

@@ -1,0 +1,74 @@
+// `nsf rom models/NAME.nsf scene.json --mu V --samples K`: a reduced-order run at parameter μ,
+// timed against the full-order engine on the same scene in the same process.
+#include <cstdio>
+
+#include "app/commands.h"
+#include "rom/rom_run.h"
+
+namespace nsf::app {
+
+namespace {
+
+struct RomArgs {
+  RomRunOptions opt;
+  double mu = 0;
+  int samples = 0;
+  bool no_full_order = false;
+};
+
+}  // namespace
+
+void add_rom_command(CLI::App& app) {
+  auto a = std::make_shared<RomArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "rom", "Reduced-order (latent-space) simulation of a scene with a trained model");
+  cmd->add_option("model", a->opt.model_path, "Model file (nsf train)")->required();
+  cmd->add_option("scene", a->opt.scene_path, "Scene JSON (the model's scene)")->required();
+  auto* mu = cmd->add_option("--mu", a->mu,
+                             "The scene's sweep parameter (e.g. friction angle), applied "
+                             "through its \"sweep\" templates");
+  cmd->add_option("--set", a->opt.overrides, "Scene override key.path=value (repeatable)");
+  auto* samples =
+      cmd->add_option("--samples,-k", a->samples,
+                      "Sample particles |S| (default: the scene's rom.samples, or 256)");
+  cmd->add_option("--seed", a->opt.rom.sampling.seed, "Seed of the sample choice")
+      ->capture_default_str();
+  cmd->add_option("--out,-o", a->opt.out_path,
+                  "Write the ROM run here (HDF5, nsf simulate layout)");
+  cmd->add_option("--truth", a->opt.truth_path,
+                  "Ground-truth run file for delta (default: the full-order run made here)");
+  cmd->add_option("--fom-out", a->opt.fom_out, "Keep the full-order run in this file");
+  cmd->add_flag("--no-full-order", a->no_full_order,
+                "Skip the full-order run (no speed-up; delta only with --truth)");
+  cmd->add_option("--upsample", a->opt.upsample,
+                  "Write k points per particle, queried from g (Fig. 6)")
+      ->capture_default_str();
+  cmd->add_option("--dt-ratio", a->opt.rom.dt_ratio, "ROM time step over the scene's dt")
+      ->capture_default_str();
+  cmd->add_option("--gn-iterations", a->opt.rom.inversion.max_iterations,
+                  "Gauss-Newton iteration cap")
+      ->capture_default_str();
+  cmd->add_option("--gn-tolerance", a->opt.rom.inversion.tolerance,
+                  "Stop when |dz| <= tol (1 + |z|)")
+      ->capture_default_str();
+  cmd->add_flag("--taylor", a->opt.rom.inversion.taylor,
+                "First-order Taylor inversion: one linearised step per time step");
+  cmd->add_flag("--crom", a->opt.rom.crom,
+                "CROM-style baseline: stress from dg/dX through the material, no affine field");
+  cmd->add_option("--halo", a->opt.rom.halo, "Candidate margin around the grid nodes I, in cells")
+      ->capture_default_str();
+  cmd->add_flag("--verify-n", a->opt.rom.verify_integration_set,
+                "Also find N by brute force every step and count misses (slow)");
+  cmd->add_option("--threads,-j", a->opt.threads, "Threads for both engines (0 = all cores)")
+      ->capture_default_str();
+  cmd->callback([a, mu, samples] {
+    if (*mu) a->opt.mu = a->mu;
+    if (*samples) a->opt.samples = a->samples;
+    a->opt.full_order = !a->no_full_order;
+    set_threads(a->opt.threads);
+    const RomReport r = run_rom(a->opt);
+    std::printf("%s", format_rom_report(r).c_str());
+  });
+}
+
+}  // namespace nsf::app

@@ -1,0 +1,75 @@
+// GCC 12 reports false -Wmaybe-uninitialized warnings from inside Eigen's AVX-512 kernels for
+// dynamic-size products (in the intrinsics headers, not in this code).
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include "rom/latent_inversion.h"
+
+#include <torch/autograd.h>
+
+#include <Eigen/Cholesky>
+#include <cmath>
+
+#include "core/error.h"
+#include "nn/model.h"
+
+namespace nsf {
+
+void deformation_jacobian(NeuralModel& model, const torch::Tensor& Xn, const Eigen::VectorXd& z,
+                          Eigen::MatrixXd& J, std::vector<Vec3>& g) {
+  const int64_t n = Xn.size(0), r = z.size();
+  const torch::Tensor zt =
+      torch::from_blob(const_cast<double*>(z.data()), {1, r}, torch::kFloat64).to(torch::kFloat32);
+  // One copy of ẑ per point, so the gradient of Σ_p g_c(X_p, ẑ_p) with respect to the copies
+  // holds every point's own row ∂g_c(X_p)/∂ẑ.
+  torch::Tensor zrep = zt.expand({n, r}).clone().set_requires_grad(true);
+  const torch::Tensor out = model.deform(Xn, zrep);  // n × 3
+  J.resize(3 * n, r);
+  for (int c = 0; c < 3; ++c) {
+    const auto grads = torch::autograd::grad({out.select(1, c).sum()}, {zrep}, {},
+                                             /*retain_graph=*/c < 2);
+    const torch::Tensor G = grads[0].to(torch::kFloat64).contiguous();
+    const double* Gp = G.data_ptr<double>();
+    for (int64_t p = 0; p < n; ++p)
+      for (int64_t k = 0; k < r; ++k) J(3 * p + c, k) = Gp[p * r + k];
+  }
+  const torch::Tensor o = out.detach().to(torch::kFloat64).contiguous();
+  g.resize(n);
+  const double* op = o.data_ptr<double>();
+  for (int64_t p = 0; p < n; ++p) g[p] = Vec3(op[3 * p], op[3 * p + 1], op[3 * p + 2]);
+}
+
+InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
+                                   const std::vector<Vec3>& target, const Eigen::VectorXd& z0,
+                                   const GaussNewtonOptions& options) {
+  const int64_t n = Xn.size(0), r = z0.size();
+  if (int64_t(target.size()) != n)
+    fail("inversion: ", target.size(), " target positions for ", n, " sample particles");
+  if (3 * n < r)
+    fail("inversion: |S| = ", n, " sample particles cannot fix r = ", r,
+         " latent coordinates (need |S| ≥ r/3)");
+  InversionResult res;
+  res.z = z0;
+  Eigen::MatrixXd J;
+  std::vector<Vec3> g;
+  const int iterations = options.taylor ? 1 : std::max(1, options.max_iterations);
+  for (int it = 0; it < iterations; ++it) {
+    deformation_jacobian(model, Xn, res.z, J, g);
+    Eigen::VectorXd residual(3 * n);
+    for (int64_t p = 0; p < n; ++p) residual.segment<3>(3 * p) = g[p] - target[p];
+    res.rms_residual = std::sqrt(residual.squaredNorm() / double(n));
+    // Normal equations are r × r; a tiny Levenberg term keeps them solvable when some latent
+    // direction does not move the samples at all.
+    Eigen::MatrixXd JtJ = J.transpose() * J;
+    JtJ.diagonal().array() += 1e-10 * (1.0 + JtJ.diagonal().maxCoeff());
+    const Eigen::VectorXd dz = JtJ.ldlt().solve(-(J.transpose() * residual));
+    res.z += dz;
+    res.iterations = it + 1;
+    if (!res.z.allFinite())
+      fail("inversion: the Gauss–Newton step produced a non-finite latent (iteration ", it + 1,
+           ")");
+    if (dz.norm() <= options.tolerance * (1.0 + res.z.norm())) break;
+  }
+  return res;
+}
+
+}  // namespace nsf

@@ -1,0 +1,33 @@
+#pragma once
+// Network inversion (§5.3, eq. 10): ẑ_{n+1} = argmin_ẑ Σ_{p∈S} ‖g(X_p, ẑ) − x_p^{n+1}‖², by
+// Gauss–Newton warm-started from ẑ_n, with ∂g/∂ẑ from reverse-mode autodiff (3 backward
+// passes over |S| points: each point's output depends only on its own copy of ẑ).
+// Torch level: used by the stepper and its tests, not part of the public runtime header.
+#include <torch/types.h>
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/types.h"
+#include "rom/rom_options.h"
+
+namespace nsf {
+
+class NeuralModel;
+
+struct InversionResult {
+  Eigen::VectorXd z;
+  int iterations = 0;
+  double rms_residual = 0;  // √(mean ‖g(X_p, ẑ) − x_p‖²) at the returned ẑ's last linearisation
+};
+
+// g(X_p, ẑ) for the normalised rest positions Xn (|S| × 3, float) and ∂g/∂ẑ as a 3|S| × r
+// matrix (row 3p + c is component c of particle p).
+void deformation_jacobian(NeuralModel& model, const torch::Tensor& Xn, const Eigen::VectorXd& z,
+                          Eigen::MatrixXd& J, std::vector<Vec3>& g);
+
+InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
+                                   const std::vector<Vec3>& target, const Eigen::VectorXd& z0,
+                                   const GaussNewtonOptions& options);
+
+}  // namespace nsf

@@ -1,0 +1,389 @@
+#include "rom/latent_stepper.h"
+
+#include <torch/autograd.h>
+#include <torch/torch.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "mpm/simulation.h"
+#include "nn/model.h"
+#include "rom/integration_set.h"
+#include "rom/latent_inversion.h"
+
+namespace nsf {
+
+namespace {
+
+torch::Tensor index_tensor(const std::vector<uint32_t>& ids) {
+  torch::Tensor t = torch::empty({int64_t(ids.size())}, torch::kInt64);
+  int64_t* p = t.data_ptr<int64_t>();
+  for (size_t k = 0; k < ids.size(); ++k) p[k] = ids[k];
+  return t;
+}
+
+torch::Tensor latent_row(const Latent& z) {
+  return torch::from_blob(const_cast<double*>(z.data()), {1, int64_t(z.size())}, torch::kFloat64)
+      .to(torch::kFloat32);
+}
+
+// Rows of a float tensor (n × 3) as positions.
+void to_vec3(const torch::Tensor& t, std::vector<Vec3>& out) {
+  const torch::Tensor d = t.to(torch::kFloat64).contiguous();
+  const double* p = d.data_ptr<double>();
+  out.resize(d.size(0));
+  for (size_t k = 0; k < out.size(); ++k) out[k] = Vec3(p[3 * k], p[3 * k + 1], p[3 * k + 2]);
+}
+
+Mat3 symmetric_from6(const double* s) {  // xx yy zz xy yz xz, the run files' order
+  Mat3 m;
+  m << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
+  return m;
+}
+
+}  // namespace
+
+struct LatentStepper::Impl {
+  NeuralFields& fields;
+  NeuralModel& model;
+  RomOptions opt;
+  double mu;
+  std::unique_ptr<Simulation> sim;  // its particles() hold N only, rebuilt every step
+  // Per particle of the scene: what the ROM needs of the full particle set.
+  std::vector<Vec3> X;
+  std::vector<double> mass, vol0;
+  std::vector<uint16_t> material;
+  std::vector<MaterialPoint> mat0;
+  torch::Tensor Xn_all;  // |P| × 3 normalised rest positions
+  NeuralFields::Points all_points;
+
+  std::vector<uint32_t> ranked, S;
+  torch::Tensor Xn_S;
+  Latent z, z_prev;
+  double t = 0, dt = 0, T = 0, dx = 0;
+  int per_frame = 1;
+  long n = 0;
+
+  NodeMarks marks;
+  CandidateSet K;
+  std::vector<int32_t> slot;  // particle → position in N, −1 elsewhere (reset after use)
+  std::vector<uint32_t> N;
+  std::vector<Vec3> x_cache;  // g on all particles at step cache_step
+  long cache_step = -1;
+
+  double sum_N = 0, sum_K = 0, last_residual = 0;
+  long refreshes = 0, misses = 0;
+  RomTimes times;
+
+  Impl(NeuralFields& f, Scene scene, double mu_, const RomOptions& o)
+      : fields(f),
+        model(f.model()),
+        opt(o),
+        mu(mu_),
+        marks(scene.settings.domain_lo, scene.settings.dx,
+              Grid(scene.settings.domain_lo, scene.settings.domain_hi, scene.settings.dx).dims()),
+        K(o.halo) {
+    const Particles& P = scene.particles;
+    fields.check_scene(scene.name, P.X, "scene '" + scene.name + "'");
+    X = P.X, mass = P.mass, vol0 = P.vol0, material = P.material, mat0 = P.mat;
+    const std::vector<Vec3> v0 = P.v;
+    const SimSettings& s = scene.settings;
+    if (!(opt.dt_ratio > 0)) fail("rom: the time-step ratio must be positive, got ", opt.dt_ratio);
+    per_frame = std::max(1, int(std::lround(s.substeps / opt.dt_ratio)));
+    dt = s.substeps * s.dt / per_frame;
+    T = s.frames * s.substeps * s.dt;
+    dx = s.dx;
+    const int r = fields.latent_dim();
+    const int min_samples = (r + 2) / 3;
+    if (opt.sampling.count < min_samples || size_t(opt.sampling.count) > X.size())
+      fail("rom: |S| = ", opt.sampling.count, " sample particles is out of range: need at least ",
+           min_samples, " (r/3 for r = ", r, ") and at most |P| = ", X.size());
+    if (opt.halo < 2) fail("rom: the candidate halo must be at least 2 cells, got ", opt.halo);
+    ranked = rank_samples(X, opt.sampling);
+    slot.assign(X.size(), -1);
+
+    Xn_all = model.norm_X.apply(
+        torch::from_blob(X.data()->data(), {int64_t(X.size()), 3}, torch::kFloat64)
+            .to(torch::kFloat32));
+    all_points = fields.prepare(X);
+    sim = std::make_unique<Simulation>(std::move(scene));
+    sim->particles() = Particles{};
+    set_samples(sample_count_at(opt.sampling, 0, T));
+
+    // ẑ_0: the encoder's latent of the rest state, refined on S so that step 1 starts from the
+    // latent the inversion itself would pick; ẑ_{-1}: fitted to X − Δt·v⁰.
+    GaussNewtonOptions fit{8, 1e-7, false};
+    z = fields.encode(X);
+    std::vector<Vec3> target(S.size());
+    for (size_t k = 0; k < S.size(); ++k) target[k] = X[S[k]];
+    z = invert_deformation(model, Xn_S, target, z, fit).z;
+    for (size_t k = 0; k < S.size(); ++k) target[k] = X[S[k]] - dt * v0[S[k]];
+    z_prev = invert_deformation(model, Xn_S, target, z, fit).z;
+  }
+
+  void set_samples(int count) {
+    S.assign(ranked.begin(), ranked.begin() + count);
+    Xn_S = Xn_all.index_select(0, index_tensor(S));
+    K = CandidateSet(opt.halo);  // forces a refresh
+  }
+
+  // g at rows `ids` of the scene for ẑ_n and ẑ_{n−1} in one batched call.
+  void deform_pair(const std::vector<uint32_t>& ids, std::vector<Vec3>& x, std::vector<Vec3>& xp) {
+    torch::NoGradGuard no_grad;
+    const int64_t m = int64_t(ids.size());
+    const torch::Tensor Xn = Xn_all.index_select(0, index_tensor(ids));
+    const torch::Tensor zz =
+        torch::cat({latent_row(z).expand({m, z.size()}), latent_row(z_prev).expand({m, z.size()})});
+    const torch::Tensor out = model.deform(torch::cat({Xn, Xn}), zz);
+    to_vec3(out.slice(0, 0, m), x);
+    to_vec3(out.slice(0, m, 2 * m), xp);
+  }
+
+  const std::vector<Vec3>& all_positions() {
+    if (cache_step != n) {
+      fields.deform(all_points, z, x_cache);
+      cache_step = n;
+    }
+    return x_cache;
+  }
+
+  void refresh() {
+    ScopedTimer timer(times.refresh);
+    const std::vector<Vec3>& x = all_positions();
+    std::vector<Vec3> xs(S.size());
+    for (size_t k = 0; k < S.size(); ++k) xs[k] = x[S[k]];
+    K.refresh(marks, x, xs);
+    ++refreshes;
+  }
+
+  void check_finite_inside(const std::vector<Vec3>& xs, const char* what) const {
+    const SimSettings& s = sim->settings();
+    for (size_t k = 0; k < xs.size(); ++k) {
+      const Vec3& x = xs[k];
+      const bool inside = x.allFinite() && (x - s.domain_lo).minCoeff() > 1.5 * dx &&
+                          (s.domain_hi - x).minCoeff() > 1.5 * dx;
+      if (!inside)
+        fail("rom: ", what, " particle ", S[k], " is at (", x[0], ", ", x[1], ", ", x[2],
+             "), outside the grid, at step ", n, " (t = ", t,
+             " s): the latent dynamics diverged. Try more sample particles (--samples), a smaller "
+             "--dt-ratio, or a model trained longer.");
+    }
+  }
+
+  void step() {
+    const int want = sample_count_at(opt.sampling, t, T);
+    if (size_t(want) != S.size()) set_samples(want);
+
+    // (1) Inference on the candidates K ⊇ N, then N itself.
+    std::vector<Vec3> xK, xK_prev;
+    {
+      if (K.empty() || cache_step == n) refresh();  // free when all positions are known
+      ScopedTimer timer(times.inference);
+      deform_pair(K.ids(), xK, xK_prev);
+    }
+    if (K.stale(xK, dx)) {
+      refresh();
+      ScopedTimer timer(times.inference);
+      deform_pair(K.ids(), xK, xK_prev);
+    }
+    std::vector<size_t> n_in_K;  // N as positions in K
+    {
+      ScopedTimer timer(times.mpm);
+      const auto& ids = K.ids();
+      for (size_t k = 0; k < ids.size(); ++k) slot[ids[k]] = int32_t(k);
+      std::vector<Vec3> xs(S.size());
+      for (size_t k = 0; k < S.size(); ++k) {
+        if (slot[S[k]] < 0) fail("rom: internal error, sample particle ", S[k], " not a candidate");
+        xs[k] = xK[slot[S[k]]];
+      }
+      for (uint32_t p : ids) slot[p] = -1;
+      check_finite_inside(xs, "sample");
+      marks.clear();
+      marks.mark_stencils(xs, 0);
+      N.clear();
+      for (size_t k = 0; k < ids.size(); ++k)
+        if (marks.touches(xK[k])) n_in_K.push_back(k), N.push_back(ids[k]);
+    }
+    if (opt.verify_integration_set) verify_integration_set();
+    sum_N += double(N.size());
+    sum_K += double(K.ids().size());
+
+    std::vector<Mat3> tau(N.size()), C(N.size(), Mat3::Zero());
+    {
+      ScopedTimer timer(times.inference);
+      const torch::Tensor XnN = Xn_all.index_select(0, index_tensor(N));
+      const int64_t m = int64_t(N.size());
+      const torch::Tensor zN = latent_row(z).expand({m, z.size()});
+      if (opt.crom) {
+        crom_stress(XnN, zN, tau);
+      } else {
+        torch::NoGradGuard no_grad;
+        const torch::Tensor muN = torch::full({m, 1}, float(mu));
+        const torch::Tensor h = model.stress(XnN, zN, muN).to(torch::kFloat64).contiguous();
+        const torch::Tensor l = model.affine(XnN, zN).to(torch::kFloat64).contiguous();
+        const double* hp = h.data_ptr<double>();
+        const double* lp = l.data_ptr<double>();
+        for (int64_t k = 0; k < m; ++k) {
+          tau[k] = symmetric_from6(hp + 6 * k);
+          C[k] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(lp + 9 * k);
+        }
+      }
+    }
+
+    // (2) One MPM step on N with the engine's own transfers; G2P for S only.
+    std::vector<Vec3> xs_new(S.size());
+    {
+      ScopedTimer timer(times.mpm);
+      Particles& P = sim->particles();
+      const size_t m = N.size();
+      P.X.resize(m), P.x.resize(m), P.v.resize(m), P.C.resize(m), P.F.resize(m), P.tau.resize(m);
+      P.mass.resize(m), P.vol0.resize(m), P.mat.resize(m), P.material.resize(m);
+      P.object.resize(m);
+      for (size_t k = 0; k < m; ++k) {
+        const uint32_t p = N[k];
+        const size_t q = n_in_K[k];
+        P.X[k] = X[p];
+        P.x[k] = xK[q];
+        P.v[k] = (xK[q] - xK_prev[q]) / dt;
+        P.C[k] = C[k];
+        P.F[k] = Mat3::Identity();
+        P.tau[k] = tau[k];
+        P.mass[k] = mass[p];
+        P.vol0[k] = vol0[p];
+        P.mat[k] = mat0[p];
+        P.material[k] = material[p];
+        P.object[k] = 0;
+        slot[p] = int32_t(k);
+      }
+      std::vector<uint32_t> gather(S.size());
+      for (size_t k = 0; k < S.size(); ++k) gather[k] = uint32_t(slot[S[k]]);
+      for (uint32_t p : N) slot[p] = -1;
+      sim->transfer(dt, t, &gather);
+      for (size_t k = 0; k < S.size(); ++k) xs_new[k] = P.x[gather[k]];
+      check_finite_inside(xs_new, "sample");
+    }
+
+    // (3) Inversion for ẑ_{n+1}, warm-started from ẑ_n.
+    {
+      ScopedTimer timer(times.inversion);
+      const InversionResult res = invert_deformation(model, Xn_S, xs_new, z, opt.inversion);
+      z_prev = z;
+      z = res.z;
+      last_residual = res.rms_residual;
+    }
+    t += dt;
+    ++n;
+  }
+
+  // CROM: τ = τ(F) with F = ∂g/∂X from autodiff, through the scene's own constitutive models
+  // (each particle's initial plastic state: the baseline has no plastic history).
+  void crom_stress(const torch::Tensor& XnN, const torch::Tensor& zN, std::vector<Mat3>& tau) {
+    const int64_t m = XnN.size(0);
+    torch::Tensor Xg = XnN.clone().set_requires_grad(true);
+    const torch::Tensor out = model.deform(Xg, zN);
+    std::vector<torch::Tensor> rows;
+    for (int c = 0; c < 3; ++c)
+      rows.push_back(torch::autograd::grad({out.select(1, c).sum()}, {Xg}, {}, c < 2)[0]);
+    // ∂x/∂X = ∂x/∂Xn · diag(1/σ_X): the rest positions were normalised per component.
+    const torch::Tensor F = (torch::stack(rows, 1) / model.norm_X.std.reshape({1, 1, 3}))
+                                .to(torch::kFloat64)
+                                .contiguous();
+    const double* f = F.data_ptr<double>();
+    const auto& materials = sim->scene().materials;
+    for (int64_t k = 0; k < m; ++k) {
+      Mat3 Fk = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(f + 9 * k);
+      MaterialPoint mp = mat0[N[k]];
+      tau[k] = materials[material[N[k]]]->update(Fk, mp, dt);
+    }
+  }
+
+  void verify_integration_set() {
+    // Brute force: g on every particle, N by the definition, compared with the scheme's N.
+    std::vector<Vec3> x;
+    fields.deform(all_points, z, x);
+    const std::vector<uint32_t> exact = nsf::integration_particles(marks, x);
+    std::vector<uint32_t> ours = N;
+    std::sort(ours.begin(), ours.end());
+    for (uint32_t p : exact)
+      if (!std::binary_search(ours.begin(), ours.end(), p)) ++misses;
+  }
+};
+
+LatentStepper::LatentStepper(NeuralFields& fields, Scene scene, double mu,
+                             const RomOptions& options)
+    : impl_(std::make_unique<Impl>(fields, std::move(scene), mu, options)) {}
+LatentStepper::~LatentStepper() = default;
+
+void LatentStepper::step() {
+  impl_->step();
+}
+void LatentStepper::advance_frame() {
+  for (int i = 0; i < impl_->per_frame; ++i) impl_->step();
+}
+double LatentStepper::time() const {
+  return impl_->t;
+}
+double LatentStepper::dt() const {
+  return impl_->dt;
+}
+int LatentStepper::steps_per_frame() const {
+  return impl_->per_frame;
+}
+long LatentStepper::step_count() const {
+  return impl_->n;
+}
+const Latent& LatentStepper::latent() const {
+  return impl_->z;
+}
+const Latent& LatentStepper::previous_latent() const {
+  return impl_->z_prev;
+}
+
+void LatentStepper::state(const NeuralFields::Points& X, std::vector<Vec3>& x,
+                          std::vector<Vec3>* v) const {
+  impl_->fields.deform(X, impl_->z, x);
+  if (!v) return;
+  impl_->fields.deform(X, impl_->z_prev, *v);
+  for (size_t k = 0; k < x.size(); ++k) (*v)[k] = (x[k] - (*v)[k]) / impl_->dt;
+}
+
+void LatentStepper::particle_state(std::vector<Vec3>& x, std::vector<Vec3>* v) {
+  x = impl_->all_positions();
+  if (!v) return;
+  impl_->fields.deform(impl_->all_points, impl_->z_prev, *v);
+  for (size_t k = 0; k < x.size(); ++k) (*v)[k] = (x[k] - (*v)[k]) / impl_->dt;
+}
+
+size_t LatentStepper::particle_count() const {
+  return impl_->X.size();
+}
+size_t LatentStepper::sample_count() const {
+  return impl_->S.size();
+}
+const std::vector<uint32_t>& LatentStepper::samples() const {
+  return impl_->S;
+}
+const std::vector<uint32_t>& LatentStepper::integration_particles() const {
+  return impl_->N;
+}
+double LatentStepper::mean_integration_count() const {
+  return impl_->n ? impl_->sum_N / double(impl_->n) : 0.0;
+}
+double LatentStepper::mean_candidate_count() const {
+  return impl_->n ? impl_->sum_K / double(impl_->n) : 0.0;
+}
+long LatentStepper::refreshes() const {
+  return impl_->refreshes;
+}
+long LatentStepper::integration_misses() const {
+  return impl_->misses;
+}
+double LatentStepper::last_inversion_residual() const {
+  return impl_->last_residual;
+}
+const RomTimes& LatentStepper::times() const {
+  return impl_->times;
+}
+
+}  // namespace nsf

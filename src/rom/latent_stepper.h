@@ -1,0 +1,67 @@
+#pragma once
+// The reduced-order simulator (§5): time-stepping in the latent space of a trained model. One
+// step = (1) infer x, v, τ, C on the integration particles N, (2) one MPM step on N with the
+// full-order engine's own transfers (G2P on the sample particles S only), (3) Gauss–Newton
+// inversion of g on S for ẑ_{n+1}. The public runtime header: no torch types, so a game engine
+// or VR client can embed it with the model file and a scene.
+#include <memory>
+#include <vector>
+
+#include "core/timer.h"
+#include "mpm/scene/scene.h"
+#include "nn/neural_fields.h"
+#include "rom/rom_options.h"
+
+namespace nsf {
+
+struct RomTimes {
+  PhaseTimer inference;  // g on the candidates, h and l (or ∂g/∂X for CROM) on N
+  PhaseTimer mpm;        // I, N, and the MPM step on N
+  PhaseTimer inversion;  // Gauss–Newton
+  PhaseTimer refresh;    // rebuilding the candidate set from g on all particles
+};
+
+class LatentStepper {
+ public:
+  // `scene` must be the model's scene (same particles; checked) with μ already applied; `mu` is
+  // passed to h when the model conditions on it. The initial latent ẑ_0 is the encoding of the
+  // rest state refined on S; ẑ_{-1} fits X − Δt·v⁰ on S, so the first backward difference
+  // reproduces the scene's initial velocities.
+  LatentStepper(NeuralFields& fields, Scene scene, double mu, const RomOptions& options);
+  ~LatentStepper();
+  LatentStepper(const LatentStepper&) = delete;
+  LatentStepper& operator=(const LatentStepper&) = delete;
+
+  void step();
+  void advance_frame();  // steps_per_frame() steps
+
+  double time() const;
+  double dt() const;  // the ROM step
+  int steps_per_frame() const;
+  long step_count() const;
+  const Latent& latent() const;
+  const Latent& previous_latent() const;
+
+  // x = g(X, ẑ_n) and, if v is given, v = (g(X, ẑ_n) − g(X, ẑ_{n−1}))/Δt at prepared points
+  // (fields.prepare(X): the scene's particles or any other rest positions, Fig. 6).
+  void state(const NeuralFields::Points& X, std::vector<Vec3>& x, std::vector<Vec3>* v) const;
+  // The same for all particles of the scene; also refreshes the candidate set for free.
+  void particle_state(std::vector<Vec3>& x, std::vector<Vec3>* v);
+
+  size_t particle_count() const;
+  size_t sample_count() const;  // |S| now
+  const std::vector<uint32_t>& samples() const;
+  const std::vector<uint32_t>& integration_particles() const;  // N of the last step
+  double mean_integration_count() const;                       // mean |N| over the steps so far
+  double mean_candidate_count() const;
+  long refreshes() const;
+  long integration_misses() const;         // with verify_integration_set: particles of N not found
+  double last_inversion_residual() const;  // rms ‖g − x‖ on S after the last inversion (m)
+  const RomTimes& times() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace nsf

@@ -1,0 +1,27 @@
+#pragma once
+// Settings of the reduced-order simulator (docs/ROM.md), free of torch types.
+#include "rom/sampling.h"
+
+namespace nsf {
+
+struct GaussNewtonOptions {
+  int max_iterations = 3;   // the paper converges in 2–3
+  double tolerance = 1e-5;  // stop when ‖Δẑ‖ ≤ tolerance · (1 + ‖ẑ‖)
+  bool taylor = false;      // one linearised step at ẑ_n (first-order Taylor, Chen et al. 2023a)
+};
+
+struct RomOptions {
+  // ROM step over the scene's Δt; rounded so that a frame is a whole number of ROM steps.
+  double dt_ratio = 1.5;
+  SamplingSpec sampling;
+  GaussNewtonOptions inversion;
+  // CROM-style baseline (Figs. 5, 12, 13): τ from F = ∂g/∂X through the constitutive model,
+  // no affine field (C = 0); h and l are not used.
+  bool crom = false;
+  int halo = 3;  // candidate margin in cells around I (rom/integration_set.h)
+  // Also find N by brute force (g on every particle) each step and count the particles the
+  // candidate scheme missed. For tests and checks; costs a full evaluation of g per step.
+  bool verify_integration_set = false;
+};
+
+}  // namespace nsf

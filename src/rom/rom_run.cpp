@@ -1,0 +1,273 @@
+#include "rom/rom_run.h"
+
+#include <omp.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/memory.h"
+#include "core/progress.h"
+#include "io/run_reader.h"
+#include "io/run_writer.h"
+#include "mpm/scene/sweep_spec.h"
+#include "mpm/simulation.h"
+#include "nn/runtime.h"
+
+namespace nsf {
+
+namespace {
+
+// Removes a scratch file when the run ends, however it ends.
+struct ScratchFile {
+  std::string path;
+  ~ScratchFile() {
+    if (!path.empty()) std::filesystem::remove(path);
+  }
+};
+
+// k points per particle, jittered uniformly inside the particle's own rest cube (side V⁰^⅓),
+// seeded: the resolution boost of Fig. 6 queries g at these instead of at the particles.
+Particles upsampled_points(const Particles& P, int k) {
+  Particles out;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  for (size_t p = 0; p < P.size(); ++p) {
+    const double h = std::cbrt(P.vol0[p]);
+    for (int i = 0; i < k; ++i) {
+      const Vec3 X = P.X[p] + h * Vec3(u(rng), u(rng), u(rng));
+      out.add(X, Vec3::Zero(), P.mass[p] / k, P.vol0[p] / k, P.mat[p], P.material[p], P.object[p]);
+    }
+  }
+  return out;
+}
+
+// Makes the scene JSON of the run: overrides, then μ through the scene's sweep templates.
+nlohmann::json scene_at_mu(const RomRunOptions& o, const NeuralFields& fields, RomReport& rep) {
+  nlohmann::json js = read_scene_json(o.scene_path, o.overrides);
+  if (js.contains("sweep")) {
+    const SweepSpec spec = parse_sweep(js["sweep"], js);
+    if (!o.mu)
+      fail("rom: scene ", o.scene_path, " varies '", spec.parameter, "' over [", spec.lo, ", ",
+           spec.hi, "]; give its value with --mu");
+    apply_overrides(js, sweep_overrides(spec, *o.mu));
+    rep.mu = *o.mu;
+    rep.has_mu = true;
+    if (*o.mu < fields.mu_min() || *o.mu > fields.mu_max()) {
+      std::ostringstream w;
+      w << "mu = " << *o.mu << " lies outside the training range [" << fields.mu_min() << ", "
+        << fields.mu_max() << "] of " << o.model_path
+        << ": this is extrapolation, expect larger errors";
+      rep.warnings.push_back(w.str());
+      std::fprintf(stderr, "warning: %s\n", w.str().c_str());
+    }
+  } else if (o.mu) {
+    fail("rom: --mu given, but scene ", o.scene_path,
+         " has no \"sweep\" section saying what mu is");
+  } else if (fields.stress_uses_mu()) {
+    fail("rom: the model's stress field takes mu, but scene ", o.scene_path,
+         " has no \"sweep\" section to set it");
+  }
+  return js;
+}
+
+// Checks that a ground-truth run is this scene and has a frame at every output time.
+void check_truth(const RunReader& truth, const Scene& scene, int frames, double frame_dt) {
+  if (truth.particle_count() != scene.particles.size() ||
+      truth.rest_positions() != scene.particles.X)
+    fail("rom: ground truth ", truth.path(), " holds ", truth.particle_count(),
+         " particles with other rest positions than scene '", scene.name, "' (",
+         scene.particles.size(), " particles): it is a run of another scene");
+  if (truth.frame_count() < size_t(frames) + 1)
+    fail("rom: ground truth ", truth.path(), " has ", truth.frame_count(),
+         " frames, the scene needs ", frames + 1);
+  for (int f = 0; f <= frames; ++f)
+    if (std::abs(truth.times()[f] - f * frame_dt) > 1e-6 * std::max(1.0, f * frame_dt))
+      fail("rom: ground truth ", truth.path(), " frame ", f, " is at t = ", truth.times()[f],
+           " s, the scene's frame ", f, " at t = ", f * frame_dt, " s");
+}
+
+}  // namespace
+
+RomReport run_rom(const RomRunOptions& o) {
+  RomReport rep;
+  if (o.upsample < 1) fail("rom: --upsample must be at least 1, got ", o.upsample);
+  if (o.threads > 0) omp_set_num_threads(o.threads);
+  set_nn_threads(o.threads);
+  NeuralFields fields = NeuralFields::load(o.model_path);
+  const nlohmann::json js = scene_at_mu(o, fields, rep);
+  const std::string base_dir = std::filesystem::path(o.scene_path).parent_path().string();
+  Scene scene = build_scene(js, base_dir);
+  fields.check_scene(scene.name, scene.particles.X, "scene " + o.scene_path);
+
+  RomOptions ro = o.rom;
+  ro.sampling = parse_sampling(js.contains("rom") ? js["rom"] : nlohmann::json());
+  if (o.samples) ro.sampling.count = *o.samples;
+  ro.sampling.seed = o.rom.sampling.seed;
+
+  const SimSettings settings = scene.settings;
+  const double frame_dt = settings.substeps * settings.dt;
+  rep.scene = scene.name;
+  rep.particles = scene.particles.size();
+  rep.latent_dim = fields.latent_dim();
+  rep.gamma = 3.0 * double(rep.particles) / rep.latent_dim;
+  rep.frames = settings.frames;
+  rep.fom_steps_per_frame = settings.substeps;
+  rep.baseline_mib = current_rss_mib();
+
+  // Full order first: its file is the ground truth the ROM is measured against frame by frame.
+  ScratchFile scratch;
+  std::string truth_path = o.truth_path;
+  if (o.full_order) {
+    std::string path = o.fom_out;
+    if (path.empty()) {
+      path = (std::filesystem::temp_directory_path() /
+              ("nsf_rom_truth_" + std::to_string(getpid()) + ".h5"))
+                 .string();
+      scratch.path = path;
+    }
+    rep.peak_reset = reset_peak_rss();
+    Simulation sim(build_scene(js, base_dir));
+    RunWriter writer(path, sim.particles(), settings, scene.name, js.dump());
+    if (rep.has_mu) writer.set_attribute("mu", rep.mu);
+    writer.write_frame(sim.particles(), sim.time());
+    Progress progress("full order", settings.frames, "frames");
+    for (int f = 1; f <= settings.frames; ++f) {
+      const double t0 = now_seconds();
+      sim.advance_frame();
+      rep.fom_seconds = std::max(0.0, rep.fom_seconds) + (now_seconds() - t0);
+      writer.write_frame(sim.particles(), sim.time());
+      if (!o.quiet) progress.update(f);
+    }
+    writer.finish();
+    if (!o.quiet) progress.finish();
+    rep.fom_peak_mib = peak_rss_mib();
+    if (truth_path.empty()) truth_path = path;
+  }
+  std::unique_ptr<RunReader> truth;
+  if (!truth_path.empty()) {
+    if (!std::filesystem::exists(truth_path))
+      fail("rom: ground-truth file ", truth_path, " does not exist");
+    truth = std::make_unique<RunReader>(truth_path);
+    check_truth(*truth, scene, settings.frames, frame_dt);
+    rep.truth_file = truth_path;
+  }
+
+  // The reduced-order run.
+  if (o.full_order) reset_peak_rss();
+  const Particles out_points =
+      o.upsample > 1 ? upsampled_points(scene.particles, o.upsample) : scene.particles;
+  rep.output_points = out_points.size();
+  double t0 = now_seconds();
+  LatentStepper rom(fields, std::move(scene), rep.mu, ro);
+  rep.rom_setup_seconds = now_seconds() - t0;
+  rep.rom_steps_per_frame = rom.steps_per_frame();
+  rep.samples = rom.sample_count();
+  const NeuralFields::Points boost =
+      o.upsample > 1 ? fields.prepare(out_points.X) : NeuralFields::Points();
+
+  std::unique_ptr<RunWriter> writer;
+  Particles frame = out_points;
+  std::vector<Vec3> x, v;
+  double delta_num = 0, delta_den = 0;  // the sums of eq. (11) over frames 1…N
+  auto output = [&](int f) {
+    const double t1 = now_seconds();
+    rom.particle_state(x, &v);
+    if (truth && f > 0) {
+      const std::vector<Vec3> phi = truth->read_positions(size_t(f));
+      double num = 0, den = 0;
+      for (size_t p = 0; p < phi.size(); ++p)
+        num += (x[p] - phi[p]).squaredNorm(), den += phi[p].squaredNorm();
+      rep.delta_per_frame.push_back(std::sqrt(num / den));
+      delta_num += num, delta_den += den;
+      rep.delta = std::sqrt(delta_num / delta_den);
+    }
+    if (writer) {
+      if (o.upsample > 1) rom.state(boost, x, &v);
+      frame.x = x;
+      frame.v = v;
+      writer->write_frame(frame, rom.time());
+    }
+    rep.rom_output_seconds += now_seconds() - t1;
+  };
+  if (!o.out_path.empty()) {
+    writer = std::make_unique<RunWriter>(o.out_path, out_points, settings, rep.scene, js.dump());
+    writer->set_attribute("rom", 1);
+    writer->set_attribute("rom_model", o.model_path);
+    writer->set_attribute("rom_fields",
+                          "x and v from the neural deformation field; C, F and tau are not "
+                          "computed by the reduced-order run (identity F, zero C and tau)");
+    if (rep.has_mu) writer->set_attribute("mu", rep.mu);
+  }
+  output(0);
+  Progress progress("reduced order", settings.frames, "frames");
+  for (int f = 1; f <= settings.frames; ++f) {
+    t0 = now_seconds();
+    rom.advance_frame();
+    rep.rom_seconds += now_seconds() - t0;
+    output(f);
+    if (!o.quiet) {
+      char extra[96];
+      std::snprintf(extra, sizeof extra, "|N| %zu, delta %.2f%%",
+                    rom.integration_particles().size(), rep.delta >= 0 ? 100 * rep.delta : 0.0);
+      progress.update(f, extra);
+    }
+  }
+  if (!o.quiet) progress.finish();
+  if (writer) writer->finish();
+  rep.rom_file = o.out_path;
+  rep.rom_peak_mib = peak_rss_mib();
+  rep.samples_end = rom.sample_count();
+  rep.mean_N = rom.mean_integration_count();
+  rep.mean_K = rom.mean_candidate_count();
+  rep.refreshes = rom.refreshes();
+  rep.rom_times = rom.times();
+  return rep;
+}
+
+std::string format_rom_report(const RomReport& r) {
+  std::ostringstream s;
+  char line[256];
+  auto put = [&](const char* fmt, auto... args) {
+    std::snprintf(line, sizeof line, fmt, args...);
+    s << line << "\n";
+  };
+  s << "scene " << r.scene;
+  if (r.has_mu) s << " at mu = " << r.mu;
+  s << "\n";
+  for (const auto& w : r.warnings) s << "warning: " << w << "\n";
+  put("  |P| = %zu, r = %d, gamma = 3|P|/r = %.3g", r.particles, r.latent_dim, r.gamma);
+  put("  |S| = %zu%s, mean |N| = %.0f (candidates %.0f, %ld full refreshes)", r.samples,
+      r.samples_end != r.samples ? (" -> " + std::to_string(r.samples_end)).c_str() : "", r.mean_N,
+      r.mean_K, r.refreshes);
+  if (r.delta >= 0) put("  delta (eq. 11) vs %s: %.3f%%", r.truth_file.c_str(), 100 * r.delta);
+  const double steps = double(r.frames) * r.rom_steps_per_frame;
+  put("  reduced order: %.3f s for %d frames (%.2f ms/frame, %d steps/frame of %.3g x dt)",
+      r.rom_seconds, r.frames, 1e3 * r.rom_seconds / r.frames, r.rom_steps_per_frame,
+      double(r.fom_steps_per_frame) / r.rom_steps_per_frame);
+  const RomTimes& t = r.rom_times;
+  put("    inference %.3f s, MPM on N %.3f s, inversion %.3f s, candidate refresh %.3f s",
+      t.inference.seconds(), t.mpm.seconds(), t.inversion.seconds(), t.refresh.seconds());
+  put("    per step: %.2f ms; setup %.2f s; output and delta %.2f s (not in the step time)",
+      1e3 * r.rom_seconds / std::max(1.0, steps), r.rom_setup_seconds, r.rom_output_seconds);
+  if (r.fom_seconds >= 0) {
+    put("  full order:    %.3f s for %d frames (%.2f ms/frame, %d steps/frame)", r.fom_seconds,
+        r.frames, 1e3 * r.fom_seconds / r.frames, r.fom_steps_per_frame);
+    put("  speed-up (full order / reduced order, same process, same threads): %.2fx", r.speedup());
+    put("  peak memory: reduced order %.0f MiB, full order %.0f MiB (process baseline %.0f MiB "
+        "with the model loaded)%s",
+        r.rom_peak_mib, r.fom_peak_mib, r.baseline_mib,
+        r.peak_reset ? "" : " [peak could not be reset between phases]");
+  } else {
+    put("  peak memory: reduced order %.0f MiB (baseline %.0f MiB)", r.rom_peak_mib,
+        r.baseline_mib);
+  }
+  if (!r.rom_file.empty()) s << "  wrote " << r.rom_file << "\n";
+  return s.str();
+}
+
+}  // namespace nsf

@@ -1,0 +1,57 @@
+#pragma once
+// `nsf rom`: a reduced-order run of a scene at a parameter μ, written in the layout of
+// `nsf simulate`, compared with the full-order engine on the same scene in the same process
+// (wall time, peak memory) and with a ground truth (δ of eq. 11). Shared by `nsf rom`,
+// `nsf demo` and `nsf report`.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rom/latent_stepper.h"
+
+namespace nsf {
+
+struct RomRunOptions {
+  std::string model_path, scene_path;
+  std::vector<std::string> overrides;  // --set, applied before μ
+  std::optional<double> mu;            // applied through the scene's "sweep" templates
+  std::optional<int> samples;          // |S| at t = 0; default: the scene's "rom" section
+  RomOptions rom;
+  std::string out_path;    // ROM run file; empty: none
+  std::string truth_path;  // existing ground truth; empty: the full-order run made here
+  std::string fom_out;     // where the full-order run goes; empty: a temporary file
+  bool full_order = true;  // run the full-order engine for timing and as the ground truth
+  int upsample = 1;        // positions of k points per particle in the output file (Fig. 6)
+  int threads = 2;         // OpenMP and torch threads, for both engines alike
+  bool quiet = false;
+};
+
+struct RomReport {
+  std::string scene;
+  double mu = 0;
+  bool has_mu = false;
+  size_t particles = 0, output_points = 0;
+  int latent_dim = 0, frames = 0, rom_steps_per_frame = 0, fom_steps_per_frame = 0;
+  double gamma = 0;  // 3|P|/r
+  size_t samples = 0, samples_end = 0;
+  double mean_N = 0, mean_K = 0;
+  long refreshes = 0;
+  double delta = -1;  // eq. (11) against the ground truth; < 0 when there is none
+  std::vector<double> delta_per_frame;
+  double rom_seconds = 0;  // the latent steps only
+  double rom_setup_seconds = 0, rom_output_seconds = 0;
+  RomTimes rom_times;
+  double fom_seconds = -1;  // the full-order steps only; < 0 when not run
+  double rom_peak_mib = 0, fom_peak_mib = -1, baseline_mib = 0;
+  bool peak_reset = false;  // the kernel restarted the peak between the phases
+  std::vector<std::string> warnings;
+  std::string truth_file, rom_file;
+  double speedup() const { return fom_seconds > 0 ? fom_seconds / rom_seconds : 0.0; }
+};
+
+RomReport run_rom(const RomRunOptions& options);
+
+// The summary printed by `nsf rom` and `nsf demo`.
+std::string format_rom_report(const RomReport& report);
+
+}  // namespace nsf

@@ -1,0 +1,296 @@
+// The reduced-order simulator (§5): inversion, Jacobian, the MPM step on N, the integration set
+// along a run, an end-to-end run on a tiny scene, and its errors for bad input.
+// GCC 12 reports false -Wmaybe-uninitialized warnings from inside Eigen's AVX-512 kernels for
+// dynamic-size matrices (in the intrinsics headers, not in this code).
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "cli_runner.h"
+#include "core/error.h"
+#include "data/sweep.h"
+#include "error_matchers.h"
+#include "io/run_reader.h"
+#include "mpm/simulation.h"
+#include "nn/model.h"
+#include "nn/neural_fields.h"
+#include "nn/runtime.h"
+#include "nn/trainer.h"
+#include "rom/integration_set.h"
+#include "rom/latent_inversion.h"
+#include "rom/latent_stepper.h"
+#include "rom/rom_run.h"
+
+namespace fs = std::filesystem;
+using nsf::Mat3;
+using nsf::Vec3;
+using ::testing::HasSubstr;
+
+namespace {
+
+const std::string kTinyScene =
+    (fs::path(NSF_SOURCE_DIR) / "scenes" / "examples" / "rom_tiny.json").string();
+
+// An untrained model over random rest positions: enough for the inversion's algebra.
+struct RandomModel {
+  nsf::NeuralModel model;
+  std::vector<Vec3> X;
+  torch::Tensor Xn;
+  static nsf::NetConfig config() {
+    nsf::NetConfig c;
+    c.latent_dim = 4;
+    c.depth = 3;
+    c.width_g = c.width_h = c.width_l = 32;
+    c.encoder_hidden = 8;
+    return c;
+  }
+  explicit RandomModel(int n) : model(config(), nsf::SceneFingerprint{"random", n, 1}, false) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int p = 0; p < n; ++p) X.emplace_back(u(rng), u(rng), u(rng));
+    Xn = torch::from_blob(X.data()->data(), {n, 3}, torch::kFloat64).to(torch::kFloat32);
+    model.set_eval_mode();
+  }
+  std::vector<Vec3> deform(const Eigen::VectorXd& z) {
+    torch::NoGradGuard ng;
+    const int64_t n = Xn.size(0);
+    const torch::Tensor zt =
+        torch::from_blob(const_cast<double*>(z.data()), {1, z.size()}, torch::kFloat64)
+            .to(torch::kFloat32)
+            .expand({n, z.size()});
+    const torch::Tensor o = model.deform(Xn, zt).to(torch::kFloat64).contiguous();
+    std::vector<Vec3> x(n);
+    for (int64_t p = 0; p < n; ++p)
+      x[p] = Vec3(o[p][0].item<double>(), o[p][1].item<double>(), o[p][2].item<double>());
+    return x;
+  }
+};
+
+TEST(RomInversion, RecoversAKnownLatentFromTheNetworksOwnOutput) {
+  RandomModel m(40);
+  Eigen::VectorXd z_true(4);
+  z_true << 0.3, -0.7, 0.5, 0.1;
+  const std::vector<Vec3> target = m.deform(z_true);
+  Eigen::VectorXd z0 = z_true + Eigen::VectorXd::Constant(4, 0.2);
+  nsf::GaussNewtonOptions opt;
+  opt.max_iterations = 20;
+  opt.tolerance = 1e-7;
+  const nsf::InversionResult r = nsf::invert_deformation(m.model, m.Xn, target, z0, opt);
+  EXPECT_LT((r.z - z_true).norm(), 1e-3) << r.z.transpose();
+  // Float32 networks: the residual floor is a few ulps of the positions (~1).
+  EXPECT_LT(r.rms_residual, 1e-4);
+  // The warm start matters: a single linearised (Taylor) step from far away does not get there.
+  opt.taylor = true;
+  const nsf::InversionResult t = nsf::invert_deformation(m.model, m.Xn, target, z0, opt);
+  EXPECT_EQ(t.iterations, 1);
+}
+
+TEST(RomInversion, JacobianMatchesFiniteDifferences) {
+  RandomModel m(25);
+  Eigen::VectorXd z(4);
+  z << 0.2, 0.4, -0.3, 0.6;
+  Eigen::MatrixXd J;
+  std::vector<Vec3> g;
+  nsf::deformation_jacobian(m.model, m.Xn, z, J, g);
+  ASSERT_EQ(J.rows(), 75);
+  ASSERT_EQ(J.cols(), 4);
+  const double h = 1e-2;  // float32 networks: central differences need a large step
+  double worst = 0, scale = J.cwiseAbs().maxCoeff();
+  for (int k = 0; k < 4; ++k) {
+    Eigen::VectorXd zp = z, zm = z;
+    zp[k] += h, zm[k] -= h;
+    const auto xp = m.deform(zp), xm = m.deform(zm);
+    for (size_t p = 0; p < xp.size(); ++p)
+      for (int c = 0; c < 3; ++c)
+        worst = std::max(worst, std::abs((xp[p][c] - xm[p][c]) / (2 * h) - J(3 * p + c, k)));
+  }
+  EXPECT_GT(scale, 1e-3);  // the network does depend on z
+  EXPECT_LT(worst, 2e-3 * scale + 1e-4) << "max |J - FD| = " << worst;
+}
+
+// The engine half of §5.2: with identical particle states, an MPM step over N (and G2P over S)
+// moves S exactly as a full step over every particle does.
+TEST(RomMpmStep, StepOnIntegrationParticlesGivesTheFullStepsSamplePositions) {
+  nsf::Simulation full(nsf::load_scene(kTinyScene));
+  for (int i = 0; i < 120; ++i) full.step();  // in contact with the floor, deformed
+  const nsf::Particles state = full.particles();
+  const double t = full.time(), dt = full.settings().dt;
+
+  std::vector<uint32_t> S;  // a few particles at one end of the bar, so N is a proper subset
+  for (uint32_t p = 0; p < state.size(); p += 5)
+    if (state.X[p].x() < 0.3) S.push_back(p);
+  const nsf::Grid& grid = full.grid();
+  nsf::NodeMarks I(grid.lo(), grid.dx(), grid.dims());
+  std::vector<Vec3> xs;
+  for (uint32_t p : S) xs.push_back(state.x[p]);
+  I.mark_stencils(xs);
+  const std::vector<uint32_t> N = nsf::integration_particles(I, state.x);
+  ASSERT_LT(N.size(), state.size()) << "the test needs N to be a proper subset";
+  ASSERT_GT(N.size(), S.size());
+
+  nsf::Simulation rom(nsf::load_scene(kTinyScene));
+  nsf::Particles& P = rom.particles();
+  P = nsf::Particles{};
+  std::vector<uint32_t> gather;
+  for (uint32_t p : N) {
+    P.add(state.X[p], state.v[p], state.mass[p], state.vol0[p], state.mat[p], state.material[p], 0);
+    P.x.back() = state.x[p], P.C.back() = state.C[p], P.F.back() = state.F[p];
+    P.tau.back() = state.tau[p];
+    if (std::find(S.begin(), S.end(), p) != S.end()) gather.push_back(uint32_t(P.size() - 1));
+  }
+  ASSERT_EQ(gather.size(), S.size());
+  rom.transfer(dt, t, &gather);
+  full.step();
+  for (size_t k = 0; k < S.size(); ++k)
+    EXPECT_EQ(P.x[gather[k]], full.particles().x[S[k]]) << "sample particle " << S[k];
+}
+
+// One tiny dataset and model shared by the end-to-end tests.
+class RomEndToEnd : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    nsf::set_nn_threads(2);
+    root_ = fs::temp_directory_path() / ("nsf_rom_" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    nsf::SweepOptions so;
+    so.out_dir = (root_ / "data").string();
+    so.jobs = 2;
+    so.quiet = true;
+    nsf::run_sweep(kTinyScene, so);
+    nsf::TrainOptions o;
+    nsf::TrainConfig& c = o.config;
+    c.net.latent_dim = 4;
+    c.net.depth = 4;
+    c.net.width_g = 64;
+    c.net.width_h = c.net.width_l = 64;
+    c.steps = {1500, 600, 600};
+    c.frames_per_batch = {4, 8, 8};
+    c.particles_per_frame = 256;
+    c.seed = 2;
+    c.quiet = true;
+    nsf::train_model((root_ / "data").string(), model(), o);
+  }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+  static std::string model() { return (root_ / "tiny.nsf").string(); }
+  static std::string truth() { return (root_ / "data" / "test_0.h5").string(); }
+  static double test_mu() { return 1.0; }  // the sweep's single test run (midpoint)
+
+  static nsf::RomRunOptions options() {
+    nsf::RomRunOptions o;
+    o.model_path = model();
+    o.scene_path = kTinyScene;
+    o.mu = test_mu();
+    o.truth_path = truth();
+    o.full_order = false;
+    o.quiet = true;
+    return o;
+  }
+  static fs::path root_;
+};
+fs::path RomEndToEnd::root_;
+
+TEST_F(RomEndToEnd, StaysCloseToTheFullOrderRunAndBeatsAFrozenLatent) {
+  const nsf::RomReport r = nsf::run_rom(options());
+  ASSERT_GE(r.delta, 0);
+  EXPECT_LT(r.delta, 0.05) << "delta of the reduced-order run";
+  std::printf("tiny scene: ROM delta %.3f%%\n", 100 * r.delta);
+  // A latent frozen at ẑ_0 (the dynamics switched off): the ROM must do much better.
+  nsf::NeuralFields f = nsf::NeuralFields::load(model());
+  const nsf::RunReader gt(truth());
+  const nsf::NeuralFields::Points pts = f.prepare(gt.rest_positions());
+  std::vector<Vec3> x0;
+  f.deform(pts, f.encode(gt.rest_positions()), x0);
+  double num = 0, den = 0;
+  for (size_t k = 1; k < gt.frame_count(); ++k) {
+    const auto phi = gt.read_positions(k);
+    for (size_t p = 0; p < phi.size(); ++p)
+      num += (x0[p] - phi[p]).squaredNorm(), den += phi[p].squaredNorm();
+  }
+  const double frozen = std::sqrt(num / den);
+  EXPECT_LT(r.delta, 0.5 * frozen) << "ROM " << r.delta << " vs frozen latent " << frozen;
+  std::printf("tiny scene: frozen-latent delta %.3f%%\n", 100 * frozen);
+  EXPECT_EQ(r.samples, 64u);
+  EXPECT_GT(r.mean_N, double(r.samples));
+  EXPECT_LE(r.mean_N, double(r.particles));
+}
+
+TEST_F(RomEndToEnd, CandidateSchemeFindsExactlyTheIntegrationParticlesAlongTheRun) {
+  nsf::NeuralFields f = nsf::NeuralFields::load(model());
+  nsf::RomOptions o;
+  // Samples clustered at one end of the bar, so that K and N are proper subsets of P.
+  o.sampling.count = 8;
+  o.sampling.mode = "cluster";
+  o.sampling.center = Vec3(0.2, 0.26, 0.5);
+  o.sampling.sigma = 0.04;
+  o.verify_integration_set = true;
+  o.halo = 2;  // the tightest margin: the most refreshes would be missed if the rule were wrong
+  nsf::Scene scene = nsf::load_scene(kTinyScene, {"objects[0].velocity=[1.0,-1.0,0]"});
+  const int frames = scene.settings.frames;
+  nsf::LatentStepper rom(f, std::move(scene), test_mu(), o);
+  for (int k = 0; k < frames; ++k) rom.advance_frame();
+  EXPECT_EQ(rom.integration_misses(), 0);
+  EXPECT_GT(rom.mean_candidate_count(), rom.mean_integration_count());
+  EXPECT_LT(rom.mean_candidate_count(), 0.9 * double(rom.particle_count()));
+  EXPECT_GT(rom.step_count(), 100);
+}
+
+TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {
+  nsf::RomRunOptions o = options();
+  o.rom.crom = true;
+  const nsf::RomReport crom = nsf::run_rom(o);
+  EXPECT_GE(crom.delta, 0);
+  o.rom.crom = false;
+  o.rom.inversion.taylor = true;
+  const nsf::RomReport taylor = nsf::run_rom(o);
+  EXPECT_LT(taylor.delta, 0.1);
+}
+
+TEST_F(RomEndToEnd, BadInputIsAClearError) {
+  nsf::RomRunOptions o = options();
+  o.samples = 1;  // r = 4 needs at least 2
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "out of range");
+  o.samples = 100000;
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "out of range");
+  o = options();
+  o.truth_path = (root_ / "missing.h5").string();
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "missing.h5");
+  o = options();
+  o.scene_path = (fs::path(NSF_SOURCE_DIR) / "scenes" / "paper" / "jelly_small.json").string();
+  o.mu = 2.0;
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+                                "the model was trained for");
+  o = options();
+  o.mu.reset();
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "--mu");
+}
+
+TEST_F(RomEndToEnd, MuOutsideTheTrainingRangeWarns) {
+  nsf::RomRunOptions o = options();
+  o.mu = 1.5;
+  EXPECT_TRUE(nsf::run_rom(o).warnings.empty());
+  o.mu = 1.6;  // just beyond the training range: a warning, and the run still completes
+  o.truth_path.clear();
+  const nsf::RomReport r = nsf::run_rom(o);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_THAT(r.warnings[0], HasSubstr("outside the training range"));
+}
+
+TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
+  const std::string out = (root_ / "rom.h5").string();
+  const auto r = nsf::testing::run_cli("rom '" + model() + "' '" + kTinyScene +
+                                       "' --mu 1.0 --threads 2 --out '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("speed-up"));
+  EXPECT_THAT(r.output, HasSubstr("delta (eq. 11)"));
+  EXPECT_THAT(r.output, HasSubstr("gamma"));
+  const nsf::RunReader run(out);
+  EXPECT_EQ(run.frame_count(), 13u);
+  EXPECT_EQ(run.attribute_int("rom"), 1);
+  EXPECT_FALSE(fs::exists(out + ".tmp"));
+}
+
+}  // namespace
