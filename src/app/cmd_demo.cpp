@@ -5,14 +5,12 @@
 #include <filesystem>
 
 #include "app/commands.h"
+#include "app/pipeline.h"
 #include "core/error.h"
 #include "core/timer.h"
-#include "data/sweep.h"
 #include "io/run_comparison.h"
 #include "nn/dataset.h"
-#include "nn/neural_fields.h"
 #include "nn/runtime.h"
-#include "nn/trainer.h"
 #include "rom/rom_run.h"
 
 namespace nsf::app {
@@ -33,19 +31,6 @@ std::string stem_of(const std::string& path) {
   return fs::path(path).stem().string();
 }
 
-// A model file is reused only if it belongs to the dataset's scene; otherwise it is retrained.
-bool usable_model(const std::string& model, const Dataset& data) {
-  if (!fs::exists(model)) return false;
-  try {
-    NeuralFields f = NeuralFields::load(model);
-    f.check_scene(stem_of(model), data.rest_positions(), "dataset");
-    return true;
-  } catch (const Error& e) {
-    std::printf("not reusing %s: %s\n", model.c_str(), e.what());
-    return false;
-  }
-}
-
 void run_demo(const DemoArgs& a) {
   const double start = now_seconds();
   const std::string name = stem_of(a.scene);
@@ -55,27 +40,11 @@ void run_demo(const DemoArgs& a) {
   set_nn_threads(a.threads);
 
   std::printf("== 1/3 training data: nsf sweep %s --out %s\n", a.scene.c_str(), data.c_str());
-  SweepOptions so;
-  so.out_dir = data;
-  so.jobs = std::max(1, a.threads);
-  so.threads = 1;
-  const SweepSummary sweep = run_sweep(a.scene, so);
-  std::printf("   %d runs (%d simulated now, %d reused) in %.1f s\n", sweep.planned, sweep.ran,
-              sweep.skipped, sweep.seconds);
-
+  ensure_dataset(a.scene, data, a.threads);
   const Dataset dataset(data);
   if (dataset.test().empty()) fail("demo: dataset ", data, " has no test run to hold out");
   std::printf("== 2/3 neural fields: nsf train %s --out %s\n", data.c_str(), model.c_str());
-  if (usable_model(model, dataset)) {
-    std::printf("   reusing %s (delete it to retrain)\n", model.c_str());
-  } else {
-    TrainOptions to;
-    to.config = TrainConfig{};
-    to.config.net = default_net_config(dataset.scene_name());
-    for (int s = 0; s < kStageCount; ++s) to.config.steps[s] = a.steps[s];
-    to.config.threads = a.threads;
-    train_model(data, model, to);
-  }
+  ensure_model(data, model, {a.steps[0], a.steps[1], a.steps[2]}, a.threads);
 
   const SimulationFile& held_out = dataset.test()[0];
   std::printf("== 3/3 reduced-order run at the held-out mu = %g (not in the training set)\n",

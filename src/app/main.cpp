@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
   nsf::app::add_contact_sheet_command(app);
   nsf::app::add_rom_command(app);
   nsf::app::add_demo_command(app);
+  nsf::app::add_report_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

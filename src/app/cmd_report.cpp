@@ -1,0 +1,116 @@
+// `nsf report`: the paper's Table 1 on nsf. For each of the seven scenes: dataset, model (made
+// if missing), a reduced-order run at the held-out μ against full order, a picture; then
+// docs/RESULTS.md rebuilt from every scene's stored measurements.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "app/commands.h"
+#include "app/pipeline.h"
+#include "core/error.h"
+#include "data/manifest.h"
+#include "io/run_comparison.h"
+#include "nn/dataset.h"
+#include "rom/results_table.h"
+
+namespace nsf::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ReportArgs {
+  std::string size = "small";
+  std::vector<std::string> scenes = {"bread",      "cake",  "sand",        "metal",
+                                     "toothpaste", "jelly", "squishy_ball"};
+  std::array<long, 3> steps = {2000, 1500, 1500};
+  bool make_missing = true;
+  int threads = 2;
+  std::string docs = "docs", out = "out/report";
+  double sand_extrapolation = 44;
+};
+
+// One reduced-order run, its picture and its stored row.
+void report_run(const ReportArgs& a, const std::string& scene, const std::string& model,
+                const std::string& name, double mu, const std::string& label) {
+  const std::string tag = label.empty() ? name : name + "_" + label;
+  RomRunOptions ro;
+  ro.model_path = model;
+  ro.scene_path = scene;
+  ro.mu = mu;
+  ro.threads = a.threads;
+  ro.out_path = a.out + "/" + tag + "_rom.h5";
+  ro.fom_out = a.out + "/" + tag + "_full_order.h5";
+  const RomReport r = run_rom(ro);
+  std::printf("%s", format_rom_report(r).c_str());
+  const ComparisonFiles pics = write_comparison(ro.fom_out, ro.out_path, "ground truth",
+                                                "reduced order", a.out + "/" + tag + "_compare");
+  const std::string picture = "results/" + tag + ".png";
+  fs::copy_file(pics.still, a.docs + "/" + picture, fs::copy_options::overwrite_existing);
+  write_json_atomically(a.docs + "/results/" + tag + ".json",
+                        result_json(r, scene, model, picture, label));
+}
+
+void run_report(const ReportArgs& a) {
+  if (a.size != "small" && a.size != "paper")
+    fail("report: --size must be small or paper, got '", a.size, "'");
+  fs::create_directories(a.out);
+  fs::create_directories(a.docs + "/results");
+  for (const std::string& base : a.scenes) {
+    const std::string name = base + "_" + a.size;
+    const std::string scene = "scenes/paper/" + name + ".json";
+    const std::string data = "data/" + name, model = "models/" + name + ".nsf";
+    if (!fs::exists(scene)) fail("report: no scene file ", scene, " (known: the paper's seven)");
+    std::printf("== %s\n", name.c_str());
+    if (!a.make_missing && (!fs::exists(data + "/manifest.json") || !fs::exists(model))) {
+      std::printf("   skipped: %s or %s is missing (--no-make)\n", data.c_str(), model.c_str());
+      continue;
+    }
+    ensure_dataset(scene, data, a.threads);
+    ensure_model(data, model, a.steps, a.threads);
+    const Dataset dataset(data);
+    if (dataset.test().empty() || !dataset.test()[0].has_mu)
+      fail("report: dataset ", data, " has no test run with a parameter to hold out");
+    report_run(a, scene, model, name, dataset.test()[0].mu, "");
+    // App. B: sand beyond its training range.
+    if (base == "sand") report_run(a, scene, model, name, a.sand_extrapolation, "extrapolation");
+  }
+  std::vector<nlohmann::json> rows;
+  for (const auto& e : fs::directory_iterator(a.docs + "/results"))
+    if (e.path().extension() == ".json") {
+      std::ifstream in(e.path());
+      rows.push_back(nlohmann::json::parse(in));
+    }
+  const std::string page = a.docs + "/RESULTS.md";
+  std::ofstream(page + ".tmp") << results_markdown(
+      rows, "nsf report --size small (scripts/report.sh); one scene: nsf report --scenes sand");
+  fs::rename(page + ".tmp", page);
+  std::printf("wrote %s (%zu rows)\n", page.c_str(), rows.size());
+}
+
+}  // namespace
+
+void add_report_command(CLI::App& app) {
+  auto a = std::make_shared<ReportArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "report", "The paper's Table 1 on nsf: ROM vs full order on the seven scenes");
+  cmd->add_option("--size", a->size, "small or paper")->capture_default_str();
+  cmd->add_option("--scenes", a->scenes, "Scenes to run (default all seven)")->delimiter(',');
+  cmd->add_option("--steps", a->steps, "Training steps per stage, where a model is trained")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_flag("!--no-make", a->make_missing,
+                "Skip scenes without a dataset and model instead of making them");
+  cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--docs", a->docs, "Where RESULTS.md and results/ go")->capture_default_str();
+  cmd->add_option("--out", a->out, "Where the runs and animations go")->capture_default_str();
+  cmd->add_option("--sand-extrapolation", a->sand_extrapolation,
+                  "Friction angle of the App. B extrapolation run (deg)")
+      ->capture_default_str();
+  cmd->callback([a] {
+    set_threads(a->threads);
+    run_report(*a);
+  });
+}
+
+}  // namespace nsf::app

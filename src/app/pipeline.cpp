@@ -1,0 +1,47 @@
+#include "app/pipeline.h"
+
+#include <cstdio>
+#include <filesystem>
+
+#include "core/error.h"
+#include "data/sweep.h"
+#include "nn/dataset.h"
+#include "nn/neural_fields.h"
+#include "nn/trainer.h"
+
+namespace nsf::app {
+
+double ensure_dataset(const std::string& scene, const std::string& data, int threads) {
+  SweepOptions so;
+  so.out_dir = data;
+  so.jobs = std::max(1, threads);
+  so.threads = 1;
+  const SweepSummary s = run_sweep(scene, so);
+  std::printf("   %s: %d runs (%d simulated now, %d reused) in %.1f s\n", data.c_str(), s.planned,
+              s.ran, s.skipped, s.seconds);
+  return s.seconds;
+}
+
+bool ensure_model(const std::string& data, const std::string& model,
+                  const std::array<long, 3>& steps, int threads) {
+  const Dataset dataset(data);
+  if (std::filesystem::exists(model)) {
+    try {
+      NeuralFields f = NeuralFields::load(model);
+      f.check_scene(dataset.scene_name(), dataset.rest_positions(), "dataset " + data);
+      std::printf("   reusing %s (delete it to retrain)\n", model.c_str());
+      return false;
+    } catch (const Error& e) {
+      std::printf("   not reusing %s: %s\n", model.c_str(), e.what());
+    }
+  }
+  TrainOptions to;
+  to.config.net = default_net_config(dataset.scene_name());
+  for (int s = 0; s < kStageCount; ++s) to.config.steps[s] = steps[s];
+  to.config.threads = threads;
+  to.resume = true;  // an interrupted demo or report continues where it stopped
+  train_model(data, model, to);
+  return true;
+}
+
+}  // namespace nsf::app

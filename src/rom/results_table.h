@@ -1,0 +1,21 @@
+#pragma once
+// docs/RESULTS.md: the paper's Table 1 on nsf. Each `nsf report` run stores its measurements
+// as one JSON file per scene and μ (so scenes can be run at different times) and the page is
+// rebuilt from all of them, next to the paper's own figures.
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "rom/rom_run.h"
+
+namespace nsf {
+
+// One row: the report's measurements plus what it was made of.
+nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
+                           const std::string& model_file, const std::string& picture,
+                           const std::string& label);
+
+// The markdown page for all rows (sorted by scene), naming `command` as its source.
+std::string results_markdown(const std::vector<nlohmann::json>& rows, const std::string& command);
+
+}  // namespace nsf
