@@ -139,6 +139,66 @@ TEST_F(RenderCli, SceneCameraIsUsedAndCheckedByTheSceneLoader) {
   EXPECT_THROW(nsf::build_scene(j), nsf::Error);
 }
 
+// Mean x of the pixels where two pictures differ clearly (a collider, not the slightly
+// different blur of the particles' shadows when a collider widens the shadow map).
+double mean_x_of_difference(const Image& a, const Image& b) {
+  double sum = 0;
+  int n = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      const nsf::Rgb p = a.at(x, y), q = b.at(x, y);
+      if (std::abs(p.r - q.r) + std::abs(p.g - q.g) + std::abs(p.b - q.b) > 30) sum += x, ++n;
+    }
+  return n ? sum / n : -1;
+}
+
+TEST_F(RenderCli, CollidersAreDrawnAtEachFramesTimeUnlessTurnedOff) {
+  // A box just over the blocks, moving 3 m/s along +x: 0.3 m between frames 0 and 2.
+  std::string scene = nsf::testing::kSyntheticScene;
+  scene.insert(scene.rfind(']'), R"(, {"type": "box", "center": [0.3, 0.36, 0.5],
+      "size": [0.1, 0.1, 0.1], "motion": {"velocity": [3, 0, 0]}})");
+  nsf::testing::write_synthetic_run(run_, 3, scene);
+  const fs::path with = dir_ / "with", without = dir_ / "without";
+  // One fixed camera for both, so that the pictures differ only by the box and its shadow.
+  const std::string camera = "--camera eye=0.5,0.3,2.5 target=0.5,0.25,0.5 fov=35 ";
+  render("--no-video " + camera + "--out '" + with.string() + "'");
+  render("--no-video " + camera + "--no-colliders --out '" + without.string() + "'");
+  const auto frame = [](const fs::path& dir, int k) {
+    return nsf::read_png((dir / ("frame_000" + std::to_string(k) + ".png")).string());
+  };
+  EXPECT_GT(differing_pixels(frame(with, 0), frame(without, 0)), 200);
+  // Seen from the front, the box's 0.3 m move is a good part of the picture's width (200 px).
+  const double x0 = mean_x_of_difference(frame(with, 0), frame(without, 0));
+  const double x2 = mean_x_of_difference(frame(with, 2), frame(without, 2));
+  EXPECT_GT(x2, x0 + 20) << x0 << " -> " << x2;
+
+  // The camera takes in the box, which flies above the blocks (0.12 to 0.28 m): the picture's
+  // centre rises.
+  const nsf::RunReader run(run_);
+  nsf::RunRenderOptions o;
+  o.view_dir = nsf::parse_view("front");
+  const nsf::RenderPlan drawn = nsf::plan_render(run, {0, 1, 2}, o);
+  o.colliders = false;
+  const nsf::RenderPlan bare = nsf::plan_render(run, {0, 1, 2}, o);
+  EXPECT_TRUE(bare.colliders.empty());
+  EXPECT_GT(drawn.render.camera.target.y(), bare.render.camera.target.y() + 0.02);
+}
+
+TEST_F(RenderCli, AStoredColliderTheEngineRejectsFailsNamingIt) {
+  std::string scene = nsf::testing::kSyntheticScene;
+  scene.insert(scene.rfind(']'),
+               R"(, {"type": "box", "center": [0.3, 0.5, 0.5], "size": [0.1, 0, 0.1]})");
+  nsf::testing::write_synthetic_run(run_, 2, scene);
+  const std::string out = (dir_ / "out").string();
+  std::string output;
+  EXPECT_NE(run_cli("render '" + run_ + "' -q --out '" + out + "'", output), 0);
+  EXPECT_NE(output.find("colliders[1].size[1]"), std::string::npos) << output;
+  EXPECT_NE(output.find("--no-colliders"), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(out));
+  render("--no-video --no-colliders --out '" + out + "'");
+  EXPECT_TRUE(fs::exists(fs::path(out) / "frame_0001.png"));
+}
+
 TEST_F(RenderCli, MakesAVideoWithFfmpegAndSaysSoWithout) {
   const fs::path out = dir_ / "v";
   if (!nsf::testing::ffmpeg_available()) GTEST_SKIP() << "ffmpeg not installed";

@@ -69,10 +69,19 @@ TEST(SweepTemplates, ExpandExpressions) {
   EXPECT_NEAR(b[1].get<double>(), std::sqrt(3.0) / 2, 1e-15);
   EXPECT_NEAR(b[2].get<double>(), 5, 1e-14);
   EXPECT_NEAR(json::parse(o[2].substr(2)).get<double>(), 1 / std::sqrt(3.0), 1e-15);
-  s.set = {"a={mu+1}"};
-  EXPECT_THROW(nsf::sweep_overrides(s, 1), nsf::Error);
-  s.set = {"a={mu*x}"};
-  EXPECT_THROW(nsf::sweep_overrides(s, 1), nsf::Error);
+  // Offsets place a part relative to a pivot; numbers may carry signs and exponents.
+  s.set = {"a=[{mu+1},{mu*2-1},{cos_deg(mu)*-0.5+2},{sin_deg(mu)-1e-1},{mu*1e-2+3}]"};
+  const json a = json::parse(nsf::sweep_overrides(s, 60)[0].substr(2));
+  EXPECT_DOUBLE_EQ(a[0].get<double>(), 61);
+  EXPECT_DOUBLE_EQ(a[1].get<double>(), 119);
+  EXPECT_NEAR(a[2].get<double>(), 1.75, 1e-15);
+  EXPECT_NEAR(a[3].get<double>(), std::sqrt(3.0) / 2 - 0.1, 1e-15);
+  EXPECT_NEAR(a[4].get<double>(), 3.6, 1e-15);
+  for (const char* bad : {"a={mu*x}", "a={mu+}", "a={mu+1x}", "a={mu++1}", "a={mu+-1}", "a={1+mu}",
+                          "a={mu*2*3}", "a={mu-1*2}"}) {
+    s.set = {bad};
+    EXPECT_THROW(nsf::sweep_overrides(s, 1), nsf::Error) << bad;
+  }
 }
 
 // Each broken section fails at load with a message naming the key.

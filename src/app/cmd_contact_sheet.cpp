@@ -14,6 +14,7 @@ struct SheetArgs {
   std::vector<std::string> runs;
   std::string out, color = "object", size = "480x360";
   int columns = 4;
+  bool no_colliders = false;
 };
 }  // namespace
 
@@ -29,9 +30,12 @@ void add_contact_sheet_command(CLI::App& app) {
   cmd->add_option("--color,-c", a->color, "Colour by material, object, speed or stress")
       ->capture_default_str();
   cmd->add_option("--size", a->size, "Size of each panel, WIDTHxHEIGHT")->capture_default_str();
+  cmd->add_flag("--no-colliders", a->no_colliders,
+                "Draw only the particles, not the scenes' rigid colliders");
   cmd->callback([a] {
     RunRenderOptions o;
     o.color = parse_color_by(a->color);
+    o.colliders = !a->no_colliders;
     if (std::sscanf(a->size.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 16 ||
         o.height < 16 || o.width > 8192 || o.height > 8192)
       fail("--size must be WIDTHxHEIGHT between 16 and 8192, got '", a->size, "'");

@@ -27,7 +27,7 @@ struct RenderArgs {
   std::vector<std::string> camera;
   int fps = 24, threads = 0;
   double fov = 30;
-  bool no_video = false, gif = false, quiet = false;
+  bool no_video = false, gif = false, quiet = false, no_colliders = false;
 };
 
 void parse_size(const std::string& s, int& w, int& h) {
@@ -55,6 +55,7 @@ void run_render(const RenderArgs& a) {
   if (!a.camera.empty()) o.camera = parse_camera_spec(a.camera);
   if (!a.view.empty()) o.view_dir = parse_view(a.view);
   o.fov_deg = a.fov;
+  o.colliders = !a.no_colliders;
   const RunReader run(a.run);
   const std::vector<size_t> frames = parse_frame_range(a.frames, run.frame_count());
   const RenderPlan plan = plan_render(run, frames, o);
@@ -144,6 +145,8 @@ void add_render_command(CLI::App& app) {
       ->check(CLI::Range(1, 240))
       ->capture_default_str();
   cmd->add_flag("--no-video", args->no_video, "Only the PNGs");
+  cmd->add_flag("--no-colliders", args->no_colliders,
+                "Draw only the particles, not the scene's rigid colliders");
   cmd->add_flag("--gif", args->gif, "An animated GIF instead of an MP4");
   cmd->add_option("--threads,-j", args->threads, "OpenMP threads (0 = all cores)")
       ->check(CLI::Range(0, 1024));

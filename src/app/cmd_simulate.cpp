@@ -9,6 +9,7 @@
 #include "core/memory.h"
 #include "core/progress.h"
 #include "data/run_to_file.h"
+#include "io/collider_shapes.h"
 #include "io/image.h"
 #include "io/png_render.h"
 #include "io/text.h"
@@ -58,7 +59,8 @@ double floor_height(const Scene& scene) {
 }
 
 // A strip of snapshots (positions at chosen frames), one fixed camera framing all of them, the
-// ground at the domain's floor wall, each panel labelled with its time.
+// ground at the domain's floor wall, the colliders where they were, each panel labelled with
+// its time.
 void write_filmstrip(const Simulation& sim, const std::vector<std::vector<Vec3>>& snapshots,
                      const std::vector<double>& times, const std::string& path) {
   const SimSettings& s = sim.settings();
@@ -71,8 +73,11 @@ void write_filmstrip(const Simulation& sim, const std::vector<std::vector<Vec3>>
   opt.radius = 0.5 * s.dx / s.ppc;
   opt.ground_height = floor_height(sim.scene());
   const auto colors = colors_by_index(sim.particles().object);
+  const nlohmann::json& source = sim.scene().source;
+  const SceneColliders colliders(source.value("colliders", nlohmann::json()));
   Image strip;
   for (size_t k = 0; k < snapshots.size(); ++k) {
+    opt.colliders = colliders.at(times[k]);
     Image panel = render_particles(snapshots[k], colors, opt);
     char label[64];
     std::snprintf(label, sizeof label, "T = %.3f S", times[k]);

@@ -5,63 +5,12 @@
 #include <limits>
 
 #include "core/error.h"
+#include "io/collider_draw.h"
+#include "io/collider_raycast.h"
 
 namespace nsf {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-// Camera basis and projection for a picture of w x h (supersampled) pixels.
-struct View {
-  Vec3 eye, fwd, right, up;
-  bool perspective = false;
-  double focal = 1;  // pixels per world unit at depth 1 (perspective) or everywhere (ortho)
-  double cx = 0, cy = 0;
-
-  View(const Camera& cam, int w, int h) : eye(cam.eye) {
-    fwd = cam.target - cam.eye;
-    if (!(fwd.norm() > 0)) fail("render: camera eye and target coincide");
-    fwd.normalize();
-    right = fwd.cross(cam.up);
-    if (right.norm() < 1e-9) right = fwd.cross(Vec3(0, 0, -1));  // looking straight down
-    right.normalize();
-    up = right.cross(fwd);
-    cx = 0.5 * w;
-    cy = 0.5 * h;
-    perspective = cam.fov_deg > 0;
-    if (perspective) {
-      focal = 0.5 * h / std::tan(0.5 * cam.fov_deg * kPi / 180.0);
-    } else {
-      if (!(cam.ortho_height > 0)) fail("render: ortho_height must be > 0");
-      focal = h / cam.ortho_height;
-    }
-  }
-
-  // Screen position and depth along fwd; false when behind a perspective camera.
-  bool project(const Vec3& p, double& sx, double& sy, double& depth) const {
-    const Vec3 d = p - eye;
-    depth = d.dot(fwd);
-    const double s = perspective ? (depth > 1e-9 ? focal / depth : -1) : focal;
-    if (s <= 0) return false;
-    sx = cx + s * d.dot(right);
-    sy = cy - s * d.dot(up);
-    return true;
-  }
-
-  double pixels_per_unit(double depth) const { return perspective ? focal / depth : focal; }
-
-  void ray(double px, double py, Vec3& origin, Vec3& dir) const {
-    const double u = (px - cx) / focal, v = (cy - py) / focal;
-    if (perspective) {
-      origin = eye;
-      dir = (fwd + u * right + v * up).normalized();
-    } else {
-      origin = eye + u * right + v * up;
-      dir = fwd;
-    }
-  }
-};
 
 double smoothstep(double e0, double e1, double x) {
   const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
@@ -90,17 +39,31 @@ double guess_radius(const std::vector<Vec3>& x) {
   return 0.55 * std::cbrt(volume / n);
 }
 
-// Darkness on the ground under the particles, as if lit from straight above: how many particles
-// stand over each cell, fading with their height, then blurred into a soft blob.
+// Darkness on the ground under the particles and solid colliders, as if lit from straight
+// above: how many particles stand over each cell, or whether a collider does, fading with their
+// height, then blurred into a soft blob.
 class ShadowMap {
  public:
-  ShadowMap(const std::vector<Vec3>& x, double ground, double radius) {
+  ShadowMap(const std::vector<Vec3>& x, double ground, double radius, const RenderOptions& opt) {
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (const Vec3& p : x)
       if (finite(p) && p.y() > ground - radius) {
         lo = lo.cwiseMin(p);
         hi = hi.cwiseMax(p);
       }
+    // Particles' shadows fade on the scale of the particles alone, as without colliders.
+    const double fade = std::max(0.5 * std::max(hi.x() - lo.x(), hi.z() - lo.z()), 4 * radius);
+    // Colliders count only where the ground is drawn, so a long rail cannot blow up the map.
+    const Vec3 reach(opt.ground_extent, 0, opt.ground_extent);
+    std::vector<const ColliderShape*> solids;
+    for (const ColliderShape& c : opt.colliders) {
+      Vec3 a, b;
+      if (!bounds(c, a, b) || b.y() <= ground) continue;
+      a = a.cwiseMax(opt.camera.target - reach), b = b.cwiseMin(opt.camera.target + reach);
+      if (a.x() > b.x() || a.z() > b.z()) continue;
+      solids.push_back(&c);
+      lo = lo.cwiseMin(a), hi = hi.cwiseMax(b);
+    }
     if (!(lo.x() <= hi.x())) return;  // nothing above ground
     const double span = std::max(hi.x() - lo.x(), hi.z() - lo.z());
     cell_ = std::max({2 * radius, span / 300, 1e-9});
@@ -109,7 +72,6 @@ class ShadowMap {
     z0_ = lo.z() - pad;
     nx_ = static_cast<int>((hi.x() - lo.x() + 2 * pad) / cell_) + 1;
     nz_ = static_cast<int>((hi.z() - lo.z() + 2 * pad) / cell_) + 1;
-    const double fade = std::max(0.5 * span, 4 * radius);
     std::vector<double> count(nx_ * nz_, 0),
         lowest(nx_ * nz_, std::numeric_limits<double>::infinity());
     for (const Vec3& p : x) {
@@ -124,6 +86,20 @@ class ShadowMap {
       const double height = std::max(lowest[i] - radius, 0.0);
       dark_[i] = std::min(1.0, count[i] / 2) / (1 + height / fade);
     }
+    // A vertical ray from just under the ground finds the collider above each cell; starting
+    // below it lets a box standing on the ground shade its own foot. A collider's shadow fades
+    // on the scale of the whole picture, not of its own size: a blade or a brush held well above
+    // the ground must still be seen to float there.
+    const double collider_fade = std::max(fade, opt.ground_extent / 3);
+    for (const ColliderShape* c : solids)
+      for (int iz = 0; iz < nz_; ++iz)
+        for (int ix = 0; ix < nx_; ++ix) {
+          const Vec3 o(x0_ + (ix + 0.5) * cell_, ground - 1e-6 * span, z0_ + (iz + 0.5) * cell_);
+          ColliderHit hit;
+          if (!ray_enters_solid(*c, o, Vec3::UnitY(), hit)) continue;
+          double& d = dark_[iz * nx_ + ix];
+          d = std::max(d, kColliderShadow / (1 + hit.t / collider_fade));
+        }
     blur();
     blur();
   }
@@ -140,6 +116,8 @@ class ShadowMap {
 
  private:
   static constexpr int kPad = 6;  // cells of margin so the blur has room to fade out
+  // Lighter than a dense pile of particles: colliders are drawn translucent too.
+  static constexpr double kColliderShadow = 0.7;
 
   double at(int ix, int iz) const {
     return ix < 0 || iz < 0 || ix >= nx_ || iz >= nz_ ? 0 : dark_[iz * nx_ + ix];
@@ -205,11 +183,11 @@ void draw_background(std::vector<Color>& rgb, int w, int h, const View& view,
   }
 }
 
-// Particles as discs shaded like spheres, nearest wins per pixel.
-void splat_particles(std::vector<Color>& rgb, int w, int h, const View& view,
-                     const std::vector<Vec3>& x, const std::vector<Color>& colors, double radius,
-                     double min_radius_px, const Vec3& light_dir) {
-  std::vector<float> depth(rgb.size(), std::numeric_limits<float>::infinity());
+// Particles as discs shaded like spheres, nearest wins per pixel. `depth` (in/out, +inf where
+// empty) keeps the nearest depth per pixel for the colliders drawn afterwards.
+void splat_particles(std::vector<Color>& rgb, std::vector<float>& depth, int w, int h,
+                     const View& view, const std::vector<Vec3>& x, const std::vector<Color>& colors,
+                     double radius, double min_radius_px, const Vec3& light_dir) {
   const Vec3 light = light_dir.normalized();
   const Vec3 half = (light - view.fwd).normalized();  // Blinn-Phong half vector
   for (size_t i = 0; i < x.size(); ++i) {
@@ -327,12 +305,14 @@ Image render_particles(const std::vector<Vec3>& x, const std::vector<Color>& col
 
   std::vector<Color> rgb(static_cast<size_t>(w) * h);
   if (opt.ground && opt.shadows) {
-    const ShadowMap shadows(x, opt.ground_height, radius);
+    const ShadowMap shadows(x, opt.ground_height, radius, opt);
     draw_background(rgb, w, h, view, opt, &shadows);
   } else {
     draw_background(rgb, w, h, view, opt, nullptr);
   }
-  splat_particles(rgb, w, h, view, x, colors, radius, opt.min_radius_px * ss, opt.light);
+  std::vector<float> depth(rgb.size(), std::numeric_limits<float>::infinity());
+  splat_particles(rgb, depth, w, h, view, x, colors, radius, opt.min_radius_px * ss, opt.light);
+  if (!opt.colliders.empty()) draw_colliders(rgb, depth, w, h, ss, view, opt);
   return downsample(rgb, w, h, ss);
 }
 

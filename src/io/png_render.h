@@ -1,27 +1,23 @@
 #pragma once
 // A small software renderer for particle pictures: each particle is a disc shaded as a sphere,
-// drawn with a z-buffer, over a ground grid with soft contact shadows and a sky gradient. Enough
-// for a human to see a block squash or a bar snap, with no GPU or window system.
+// drawn with a z-buffer, over a ground grid with soft contact shadows and a sky gradient, with
+// the scene's rigid colliders drawn translucent in front of what they hide. Enough for a human
+// to see a block squash or a bar snap, with no GPU or window system.
 //
 //   RenderOptions opt;
 //   frame_box(opt, lo, hi);                 // camera, ground and grid for the box [lo, hi]
 //   opt.radius = 0.5 * dx / ppc;
+//   opt.colliders = SceneColliders(scene["colliders"]).at(time);   // optional
 //   write_png(render_particles(x, colors_by_index(object), opt), "frame.png");
 #include <vector>
 
 #include "core/types.h"
+#include "io/collider_shapes.h"
 #include "io/colormap.h"
 #include "io/image.h"
+#include "io/render_view.h"
 
 namespace nsf {
-
-struct Camera {
-  Vec3 eye = Vec3(1.6, 1.3, 2.2);
-  Vec3 target = Vec3(0.5, 0.4, 0.5);
-  Vec3 up = Vec3(0, 1, 0);
-  double fov_deg = 0;         // vertical field of view; 0 = orthographic
-  double ortho_height = 1.2;  // orthographic only: world-space height of the picture
-};
 
 struct RenderOptions {
   int width = 800, height = 600;
@@ -39,6 +35,16 @@ struct RenderOptions {
   Color ground_color = Color(0.88f, 0.88f, 0.86f);
   Color grid_color = Color(0.70f, 0.71f, 0.72f);
   bool shadows = true;  // soft shadows straight down onto the ground; they show height and contact
+  // Rigid colliders at this picture's time. An upward plane at ground_height is the ground
+  // itself and is not drawn twice.
+  std::vector<ColliderShape> colliders;
+  // A neutral steel grey, apart from the particle palette; translucent so that material behind
+  // or inside a blade or a brush still shows.
+  Color collider_color = Color(0.55f, 0.58f, 0.63f);
+  float collider_alpha = 0.55f;
+  Color collider_edge_color = Color(0.20f, 0.22f, 0.26f);
+  Color plane_color = Color(0.70f, 0.74f, 0.80f);
+  float plane_alpha = 0.75f;
 };
 
 // Points the camera at the box [lo, hi] from direction `view_dir` (from the eye towards the box)

@@ -73,6 +73,24 @@ std::vector<LegendEntry> index_legend(const std::vector<uint16_t>& index,
   return out;
 }
 
+// Grows [lo, hi] to take in the solid colliders (at every selected frame) where they come near
+// the particles: a brush or a spatula should be in the picture, but a long rail or a wall must
+// not shrink the material to a speck, so each collider counts only within half the particles'
+// extent around them.
+void include_colliders(const SceneColliders& colliders, const std::vector<double>& times, Vec3& lo,
+                       Vec3& hi) {
+  const Vec3 margin = (0.5 * (hi - lo)).cwiseMax(1e-3 * (hi - lo).maxCoeff());
+  const Vec3 near_lo = lo - margin, near_hi = hi + margin;
+  for (double t : times)
+    for (const ColliderShape& s : colliders.at(t)) {
+      Vec3 a, b;
+      if (!bounds(s, a, b)) continue;
+      a = a.cwiseMax(near_lo), b = b.cwiseMin(near_hi);
+      if ((a.array() > b.array()).any()) continue;  // nowhere near
+      lo = lo.cwiseMin(a), hi = hi.cwiseMax(b);
+    }
+}
+
 // Pa, kPa, MPa or GPa so that the tick labels stay short.
 void stress_unit(double hi, double& factor, std::string& unit) {
   factor = 1, unit = "PA";
@@ -154,7 +172,11 @@ RenderPlan plan_render(const RunReader& run, const std::vector<size_t>& frames,
   const bool scalar = o.color == ColorBy::Speed || o.color == ColorBy::Stress;
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   double top = 0, max = 0;
+  if (o.colliders) plan.colliders = SceneColliders::from_scene_json(run.scene_json());
+  const std::vector<double> all_times = run.times();
+  std::vector<double> times;
   for (size_t k : frames) {
+    times.push_back(all_times.at(k));
     std::vector<Vec3> x;
     if (scalar) {
       RunFrame f = run.read_frame(k);
@@ -171,6 +193,14 @@ RenderPlan plan_render(const RunReader& run, const std::vector<size_t>& frames,
   if (!(lo.x() <= hi.x())) {
     lo = Vec3::Zero(), hi = Vec3::Ones();  // nothing finite to frame; still make pictures
   }
+  // The floor the material rests on, not the lowest particle (which sits a radius above it).
+  const double ground = hints.floor_height && *hints.floor_height <= lo.y() + 2 * run.dx()
+                            ? *hints.floor_height
+                            : lo.y() - hints.particle_radius;
+  const double lowest_particle = lo.y();
+  include_colliders(plan.colliders, times, lo, hi);
+  // What lies under the ground is hidden by it: no room for it in the picture.
+  lo.y() = std::max(lo.y(), std::min(ground, lowest_particle));
 
   RenderOptions& r = plan.render;
   r.width = o.width;
@@ -180,11 +210,7 @@ RenderPlan plan_render(const RunReader& run, const std::vector<size_t>& frames,
   // Pad the box by a particle radius so discs at the edge are not clipped.
   const Vec3 pad = Vec3::Constant(hints.particle_radius);
   frame_box(r, lo - pad, hi + pad, o.view_dir.value_or(Vec3(-0.55, -0.5, -1.0)));
-  // The floor the material rests on, not the lowest particle (which sits a radius above it).
-  if (hints.floor_height && *hints.floor_height <= lo.y() + 2 * run.dx())
-    r.ground_height = *hints.floor_height;
-  else
-    r.ground_height = lo.y() - hints.particle_radius;
+  r.ground_height = ground;
   if (o.camera) {
     r.camera = *o.camera;
   } else if (hints.camera && !o.view_dir) {
@@ -226,7 +252,9 @@ Image render_run_frame(const RunReader& run, const RunFrame& f, size_t k, const 
       colors = colors_by_scalar(scalar_field(f, plan.color), plan.lo, plan.hi);
       break;
   }
-  Image img = render_particles(f.x, colors, plan.render);
+  RenderOptions r = plan.render;
+  r.colliders = plan.colliders.at(f.time);
+  Image img = render_particles(f.x, colors, r);
 
   const int s = plan.text_scale;
   if (plan.color == ColorBy::Stress) {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "io/collider_shapes.h"
 #include "io/image.h"
 #include "io/legend.h"
 #include "io/png_render.h"
@@ -37,6 +38,7 @@ struct RunRenderOptions {
   double fov_deg = 30;           // for the automatic framings; 0 = orthographic
   // Fixed colour scale for speed/stress; lo >= hi: from the data (0 to a high percentile).
   double range_lo = 0, range_hi = 0;
+  bool colliders = true;  // draw the scene's rigid colliders (grips, spatula, brush, planes)
 };
 
 struct RenderPlan {
@@ -48,9 +50,12 @@ struct RenderPlan {
   std::vector<LegendEntry> legend;  // for object/material colouring
   size_t frame_count = 0;           // frames in the run, for the "frame k/n" label
   int text_scale = 2;
+  SceneColliders colliders;  // posed at each frame's time; empty with colliders = false
 };
 
-// Reads the selected frames once for their bounding box and value range.
+// Reads the selected frames once for their bounding box and value range. The camera frames the
+// particles and the parts of the colliders close to them. Fails, before anything is drawn, for
+// a stored collider the engine cannot build.
 RenderPlan plan_render(const RunReader& run, const std::vector<size_t>& frames,
                        const RunRenderOptions& options);
 

@@ -14,6 +14,7 @@ class BoxCollider : public RigidCollider {
       : RigidCollider(contact, std::move(motion)), half_(0.5 * size) {}
   static std::unique_ptr<Collider> parse(const nlohmann::json& j, const std::string& path);
   std::string type() const override { return "box"; }
+  const Vec3& half_size() const { return half_; }  // body frame, for drawing
 
  protected:
   double body_sdf(const Vec3& p) const override { return sdf::box(p, half_); }

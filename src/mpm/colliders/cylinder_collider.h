@@ -14,6 +14,10 @@ class CylinderCollider : public RigidCollider {
       : RigidCollider(contact, std::move(motion)), r_(radius), h_(height), axis_(axis) {}
   static std::unique_ptr<Collider> parse(const nlohmann::json& j, const std::string& path);
   std::string type() const override { return "cylinder"; }
+  // Body-frame dimensions, for drawing.
+  double radius() const { return r_; }
+  double height() const { return h_; }
+  int axis() const { return axis_; }
 
  protected:
   double body_sdf(const Vec3& p) const override { return sdf::cylinder(p, r_, h_, axis_); }

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <utility>
 
 #include "core/error.h"
 #include "core/json_util.h"
@@ -12,33 +14,48 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Evaluates one template expression (the text between braces).
+// Evaluates one template expression (the text between braces): f(mu), then an optional factor
+// "*K", then an optional offset "+C" or "-C". The offset places a part relative to a pivot, e.g.
+// the handle of a brush turned by mu about its head: centre x = cos(mu)·L + x0.
 double evaluate(const std::string& expr, double mu, const std::string& tmpl) {
   auto bad = [&](const char* why) {
     fail("sweep template '", tmpl, "': '{", expr, "}' ", why,
-         " (allowed: mu, mu*K, f(mu), f(mu)*K with f = sin_deg, cos_deg, tan_deg)");
+         " (allowed: f(mu), f(mu)*K, f(mu)+C, f(mu)*K+C with f = mu, sin_deg, cos_deg, tan_deg "
+         "and numbers K, C; C may also be subtracted)");
   };
-  std::string head = expr, factor;
-  const size_t star = expr.find('*');
-  if (star != std::string::npos) head = expr.substr(0, star), factor = expr.substr(star + 1);
-  double v = 0;
   const double rad = mu * kPi / 180.0;
-  if (head == "mu")
-    v = mu;
-  else if (head == "sin_deg(mu)")
-    v = std::sin(rad);
-  else if (head == "cos_deg(mu)")
-    v = std::cos(rad);
-  else if (head == "tan_deg(mu)")
-    v = std::tan(rad);
-  else
-    bad("is not a known expression");
-  if (star != std::string::npos) {
-    char* end = nullptr;
-    const double k = std::strtod(factor.c_str(), &end);
-    if (factor.empty() || *end != '\0' || !std::isfinite(k)) bad("has a malformed factor");
-    v *= k;
+  // Longest names first: "mu" is a prefix of none of the others, but keep the order explicit.
+  const std::pair<const char*, double> heads[] = {{"sin_deg(mu)", std::sin(rad)},
+                                                  {"cos_deg(mu)", std::cos(rad)},
+                                                  {"tan_deg(mu)", std::tan(rad)},
+                                                  {"mu", mu}};
+  double v = 0;
+  size_t pos = std::string::npos;
+  for (const auto& [name, value] : heads) {
+    if (expr.compare(0, std::strlen(name), name) == 0) {
+      v = value;
+      pos = std::strlen(name);
+      break;
+    }
   }
+  if (pos == std::string::npos) bad("is not a known expression");
+  // strtod reads a signed number and stops at the '+' or '-' of an offset after it.
+  const auto number = [&](size_t from, size_t& to) {
+    const char* start = expr.c_str() + from;
+    char* end = nullptr;
+    const double k = std::strtod(start, &end);
+    if (end == start || !std::isfinite(k)) bad("has a malformed number");
+    to = from + static_cast<size_t>(end - start);
+    return k;
+  };
+  if (pos < expr.size() && expr[pos] == '*') v *= number(pos + 1, pos);
+  if (pos < expr.size() && (expr[pos] == '+' || expr[pos] == '-')) {
+    const double sign = expr[pos] == '-' ? -1 : 1;
+    if (pos + 1 < expr.size() && (expr[pos + 1] == '+' || expr[pos + 1] == '-'))
+      bad("has a malformed number");
+    v += sign * number(pos + 1, pos);
+  }
+  if (pos != expr.size()) bad("has unexpected text after the expression");
   return v;
 }
 

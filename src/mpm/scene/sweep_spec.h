@@ -32,8 +32,9 @@ SweepSpec parse_sweep(const nlohmann::json& sweep, const nlohmann::json& scene);
 std::vector<SweepRun> plan_sweep(const SweepSpec& spec);
 
 // The overrides for one μ: every {expr} of every template replaced by its value. expr is
-// `mu`, `mu*K`, `f(mu)` or `f(mu)*K` with f one of sin_deg, cos_deg, tan_deg (argument in
-// degrees) and K a number.
+// f(mu), optionally times a number K, optionally plus or minus a number C (`mu`, `mu*K`,
+// `cos_deg(mu)*K+C`, `sin_deg(mu)-C`, …), with f the identity or one of sin_deg, cos_deg, tan_deg
+// (argument in degrees).
 std::vector<std::string> sweep_overrides(const SweepSpec& spec, double mu);
 
 }  // namespace nsf
