@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 struct DemoArgs {
   std::string scene = "scenes/paper/jelly_small.json";
   std::string data, model, out = "out";
-  std::vector<long> steps = {2000, 1500, 1500};
+  TrainPlan train{{1500, 800, 800}, {96, 128, 128}};
   int samples = 0;
   int threads = 2;
 };
@@ -44,7 +44,7 @@ void run_demo(const DemoArgs& a) {
   const Dataset dataset(data);
   if (dataset.test().empty()) fail("demo: dataset ", data, " has no test run to hold out");
   std::printf("== 2/3 neural fields: nsf train %s --out %s\n", data.c_str(), model.c_str());
-  ensure_model(data, model, {a.steps[0], a.steps[1], a.steps[2]}, a.threads);
+  ensure_model(data, model, a.train, a.threads);
 
   const SimulationFile& held_out = dataset.test()[0];
   std::printf("== 3/3 reduced-order run at the held-out mu = %g (not in the training set)\n",
@@ -79,9 +79,13 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--data", a->data, "Dataset directory (default data/<scene name>)");
   cmd->add_option("--model", a->model, "Model file (default models/<scene name>.nsf)");
   cmd->add_option("--out,-o", a->out, "Directory for the runs and pictures")->capture_default_str();
-  cmd->add_option("--steps", a->steps, "Training steps of the three stages, when training")
+  cmd->add_option("--steps", a->train.steps, "Training steps of the three stages, when training")
       ->delimiter(',')
-      ->expected(3)
+      ->capture_default_str();
+  cmd->add_option("--widths", a->train.widths,
+                  "Decoder widths g,h,l when training (0 = Table 1's); smaller than Table 1 by "
+                  "default so the demo trains in minutes on 2 cores")
+      ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--samples,-k", a->samples, "Sample particles (default: the scene's)");
   cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")->capture_default_str();

@@ -23,7 +23,7 @@ struct ReportArgs {
   std::string size = "small";
   std::vector<std::string> scenes = {"bread",      "cake",  "sand",        "metal",
                                      "toothpaste", "jelly", "squishy_ball"};
-  std::array<long, 3> steps = {2000, 1500, 1500};
+  TrainPlan train{{1500, 800, 800}, {96, 128, 128}};
   bool make_missing = true;
   int threads = 2;
   std::string docs = "docs", out = "out/report";
@@ -67,7 +67,7 @@ void run_report(const ReportArgs& a) {
       continue;
     }
     ensure_dataset(scene, data, a.threads);
-    ensure_model(data, model, a.steps, a.threads);
+    ensure_model(data, model, a.train, a.threads);
     const Dataset dataset(data);
     if (dataset.test().empty() || !dataset.test()[0].has_mu)
       fail("report: dataset ", data, " has no test run with a parameter to hold out");
@@ -96,7 +96,11 @@ void add_report_command(CLI::App& app) {
       "report", "The paper's Table 1 on nsf: ROM vs full order on the seven scenes");
   cmd->add_option("--size", a->size, "small or paper")->capture_default_str();
   cmd->add_option("--scenes", a->scenes, "Scenes to run (default all seven)")->delimiter(',');
-  cmd->add_option("--steps", a->steps, "Training steps per stage, where a model is trained")
+  cmd->add_option("--steps", a->train.steps, "Training steps per stage, where a model is trained")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--widths", a->train.widths,
+                  "Decoder widths g,h,l where a model is trained (0 = Table 1's)")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_flag("!--no-make", a->make_missing,

@@ -22,8 +22,8 @@ double ensure_dataset(const std::string& scene, const std::string& data, int thr
   return s.seconds;
 }
 
-bool ensure_model(const std::string& data, const std::string& model,
-                  const std::array<long, 3>& steps, int threads) {
+bool ensure_model(const std::string& data, const std::string& model, const TrainPlan& plan,
+                  int threads) {
   const Dataset dataset(data);
   if (std::filesystem::exists(model)) {
     try {
@@ -37,7 +37,10 @@ bool ensure_model(const std::string& data, const std::string& model,
   }
   TrainOptions to;
   to.config.net = default_net_config(dataset.scene_name());
-  for (int s = 0; s < kStageCount; ++s) to.config.steps[s] = steps[s];
+  for (int s = 0; s < kStageCount; ++s) to.config.steps[s] = plan.steps[s];
+  int* widths[3] = {&to.config.net.width_g, &to.config.net.width_h, &to.config.net.width_l};
+  for (int s = 0; s < 3; ++s)
+    if (plan.widths[s] > 0) *widths[s] = plan.widths[s];
   to.config.threads = threads;
   to.resume = true;  // an interrupted demo or report continues where it stopped
   train_model(data, model, to);
