@@ -198,6 +198,15 @@ TEST_F(SweepRunTest, ChangedSceneRedoesEverything) {
   EXPECT_EQ(sweep("data", 1, {"material.nu=0.25"}).ran, 5);
 }
 
+TEST_F(SweepRunTest, EditsThatDoNotChangeTheSimulationRedoNothing) {
+  sweep("data");
+  json scene = tiny_scene();
+  scene["description"] = "another text";
+  scene["rom"] = {{"samples", 7}};
+  std::ofstream(scene_) << scene.dump(2);
+  EXPECT_EQ(sweep("data").ran, 0);
+}
+
 TEST_F(SweepRunTest, SplitsCanBeRunSeparately) {
   EXPECT_EQ(sweep("data", 1, {}, "test").ran, 2);
   EXPECT_EQ(manifest("data")["runs"].size(), 2u);

@@ -90,6 +90,8 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--samples,-k", a->samples, "Sample particles (default: the scene's)");
   cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")->capture_default_str();
   cmd->callback([a] {
+    // Line-buffered, so the step headers interleave correctly with the progress lines on stderr.
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);
     set_threads(a->threads);
     run_demo(*a);
   });

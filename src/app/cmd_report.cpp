@@ -112,6 +112,8 @@ void add_report_command(CLI::App& app) {
                   "Friction angle of the App. B extrapolation run (deg)")
       ->capture_default_str();
   cmd->callback([a] {
+    // Line-buffered, so the step headers interleave correctly with the progress lines on stderr.
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);
     set_threads(a->threads);
     run_report(*a);
   });

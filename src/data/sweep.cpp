@@ -82,11 +82,23 @@ void worker(const std::vector<Job>& jobs, const std::string& parameter, int thre
 
 }  // namespace
 
+namespace {
+// The scene without the keys that do not change what is simulated, so that editing a
+// description, a camera or the reduced-order samples does not redo a finished sweep.
+nlohmann::json simulated_part(const std::string& scene_json) {
+  nlohmann::json j = nlohmann::json::parse(scene_json, nullptr, false);
+  if (j.is_object())
+    for (const char* key : {"description", "camera", "rom"}) j.erase(key);
+  return j;
+}
+}  // namespace
+
 bool is_complete_run(const std::string& path, const std::string& scene_json, int frames) {
   if (!fs::exists(path)) return false;
   try {
     RunReader r(path);
-    return r.frame_count() == size_t(frames) + 1 && r.scene_json() == scene_json;
+    return r.frame_count() == size_t(frames) + 1 &&
+           simulated_part(r.scene_json()) == simulated_part(scene_json);
   } catch (const Error&) {
     return false;
   }

@@ -25,8 +25,9 @@ struct SweepSummary {
 
 SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& options);
 
-// True if `path` is a complete run file of exactly this scene JSON (μ applied): it opens, holds
-// frames + 1 frames and stores the same scene. Anything else (missing, truncated, another scene
+// True if `path` is a complete run file of this scene JSON (μ applied): it opens, holds
+// frames + 1 frames and stores the same scene, up to the keys that do not change the simulation
+// ("description", "camera", "rom"). Anything else (missing, truncated, another scene
 // or μ, a foreign file) is false, and the run is redone.
 bool is_complete_run(const std::string& path, const std::string& scene_json, int frames);
 
