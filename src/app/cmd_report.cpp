@@ -82,8 +82,7 @@ void run_report(const ReportArgs& a) {
       rows.push_back(nlohmann::json::parse(in));
     }
   const std::string page = a.docs + "/RESULTS.md";
-  std::ofstream(page + ".tmp") << results_markdown(
-      rows, "nsf report --size small (scripts/report.sh); one scene: nsf report --scenes sand");
+  std::ofstream(page + ".tmp") << results_markdown(rows, "nsf report --size " + a.size);
   fs::rename(page + ".tmp", page);
   std::printf("wrote %s (%zu rows)\n", page.c_str(), rows.size());
 }

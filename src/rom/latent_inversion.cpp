@@ -38,6 +38,24 @@ void deformation_jacobian(NeuralModel& model, const torch::Tensor& Xn, const Eig
   for (int64_t p = 0; p < n; ++p) g[p] = Vec3(op[3 * p], op[3 * p + 1], op[3 * p + 2]);
 }
 
+namespace {
+
+double squared_residual(NeuralModel& model, const torch::Tensor& Xn, const Eigen::VectorXd& z,
+                        const std::vector<Vec3>& target) {
+  torch::NoGradGuard no_grad;
+  const int64_t n = Xn.size(0), r = z.size();
+  const torch::Tensor zt =
+      torch::from_blob(const_cast<double*>(z.data()), {1, r}, torch::kFloat64).to(torch::kFloat32);
+  const torch::Tensor o = model.deform(Xn, zt.expand({n, r})).to(torch::kFloat64).contiguous();
+  const double* op = o.data_ptr<double>();
+  double sum = 0;
+  for (int64_t p = 0; p < n; ++p)
+    sum += (Vec3(op[3 * p], op[3 * p + 1], op[3 * p + 2]) - target[p]).squaredNorm();
+  return sum;
+}
+
+}  // namespace
+
 InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
                                    const std::vector<Vec3>& target, const Eigen::VectorXd& z0,
                                    const GaussNewtonOptions& options) {
@@ -56,18 +74,34 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
     deformation_jacobian(model, Xn, res.z, J, g);
     Eigen::VectorXd residual(3 * n);
     for (int64_t p = 0; p < n; ++p) residual.segment<3>(3 * p) = g[p] - target[p];
-    res.rms_residual = std::sqrt(residual.squaredNorm() / double(n));
+    const double r0 = residual.squaredNorm();
+    res.rms_residual = std::sqrt(r0 / double(n));
     // Normal equations are r × r; a tiny Levenberg term keeps them solvable when some latent
     // direction does not move the samples at all.
     Eigen::MatrixXd JtJ = J.transpose() * J;
     JtJ.diagonal().array() += 1e-10 * (1.0 + JtJ.diagonal().maxCoeff());
-    const Eigen::VectorXd dz = JtJ.ldlt().solve(-(J.transpose() * residual));
-    res.z += dz;
+    Eigen::VectorXd dz = JtJ.ldlt().solve(-(J.transpose() * residual));
+    if (!dz.allFinite())
+      fail("inversion: the Gauss–Newton step is not finite (iteration ", it + 1, ")");
     res.iterations = it + 1;
-    if (!res.z.allFinite())
-      fail("inversion: the Gauss–Newton step produced a non-finite latent (iteration ", it + 1,
-           ")");
-    if (dz.norm() <= options.tolerance * (1.0 + res.z.norm())) break;
+    if (options.taylor) {  // the linearised update as it stands, by definition
+      res.z += dz;
+      break;
+    }
+    // Backtracking: a full Gauss–Newton step can overshoot where g is strongly nonlinear in ẑ;
+    // the latent must never fit the samples worse than the one it started from.
+    bool accepted = false;
+    for (int halvings = 0; halvings < 6; ++halvings) {
+      const double r1 = squared_residual(model, Xn, res.z + dz, target);
+      if (r1 < r0) {
+        res.z += dz;
+        res.rms_residual = std::sqrt(r1 / double(n));
+        accepted = true;
+        break;
+      }
+      dz *= 0.5;
+    }
+    if (!accepted || dz.norm() <= options.tolerance * (1.0 + res.z.norm())) break;
   }
   return res;
 }

@@ -89,8 +89,9 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
   });
   std::ostringstream s;
   s << "# Results: the paper's Table 1 on nsf\n\n"
-    << "Made by `" << command << "` (each scene's measurements are kept in "
-    << "`docs/results/*.json`; the page is rebuilt from all of them). Every row is one "
+    << "Made by `" << command << "`; one scene's rows are remade alone with "
+    << "`nsf report --scenes NAME` (each scene's measurements are kept in "
+    << "`docs/results/*.json`, and the page is rebuilt from all of them). Every row is one "
        "reduced-order run at a held-out μ (never in the training set), measured against the "
        "full-order engine on the same scene in the same process, with the same threads. "
        "δ is eq. 11 over all particles and frames; speed-up is full-order step time over "
