@@ -1,0 +1,33 @@
+// docs/RESULTS.md is rebuilt from stored rows: every measured figure and the paper's appear.
+#include <gtest/gtest.h>
+
+#include "rom/results_table.h"
+
+namespace {
+
+TEST(RomResults, TablePrintsMeasuredAndPaperFiguresPerScene) {
+  nsf::RomReport r;
+  r.scene = "sand_small";
+  r.mu = 31.25;
+  r.has_mu = true;
+  r.particles = 12000;
+  r.latent_dim = 6;
+  r.gamma = 6000;
+  r.samples = r.samples_end = 50;
+  r.mean_N = 3456;
+  r.delta = 0.0123;
+  r.frames = 10;
+  r.rom_seconds = 2.0;
+  r.fom_seconds = 5.0;
+  r.rom_peak_mib = 300, r.fom_peak_mib = 400;
+  r.rom_steps_per_frame = 20, r.fom_steps_per_frame = 30;
+  const auto row = nsf::result_json(r, "scenes/paper/sand_small.json", "models/sand_small.nsf",
+                                    "results/sand_small.png", "");
+  const std::string md = nsf::results_markdown({row}, "nsf report --size small");
+  for (const char* part : {"`nsf report --size small`", "| sand_small | 31.25 | 12000 | 6 |",
+                           "| 50 | 3456 | 1.23% | 2.50× | 200.0 | 500.0 | 400 / 300 |",
+                           "71,363, 0.4%", "results/sand_small.png"})
+    EXPECT_NE(md.find(part), std::string::npos) << "missing '" << part << "' in\n" << md;
+}
+
+}  // namespace
