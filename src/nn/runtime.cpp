@@ -4,6 +4,8 @@
 #include <ATen/Parallel.h>
 #include <dlfcn.h>
 
+#include <cstdlib>
+#include <string>
 #include <thread>
 
 namespace nsf {
@@ -23,8 +25,21 @@ Fn openblas_symbol(const char* name) {
 int set_nn_threads(int requested) {
   int n = requested > 0 ? requested : static_cast<int>(std::thread::hardware_concurrency());
   if (n < 1) n = 1;
-  at::set_num_threads(n);
-  if (auto set = openblas_symbol<void (*)(int)>("openblas_set_num_threads")) set(n);
+  // The work is GEMM (Linear layers → OpenBLAS, its own thread pool). Torch's intra-op OpenMP
+  // pool only runs the element-wise ops (ELU, Adam, losses: a few % of a step), and by default
+  // its idle threads spin at every barrier, on the very cores OpenBLAS's threads need: measured
+  // 80k vs 230k points/s for a width-96 decoder step with 2 + 2 threads on the shared 2-core
+  // machine. So torch gets one thread and OpenBLAS gets n, unless the environment already
+  // makes OpenMP threads sleep when idle (OMP_WAIT_POLICY=passive), read by libgomp at start-up.
+  const char* policy = std::getenv("OMP_WAIT_POLICY");
+  const bool passive =
+      policy && (std::string(policy) == "passive" || std::string(policy) == "PASSIVE");
+  at::set_num_threads(passive ? n : 1);
+  if (auto set = openblas_symbol<void (*)(int)>("openblas_set_num_threads")) {
+    set(n);
+    return n;
+  }
+  at::set_num_threads(n);  // no OpenBLAS: torch's own threads are the only parallelism
   return at::get_num_threads();
 }
 

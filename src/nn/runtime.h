@@ -4,8 +4,10 @@
 
 namespace nsf {
 
-// Sets torch's intra-op threads and OpenBLAS's own pool to `requested` (0 = all cores) so the
-// two do not oversubscribe the cores; returns the count in use.
+// Uses `requested` threads (0 = all cores) for the networks: OpenBLAS's pool gets them all (the
+// GEMMs are nearly all the work); torch's intra-op OpenMP pool gets one thread unless
+// OMP_WAIT_POLICY=passive, since idle libgomp threads otherwise spin on the cores OpenBLAS
+// needs. Returns the thread count of the GEMMs.
 int set_nn_threads(int requested);
 
 // Which BLAS the process actually loaded: "OpenBLAS 0.3.21 … (2 threads)", or a warning when
