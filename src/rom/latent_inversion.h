@@ -18,7 +18,8 @@ class NeuralModel;
 struct InversionResult {
   Eigen::VectorXd z;
   int iterations = 0;
-  double rms_residual = 0;  // √(mean ‖g(X_p, ẑ) − x_p‖²) at the returned ẑ (Taylor: before the step)
+  double rms_residual =
+      0;  // √(mean ‖g(X_p, ẑ) − x_p‖²) at the returned ẑ (Taylor: before the step)
 };
 
 // g(X_p, ẑ) for the normalised rest positions Xn (|S| × 3, float) and ∂g/∂ẑ as a 3|S| × r
