@@ -28,6 +28,7 @@ struct ReportArgs {
   int threads = 2;
   std::string docs = "docs", out = "out/report";
   double sand_extrapolation = 44;
+  bool page_only = false;
 };
 
 // One reduced-order run, its picture and its stored row.
@@ -56,7 +57,7 @@ void run_report(const ReportArgs& a) {
     fail("report: --size must be small or paper, got '", a.size, "'");
   fs::create_directories(a.out);
   fs::create_directories(a.docs + "/results");
-  for (const std::string& base : a.scenes) {
+  for (const std::string& base : a.page_only ? std::vector<std::string>{} : a.scenes) {
     const std::string name = base + "_" + a.size;
     const std::string scene = "scenes/paper/" + name + ".json";
     const std::string data = "data/" + name, model = "models/" + name + ".nsf";
@@ -107,6 +108,8 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--docs", a->docs, "Where RESULTS.md and results/ go")->capture_default_str();
   cmd->add_option("--out", a->out, "Where the runs and animations go")->capture_default_str();
+  cmd->add_flag("--page-only", a->page_only,
+                "Run nothing: rebuild RESULTS.md from the rows stored in docs/results/");
   cmd->add_option("--sand-extrapolation", a->sand_extrapolation,
                   "Friction angle of the App. B extrapolation run (deg)")
       ->capture_default_str();
