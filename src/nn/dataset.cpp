@@ -7,6 +7,7 @@
 #include <regex>
 
 #include "core/error.h"
+#include "mpm/scene/settings_json.h"
 
 namespace nsf {
 
@@ -70,6 +71,14 @@ void to_float(const std::vector<Vec3>& v, std::vector<float>& out) {
     for (int i = 0; i < 3; ++i) out[3 * p + i] = static_cast<float>(v[p][i]);
 }
 
+// The grid's corner, from the scene the run stored; runs without one used the default origin.
+Vec3 run_domain_lo(const RunReader& r) {
+  if (r.scene_json().empty()) return Vec3::Zero();
+  const nlohmann::json j = nlohmann::json::parse(r.scene_json(), nullptr, false);
+  if (j.is_discarded() || !j.contains("simulation")) return Vec3::Zero();
+  return parse_settings(j["simulation"]).domain_lo;
+}
+
 }  // namespace
 
 Dataset::Dataset(const std::string& dir) : dir_(dir) {
@@ -102,6 +111,10 @@ Dataset::Dataset(const std::string& dir) : dir_(dir) {
       X_ = r->rest_positions();
       scene_name_ = r->scene_name();
       has_mu_ = s.has_mu;
+      volume_ = r->volume();
+      object_ = r->object();
+      dx_ = r->dx();
+      domain_lo_ = run_domain_lo(*r);
     } else {
       if (r->rest_positions() != X_)
         fail("dataset ", dir, ": ", s.path, " is not the same scene as ", first,

@@ -40,6 +40,11 @@ class Dataset {
   size_t particle_count() const { return X_.size(); }
   const std::vector<Vec3>& rest_positions() const { return X_; }
   bool has_mu() const { return has_mu_; }
+  // Per-particle rest volume V⁰ and object id, and the grid (Δx, domain corner) of the runs.
+  const std::vector<double>& volumes() const { return volume_; }
+  const std::vector<uint16_t>& objects() const { return object_; }
+  double grid_dx() const { return dx_; }
+  const Vec3& domain_lo() const { return domain_lo_; }
   const std::vector<SimulationFile>& train() const { return train_; }
   const std::vector<SimulationFile>& test() const { return test_; }
 
@@ -52,6 +57,10 @@ class Dataset {
 
   std::string dir_, scene_name_;
   std::vector<Vec3> X_;
+  std::vector<double> volume_;
+  std::vector<uint16_t> object_;
+  double dx_ = 0;
+  Vec3 domain_lo_ = Vec3::Zero();
   bool has_mu_ = false;
   std::vector<SimulationFile> train_, test_;
   std::vector<std::unique_ptr<RunReader>> readers_;  // train runs, then test runs

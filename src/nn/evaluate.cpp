@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "nn/dataset.h"
+#include "nn/field_checks.h"
 #include "nn/neural_fields.h"
 
 namespace nsf {
@@ -28,17 +29,26 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
   const size_t n = o.max_particles > 0 ? std::min(o.max_particles, P) : P;
   for (size_t i = 0; i < n; ++i) subset.push_back(i * P / n);
   std::vector<Vec3> X;
-  for (size_t p : subset) X.push_back(data.rest_positions()[p]);
+  std::vector<double> volume;
+  std::vector<uint16_t> object;
+  for (size_t p : subset) {
+    X.push_back(data.rest_positions()[p]);
+    volume.push_back(data.volumes()[p]), object.push_back(data.objects()[p]);
+  }
   const NeuralFields::Points pts = nf.prepare(X);
+  const SmoothFit smooth(X, object, o.floor_degree);
 
   std::vector<EvalRow> rows;
   std::vector<Vec3> x;
   std::vector<Mat3> tau, C;
+  std::vector<Vec3> x_true(n);
+  std::vector<Mat3> tau_true(n), C_true(n);
   for (const SimulationFile& run : runs) {
     EvalRow row;
     row.run = std::filesystem::path(run.path).filename().string();
     row.mu = run.mu, row.has_mu = run.has_mu, row.particles = n;
     double ex = 0, nx = 0, et = 0, nt = 0, ec = 0, nc = 0;
+    ErrorSum force, stress_floor, affine_floor;
     // Eq. (11) sums over n = 1…N: frame 0 is the initial state, not a prediction.
     for (size_t k = std::min<size_t>(1, run.frames - 1); k < run.frames;
          k += std::max<size_t>(1, o.frame_stride)) {
@@ -59,13 +69,19 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
         const Mat3 c = Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(&f.C[9 * p])
                            .cast<double>();
         ec += (C[i] - c).squaredNorm(), nc += c.squaredNorm();
+        x_true[i] = full[p], tau_true[i] = t, C_true[i] = c;
       }
+      add_grid_force_error(x_true, volume, tau, tau_true, data.domain_lo(), data.grid_dx(), force);
+      smooth.add_residual(tau_true, stress_floor);
+      smooth.add_residual(C_true, affine_floor);
       ++row.frames;
     }
     // A field that is zero throughout (no stress in a rigid drop) has no relative error: NaN.
     row.delta = nx > 0 ? std::sqrt(ex / nx) : NAN;
     row.stress_error = nt > 0 ? std::sqrt(et / nt) : NAN;
     row.affine_error = nc > 0 ? std::sqrt(ec / nc) : NAN;
+    row.force_error = force.relative();
+    row.stress_floor = stress_floor.relative(), row.affine_floor = affine_floor.relative();
     rows.push_back(row);
   }
   return rows;

@@ -1,0 +1,43 @@
+#pragma once
+// Yardsticks for the stress and affine errors of `nsf eval`. MPM's per-particle τ and C carry
+// particle-scale noise that no smooth field h(X, ẑ) or l(X, ẑ) can reproduce, and that the dynamics
+// largely average out in P2G. A relative error against the raw per-particle values therefore has
+// a floor well above zero; these measures say where that floor is and what the dynamics see.
+#include <cstdint>
+#include <vector>
+
+#include "core/types.h"
+
+namespace nsf {
+
+// Accumulates Σ‖a − b‖² and Σ‖b‖² over many frames; relative() = √(err / ref), NaN when ref = 0.
+struct ErrorSum {
+  double err = 0, ref = 0;
+  double relative() const;
+};
+
+// The stress forces on the grid nodes, f_i = −Σ_p V⁰_p τ_p ∇w_ip(x_p) with quadratic B-splines
+// (the only way τ enters the MPM step), once from `tau` and once from `tau_ref`, both at the
+// positions x. Adds Σ_i ‖f_i − f_i^ref‖² and Σ_i ‖f_i^ref‖² to `sum`.
+void add_grid_force_error(const std::vector<Vec3>& x, const std::vector<double>& volume,
+                          const std::vector<Mat3>& tau, const std::vector<Mat3>& tau_ref,
+                          const Vec3& domain_lo, double dx, ErrorSum& sum);
+
+// Least-squares fits of a frame's field over the reference positions X by one polynomial of total
+// degree `degree` per object: the best any smooth per-frame field of that form can do. The basis
+// depends on X only, so it is factored once and reused for every frame.
+class SmoothFit {
+ public:
+  SmoothFit(const std::vector<Vec3>& X, const std::vector<uint16_t>& object, int degree);
+  ~SmoothFit();
+  SmoothFit(SmoothFit&&) noexcept;
+  SmoothFit& operator=(SmoothFit&&) noexcept;
+  // Adds the fit's residual Σ‖field − fit‖² and Σ‖field‖² (Frobenius) to `sum`.
+  void add_residual(const std::vector<Mat3>& field, ErrorSum& sum) const;
+
+ private:
+  struct Group;
+  std::vector<Group> groups_;
+};
+
+}  // namespace nsf
