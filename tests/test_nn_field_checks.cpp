@@ -1,4 +1,4 @@
-// The yardsticks behind `nsf eval`'s floor and force columns (nn/field_checks.h).
+// The yardsticks behind `nsf eval`'s poly and force columns (nn/field_checks.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -40,7 +40,7 @@ TEST(SmoothFit, ReproducesPolynomialsUpToItsDegree) {
   EXPECT_GT(low.relative(), 1e-3);  // degree 1 cannot fit X_y⁴ or X_x X_z²
 }
 
-TEST(SmoothFit, LeavesParticleScaleNoiseAsTheFloor) {
+TEST(SmoothFit, LeavesParticleScaleNoiseAsItsResidual) {
   const auto X = lattice();
   // Two objects: each gets its own polynomial, so a jump between them costs nothing.
   std::vector<uint16_t> object;

@@ -142,8 +142,8 @@ TEST_F(NnTraining, EvalReportsSmallErrorsOnHeldOutRun) {
   EXPECT_LT(rows[0].stress_error, 1.0);
   EXPECT_LT(rows[0].affine_error, 1.0);
   // The synthetic τ and C are polynomials of degree ≤ 2 in X: the smooth fit leaves nothing.
-  EXPECT_LT(rows[0].stress_floor, 1e-6);
-  EXPECT_LT(rows[0].affine_floor, 1e-6);
+  EXPECT_LT(rows[0].stress_poly_fit, 1e-6);
+  EXPECT_LT(rows[0].affine_poly_fit, 1e-6);
   EXPECT_TRUE(std::isfinite(rows[0].force_error));
   EXPECT_GT(rows[0].force_error, 0.0);
   o.split = "all";

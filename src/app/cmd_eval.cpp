@@ -30,17 +30,17 @@ void run_eval(const EvalArgs& a) {
   const double start = now_seconds();
   const auto rows = evaluate_model(a.model, a.data, a.opt);
   std::printf("%-16s %9s %6s %8s | %8s %8s %8s | %8s %8s\n", "run", "mu", "frames", "delta",
-              "stress", "floor", "force", "affine", "floor");
+              "stress", "poly", "force", "affine", "poly");
   double d = 0, s = 0, sf = 0, f = 0, c = 0, cf = 0;
   for (const EvalRow& r : rows) {
     char mu[32] = "-";
     if (r.has_mu) std::snprintf(mu, sizeof mu, "%.6g", r.mu);
     std::printf("%-16s %9s %6zu %8s | %8s %8s %8s | %8s %8s\n", r.run.c_str(), mu, r.frames,
                 percent(r.delta).c_str(), percent(r.stress_error).c_str(),
-                percent(r.stress_floor).c_str(), percent(r.force_error).c_str(),
-                percent(r.affine_error).c_str(), percent(r.affine_floor).c_str());
-    d += r.delta, s += r.stress_error, sf += r.stress_floor, f += r.force_error;
-    c += r.affine_error, cf += r.affine_floor;
+                percent(r.stress_poly_fit).c_str(), percent(r.force_error).c_str(),
+                percent(r.affine_error).c_str(), percent(r.affine_poly_fit).c_str());
+    d += r.delta, s += r.stress_error, sf += r.stress_poly_fit, f += r.force_error;
+    c += r.affine_error, cf += r.affine_poly_fit;
   }
   const double n = double(rows.size());
   std::printf("%-16s %9s %6s %8s | %8s %8s %8s | %8s %8s\n", "mean", "", "", percent(d / n).c_str(),
@@ -48,11 +48,12 @@ void run_eval(const EvalArgs& a) {
               percent(c / n).c_str(), percent(cf / n).c_str());
   std::printf(
       "(latents from the encoder on each ground-truth frame; %zu particles per frame; %.1f s)\n"
-      "delta: eq. 11. stress, affine: relative error of h and l per particle. floor: residual of\n"
-      "the best per-frame polynomial of degree %d in X per object, fitted to the ground truth\n"
-      "(particle-scale noise no smooth field reproduces). force: relative error of the grid\n"
-      "forces -sum V tau grad w that h's stress produces, the quantity the MPM step uses.\n",
-      rows.empty() ? size_t(0) : rows[0].particles, now_seconds() - start, a.opt.floor_degree);
+      "delta: eq. 11. stress, affine: relative error of h and l per particle. poly: residual of\n"
+      "the best per-frame polynomial of degree %d in X per object, fitted to the ground truth "
+      "(how\n"
+      "much of the field is smooth at that scale; particle-scale noise stays). force: relative\n"
+      "error of the grid forces -sum V tau grad w from h's stress, what the MPM step uses.\n",
+      rows.empty() ? size_t(0) : rows[0].particles, now_seconds() - start, a.opt.poly_degree);
 }
 
 }  // namespace
@@ -68,8 +69,8 @@ void add_eval_command(CLI::App& app) {
   cmd->add_option("--particles", a->opt.max_particles,
                   "Evaluate an evenly spaced subset of this many particles (0 = all)")
       ->capture_default_str();
-  cmd->add_option("--floor-degree", a->opt.floor_degree,
-                  "Polynomial degree of the smooth fit behind the floor columns")
+  cmd->add_option("--poly-degree", a->opt.poly_degree,
+                  "Degree of the per-frame polynomial fits (poly columns)")
       ->capture_default_str()
       ->check(CLI::Range(0, 8));
   cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")->capture_default_str();

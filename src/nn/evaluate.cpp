@@ -36,7 +36,7 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
     volume.push_back(data.volumes()[p]), object.push_back(data.objects()[p]);
   }
   const NeuralFields::Points pts = nf.prepare(X);
-  const SmoothFit smooth(X, object, o.floor_degree);
+  const SmoothFit smooth(X, object, o.poly_degree);
 
   std::vector<EvalRow> rows;
   std::vector<Vec3> x;
@@ -48,7 +48,7 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
     row.run = std::filesystem::path(run.path).filename().string();
     row.mu = run.mu, row.has_mu = run.has_mu, row.particles = n;
     double ex = 0, nx = 0, et = 0, nt = 0, ec = 0, nc = 0;
-    ErrorSum force, stress_floor, affine_floor;
+    ErrorSum force, stress_poly_fit, affine_poly_fit;
     // Eq. (11) sums over n = 1…N: frame 0 is the initial state, not a prediction.
     for (size_t k = std::min<size_t>(1, run.frames - 1); k < run.frames;
          k += std::max<size_t>(1, o.frame_stride)) {
@@ -72,8 +72,8 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
         x_true[i] = full[p], tau_true[i] = t, C_true[i] = c;
       }
       add_grid_force_error(x_true, volume, tau, tau_true, data.domain_lo(), data.grid_dx(), force);
-      smooth.add_residual(tau_true, stress_floor);
-      smooth.add_residual(C_true, affine_floor);
+      smooth.add_residual(tau_true, stress_poly_fit);
+      smooth.add_residual(C_true, affine_poly_fit);
       ++row.frames;
     }
     // A field that is zero throughout (no stress in a rigid drop) has no relative error: NaN.
@@ -81,7 +81,8 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
     row.stress_error = nt > 0 ? std::sqrt(et / nt) : NAN;
     row.affine_error = nc > 0 ? std::sqrt(ec / nc) : NAN;
     row.force_error = force.relative();
-    row.stress_floor = stress_floor.relative(), row.affine_floor = affine_floor.relative();
+    row.stress_poly_fit = stress_poly_fit.relative(),
+    row.affine_poly_fit = affine_poly_fit.relative();
     rows.push_back(row);
   }
   return rows;

@@ -10,7 +10,7 @@ struct EvalOptions {
   std::string split = "test";  // "test", "train" or "all"
   size_t frame_stride = 1;     // every k-th frame (frames 1…N, as in eq. 11)
   size_t max_particles = 0;    // 0 = all; otherwise an evenly spaced subset (cheaper on big scenes)
-  int floor_degree = 4;        // degree of the smooth fit behind the stress and affine floors
+  int poly_degree = 4;         // degree of the per-frame polynomial fits (poly columns)
 };
 
 struct EvalRow {
@@ -22,10 +22,11 @@ struct EvalRow {
   double stress_error = 0;  // √(Σ‖h − τ‖²_F / Σ‖τ‖²_F), full 3×3 Frobenius norms
   double affine_error = 0;  // same for l and C
   // Yardsticks (nn/field_checks.h): the stress error of the forces h puts on the grid, and the
-  // residuals of the best per-frame smooth fit (polynomial of degree 4 in X per object) to the
-  // ground-truth τ and C: the part of the raw error no smooth field can remove.
+  // residuals of the best per-frame polynomial of degree 4 in X per object, fitted to the
+  // ground-truth τ and C: how much of each field is smooth at that scale. A field h(X, ẑ) that
+  // resolves finer features can beat it; particle-scale noise stays in both.
   double force_error = 0;
-  double stress_floor = 0, affine_floor = 0;
+  double stress_poly_fit = 0, affine_poly_fit = 0;
 };
 
 std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::string& data_dir,

@@ -1,8 +1,9 @@
 #pragma once
 // Yardsticks for the stress and affine errors of `nsf eval`. MPM's per-particle τ and C carry
 // particle-scale noise that no smooth field h(X, ẑ) or l(X, ẑ) can reproduce, and that the dynamics
-// largely average out in P2G. A relative error against the raw per-particle values therefore has
-// a floor well above zero; these measures say where that floor is and what the dynamics see.
+// largely average out in P2G. A relative error against the raw per-particle values therefore
+// stays well above zero; these measures say how much of a field is smooth and what the dynamics
+// see of the error.
 #include <cstdint>
 #include <vector>
 
