@@ -20,6 +20,7 @@
 #include "nn/neural_fields.h"
 #include "nn/runtime.h"
 #include "nn/trainer.h"
+#include "rom/field_gradients.h"
 #include "rom/integration_set.h"
 #include "rom/latent_inversion.h"
 #include "rom/latent_stepper.h"
@@ -122,6 +123,56 @@ TEST(RomInversion, JacobianMatchesFiniteDifferences) {
 
 // The engine half of §5.2: with identical particle states, an MPM step over N (and G2P over S)
 // moves S exactly as a full step over every particle does.
+TEST(RomFieldGradients, DeformationGradientMatchesFiniteDifferences) {
+  RandomModel m(12);
+  Eigen::VectorXd z(4);
+  z << 0.4, -0.2, 0.1, 0.6;
+  const torch::Tensor zt = torch::from_blob(z.data(), {1, 4}, torch::kFloat64)
+                               .to(torch::kFloat32)
+                               .expand({m.Xn.size(0), 4});
+  const torch::Tensor F = nsf::deformation_gradients(m.model, m.Xn, zt);
+  ASSERT_EQ(F.size(0), 12);
+  const torch::Tensor sigma = m.model.norm_X.std.to(torch::kFloat64);
+  const double h = 1e-2;  // in normalised units; float32 networks
+  for (int a = 0; a < 3; ++a) {
+    torch::Tensor dX = torch::zeros({1, 3});
+    dX[0][a] = h;
+    const torch::NoGradGuard no_grad;
+    const torch::Tensor xp = m.model.deform(m.Xn + dX, zt).to(torch::kFloat64);
+    const torch::Tensor xm = m.model.deform(m.Xn - dX, zt).to(torch::kFloat64);
+    // Column a of F: ∂x/∂X_a = ∂x/∂Xn_a / σ_a.
+    const torch::Tensor fd = (xp - xm) / (2 * h * sigma[a].item<double>());
+    const torch::Tensor col = F.select(2, a);
+    EXPECT_LT((fd - col).abs().max().item<double>(), 2e-3 * (1 + col.abs().max().item<double>()))
+        << "column " << a;
+  }
+}
+
+TEST(RomFieldGradients, VelocityGradientOfAStretchAndARotation) {
+  // Stretch: F from I to diag(2, 1, 1) over Δt = 0.5: Ḟ = diag(2, 0, 0), C = Ḟ F⁻¹ = diag(1, 0, 0).
+  torch::Tensor F = torch::eye(3, torch::kFloat64).unsqueeze(0).repeat({2, 1, 1});
+  torch::Tensor F_prev = F.clone();
+  F[0][0][0] = 2.0;
+  // Rotation about z at ω = 3 rad/s, one small step: C → the spin matrix [ω]ₓ as Δt → 0.
+  const double w = 3.0, dt = 1e-5, th = 0.7;
+  auto rot = [](double a) {
+    torch::Tensor R = torch::eye(3, torch::kFloat64);
+    R[0][0] = std::cos(a), R[0][1] = -std::sin(a), R[1][0] = std::sin(a), R[1][1] = std::cos(a);
+    return R;
+  };
+  F[1] = rot(th), F_prev[1] = rot(th - w * dt);
+  std::vector<Mat3> C;
+  nsf::velocity_gradients(F, F_prev, 0.5, C);
+  ASSERT_EQ(C.size(), 2u);
+  EXPECT_NEAR(C[0](0, 0), 1.0, 1e-12);
+  EXPECT_NEAR((C[0] - Mat3(Eigen::Vector3d(1, 0, 0).asDiagonal())).norm(), 0.0, 1e-12);
+  nsf::velocity_gradients(F, F_prev, dt, C);
+  Mat3 spin;
+  spin << 0, -w, 0, w, 0, 0, 0, 0, 0;
+  EXPECT_LT((C[1] - spin).norm(), 1e-3 * w);
+  EXPECT_THROW(nsf::velocity_gradients(F, F_prev.narrow(0, 0, 1), dt, C), std::exception);
+}
+
 TEST(RomMpmStep, StepOnIntegrationParticlesGivesTheFullStepsSamplePositions) {
   nsf::Simulation full(nsf::load_scene(kTinyScene));
   for (int i = 0; i < 120; ++i) full.step();  // in contact with the floor, deformed
@@ -255,6 +306,13 @@ TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {
   o.rom.inversion.taylor = true;
   const nsf::RomReport taylor = nsf::run_rom(o);
   EXPECT_LT(taylor.delta, 0.1);
+  // C from the ROM's own velocity field instead of l.
+  o.rom.inversion.taylor = false;
+  o.rom.affine = nsf::AffineSource::velocity;
+  const nsf::RomReport velocity = nsf::run_rom(o);
+  EXPECT_LT(velocity.delta, 0.05);
+  std::printf("tiny scene: ROM delta with C from the velocity field %.3f%%\n",
+              100 * velocity.delta);
 }
 
 TEST_F(RomEndToEnd, BadInputIsAClearError) {

@@ -1,6 +1,7 @@
 // `nsf rom models/NAME.nsf scene.json --mu V --samples K`: a reduced-order run at parameter μ,
 // timed against the full-order engine on the same scene in the same process.
 #include <cstdio>
+#include <map>
 
 #include "app/commands.h"
 #include "rom/rom_run.h"
@@ -55,6 +56,14 @@ void add_rom_command(CLI::App& app) {
                 "First-order Taylor inversion: one linearised step per time step");
   cmd->add_flag("--crom", a->opt.rom.crom,
                 "CROM-style baseline: stress from dg/dX through the material, no affine field");
+  cmd->add_option("--affine", a->opt.rom.affine,
+                  "APIC affine matrices C from: network (l, the paper), velocity (the gradient of "
+                  "the ROM's own velocity field, from dg/dX), none (C = 0; --crom's default)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, AffineSource>{{"network", AffineSource::network},
+                                              {"velocity", AffineSource::velocity},
+                                              {"none", AffineSource::none}},
+          CLI::ignore_case));
   cmd->add_option("--halo", a->opt.rom.halo, "Candidate margin around the grid nodes I, in cells")
       ->capture_default_str();
   cmd->add_flag("--verify-n", a->opt.rom.verify_integration_set,

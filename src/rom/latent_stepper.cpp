@@ -1,6 +1,5 @@
 #include "rom/latent_stepper.h"
 
-#include <torch/autograd.h>
 #include <torch/torch.h>
 
 #include <algorithm>
@@ -9,6 +8,7 @@
 #include "core/error.h"
 #include "mpm/simulation.h"
 #include "nn/model.h"
+#include "rom/field_gradients.h"
 #include "rom/integration_set.h"
 #include "rom/latent_inversion.h"
 
@@ -89,6 +89,8 @@ struct LatentStepper::Impl {
     X = P.X, mass = P.mass, vol0 = P.vol0, material = P.material, mat0 = P.mat;
     const std::vector<Vec3> v0 = P.v;
     const SimSettings& s = scene.settings;
+    // The baseline has no affine network: network means its default, none.
+    if (opt.crom && opt.affine == AffineSource::network) opt.affine = AffineSource::none;
     if (!(opt.dt_ratio > 0)) fail("rom: the time-step ratio must be positive, got ", opt.dt_ratio);
     per_frame = std::max(1, int(std::lround(s.substeps / opt.dt_ratio)));
     dt = s.substeps * s.dt / per_frame;
@@ -215,19 +217,28 @@ struct LatentStepper::Impl {
       const torch::Tensor XnN = Xn_all.index_select(0, index_tensor(N));
       const int64_t m = int64_t(N.size());
       const torch::Tensor zN = latent_row(z).expand({m, z.size()});
+      torch::Tensor F;  // ∂g/∂X at ẑ_n on N, when the stress or C needs it
+      if (opt.crom || opt.affine == AffineSource::velocity)
+        F = deformation_gradients(model, XnN, zN);
       if (opt.crom) {
-        crom_stress(XnN, zN, tau);
+        crom_stress(F, tau);
       } else {
         torch::NoGradGuard no_grad;
         const torch::Tensor muN = torch::full({m, 1}, float(mu));
         const torch::Tensor h = model.stress(XnN, zN, muN).to(torch::kFloat64).contiguous();
-        const torch::Tensor l = model.affine(XnN, zN).to(torch::kFloat64).contiguous();
         const double* hp = h.data_ptr<double>();
+        for (int64_t k = 0; k < m; ++k) tau[k] = symmetric_from6(hp + 6 * k);
+      }
+      if (opt.affine == AffineSource::network) {
+        torch::NoGradGuard no_grad;
+        const torch::Tensor l = model.affine(XnN, zN).to(torch::kFloat64).contiguous();
         const double* lp = l.data_ptr<double>();
-        for (int64_t k = 0; k < m; ++k) {
-          tau[k] = symmetric_from6(hp + 6 * k);
+        for (int64_t k = 0; k < m; ++k)
           C[k] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(lp + 9 * k);
-        }
+      } else if (opt.affine == AffineSource::velocity) {
+        const torch::Tensor F_prev =
+            deformation_gradients(model, XnN, latent_row(z_prev).expand({m, z_prev.size()}));
+        velocity_gradients(F, F_prev, dt, C);
       }
     }
 
@@ -276,19 +287,10 @@ struct LatentStepper::Impl {
     ++n;
   }
 
-  // CROM: τ = τ(F) with F = ∂g/∂X from autodiff, through the scene's own constitutive models
-  // (each particle's initial plastic state: the baseline has no plastic history).
-  void crom_stress(const torch::Tensor& XnN, const torch::Tensor& zN, std::vector<Mat3>& tau) {
-    const int64_t m = XnN.size(0);
-    torch::Tensor Xg = XnN.clone().set_requires_grad(true);
-    const torch::Tensor out = model.deform(Xg, zN);
-    std::vector<torch::Tensor> rows;
-    for (int c = 0; c < 3; ++c)
-      rows.push_back(torch::autograd::grad({out.select(1, c).sum()}, {Xg}, {}, c < 2)[0]);
-    // ∂x/∂X = ∂x/∂Xn · diag(1/σ_X): the rest positions were normalised per component.
-    const torch::Tensor F = (torch::stack(rows, 1) / model.norm_X.std.reshape({1, 1, 3}))
-                                .to(torch::kFloat64)
-                                .contiguous();
+  // CROM: τ = τ(F) with F = ∂g/∂X, through the scene's own constitutive models (each particle's
+  // initial plastic state: the baseline has no plastic history).
+  void crom_stress(const torch::Tensor& F, std::vector<Mat3>& tau) {
+    const int64_t m = F.size(0);
     const double* f = F.data_ptr<double>();
     const auto& materials = sim->scene().materials;
     for (int64_t k = 0; k < m; ++k) {

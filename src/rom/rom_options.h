@@ -10,6 +10,14 @@ struct GaussNewtonOptions {
   bool taylor = false;      // one linearised step at ẑ_n (first-order Taylor, Chen et al. 2023a)
 };
 
+// Where the ROM step takes the particles' APIC affine matrices C from.
+enum class AffineSource {
+  network,  // l(X, ẑ) (§4.4, the paper)
+  velocity,  // the ROM's own velocity field: C = Ḟ F⁻¹ with F = ∂g/∂X at ẑ_n, Ḟ its difference
+             // quotient from ẑ_{n−1}; APIC's C is the velocity gradient at the particle
+  none,  // C = 0 (the CROM baseline's default)
+};
+
 struct RomOptions {
   // ROM step over the scene's Δt; rounded so that a frame is a whole number of ROM steps.
   double dt_ratio = 1.5;
@@ -18,6 +26,8 @@ struct RomOptions {
   // CROM-style baseline (Figs. 5, 12, 13): τ from F = ∂g/∂X through the constitutive model,
   // no affine field (C = 0); h and l are not used.
   bool crom = false;
+  // Network by default, none when `crom` is set; the CROM baseline can also take `velocity`.
+  AffineSource affine = AffineSource::network;
   int halo = 3;  // candidate margin in cells around I (rom/integration_set.h)
   // Also find N by brute force (g on every particle) each step and count the particles the
   // candidate scheme missed. For tests and checks; costs a full evaluation of g per step.
