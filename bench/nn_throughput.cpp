@@ -1,0 +1,106 @@
+// Training and inference throughput of the networks (docs/BENCHMARKS.md, "Neural fields"):
+// points per second through one decoder for an Adam step on a batch (what `nsf train` does in
+// stages 1–3) and for batched no-grad inference (what the ROM does on N every step), and frames
+// per second through the encoder. Synthetic inputs: the cost depends on the shapes only.
+//   build/nn_throughput [--benchmark_filter=...]   (NSF_THREADS=1 for one thread; default 2)
+#include <benchmark/benchmark.h>
+#include <torch/torch.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "nn/networks.h"
+#include "nn/runtime.h"
+
+namespace {
+
+constexpr int64_t kDepth = 5, kLatent = 6, kBatch = 2048;  // 4 frames × 512 particles
+
+// Output sizes of g, h, l; h also takes μ.
+int64_t out_of(int net) {
+  return net == 0 ? 3 : net == 1 ? 6 : 9;
+}
+int64_t in_of(int net) {
+  return 3 + kLatent + (net == 1 ? 1 : 0);
+}
+const char* name_of(int net) {
+  return net == 0 ? "g" : net == 1 ? "h" : "l";
+}
+
+void train_step(benchmark::State& state) {
+  const int net = int(state.range(0));
+  const int64_t width = state.range(1);
+  torch::manual_seed(1);
+  nsf::FieldMlp mlp(in_of(net), out_of(net), width, kDepth);
+  torch::optim::Adam adam(mlp->parameters(), torch::optim::AdamOptions(1e-3));
+  const torch::Tensor in = torch::randn({kBatch, in_of(net)});
+  const torch::Tensor target = torch::randn({kBatch, out_of(net)});
+  for (auto _ : state) {
+    adam.zero_grad();
+    const torch::Tensor loss = torch::mse_loss(mlp->forward(in), target);
+    loss.backward();
+    adam.step();
+    benchmark::DoNotOptimize(loss.data_ptr<float>());
+  }
+  state.SetItemsProcessed(state.iterations() * kBatch);
+  state.SetLabel(std::string(name_of(net)) + " width " + std::to_string(width));
+}
+
+void inference(benchmark::State& state) {
+  const int net = int(state.range(0));
+  const int64_t width = state.range(1), points = state.range(2);
+  torch::manual_seed(1);
+  nsf::FieldMlp mlp(in_of(net), out_of(net), width, kDepth);
+  const torch::Tensor in = torch::randn({points, in_of(net)});
+  torch::NoGradGuard no_grad;
+  for (auto _ : state) {
+    const torch::Tensor out = mlp->forward(in);
+    benchmark::DoNotOptimize(out.data_ptr<float>());
+  }
+  state.SetItemsProcessed(state.iterations() * points);
+  state.SetLabel(std::string(name_of(net)) + " width " + std::to_string(width));
+}
+
+void encoder_frames(benchmark::State& state) {
+  const int64_t particles = state.range(0), frames = 4;
+  torch::manual_seed(1);
+  nsf::Encoder e(particles, kLatent);
+  const torch::Tensor x = torch::randn({frames, 3 * particles});
+  for (auto _ : state) {
+    const torch::Tensor z = e->forward(x);
+    z.sum().backward();
+    benchmark::DoNotOptimize(z.data_ptr<float>());
+  }
+  state.SetItemsProcessed(state.iterations() * frames);
+  state.SetLabel("forward + backward, " + std::to_string(particles) + " particles");
+}
+
+// Table 1's widths (β·d) of the scenes, and the 128 that `nsf report` and `nsf demo` use.
+void widths(benchmark::internal::Benchmark* b) {
+  for (int64_t w : {96, 144}) b->Args({0, w});
+  for (int64_t w : {128, 288, 384, 432}) b->Args({1, w});
+  for (int64_t w : {128, 432, 576, 648}) b->Args({2, w});
+}
+
+void inference_widths(benchmark::internal::Benchmark* b) {
+  for (int64_t w : {96, 144}) b->Args({0, w, 8192});
+  for (int64_t w : {128, 384}) b->Args({1, w, 8192});
+  for (int64_t w : {128, 576}) b->Args({2, w, 8192});
+}
+
+}  // namespace
+
+BENCHMARK(train_step)->Apply(widths)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(inference)->Apply(inference_widths)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(encoder_frames)->Arg(5000)->Arg(50000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+int main(int argc, char** argv) {
+  const char* t = std::getenv("NSF_THREADS");
+  const int threads = nsf::set_nn_threads(t ? std::atoi(t) : 2);
+  benchmark::Initialize(&argc, argv);
+  benchmark::AddCustomContext("gemm_threads", std::to_string(threads));
+  benchmark::AddCustomContext("blas", nsf::blas_info());
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
