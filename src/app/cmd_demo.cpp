@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 struct DemoArgs {
   std::string scene = "scenes/paper/jelly_small.json";
   std::string data, model, out = "out";
-  TrainPlan train{{1500, 800, 800}, {96, 128, 128}};
+  TrainPlan train{{6000, 4000, 4000}, {0, 128, 128}};
   int samples = 0;
   int threads = 2;
 };

@@ -69,6 +69,11 @@ void add_eval_command(CLI::App& app) {
   cmd->add_option("--particles", a->opt.max_particles,
                   "Evaluate an evenly spaced subset of this many particles (0 = all)")
       ->capture_default_str();
+  cmd->add_option("--refine", a->opt.refine_iterations,
+                  "Refine each encoded latent by this many Gauss-Newton iterations on 1,024 "
+                  "particles, as the ROM's inversion would (0 = off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100));
   cmd->add_option("--poly-degree", a->opt.poly_degree,
                   "Degree of the per-frame polynomial fits (poly columns)")
       ->capture_default_str()

@@ -23,7 +23,7 @@ struct ReportArgs {
   std::string size = "small";
   std::vector<std::string> scenes = {"bread",      "cake",  "sand",        "metal",
                                      "toothpaste", "jelly", "squishy_ball"};
-  TrainPlan train{{1500, 800, 800}, {96, 128, 128}};
+  TrainPlan train{{6000, 4000, 4000}, {0, 128, 128}};
   bool make_missing = true;
   int threads = 2;
   std::string docs = "docs", out = "out/report";

@@ -101,6 +101,15 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("--particles-per-frame", c.particles_per_frame,
                   "Particles sampled per batch frame")
       ->capture_default_str();
+  cmd->add_option("--refine-latents", c.refine_latents,
+                  "Gauss-Newton iterations refining each frame's latent before stages 2, 3 (0 = "
+                  "the encoder's latents, as in the paper)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100));
+  cmd->add_option("--latent-noise", c.latent_noise,
+                  "Noise on the latents of stages 2, 3, in units of each component's spread")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10.0));
   cmd->add_option("--latent-dim,-r", a->r, "Latent dimension r (default: Table 1 for the scene)");
   cmd->add_option("--depth", a->depth, "Hidden layers per decoder (default 5)");
   cmd->add_option("--width-g", a->width_g, "Hidden width of g (default: Table 1)");

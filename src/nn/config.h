@@ -34,11 +34,18 @@ struct TrainConfig {
   NetConfig net;
   // Optimiser steps per stage. Defaults are sized for a 2-core CPU (docs/TRAINING.md); the paper's
   // 300/600 epochs over all particles are out of reach there.
-  std::array<long, kStageCount> steps = {3000, 2000, 2000};
+  std::array<long, kStageCount> steps = {6000, 1500, 1500};
   // A batch is `frames_per_batch` frames, then `particles_per_frame` particles in each, so memory
   // per step is bounded whatever the dataset size. Stage 1 also encodes each batch frame in full.
-  std::array<int, kStageCount> frames_per_batch = {4, 16, 16};
+  std::array<int, kStageCount> frames_per_batch = {4, 4, 4};
   int particles_per_frame = 512;
+  // Stages 2 and 3 train h and l on the latents the reduced-order model will feed them: each
+  // frame's encoder latent refined by this many Gauss–Newton iterations on positions, as the
+  // ROM's inversion does (0 = the encoder's latents, as in the paper). docs/TRAINING.md.
+  int refine_latents = 10;
+  // Gaussian noise of this standard deviation (in units of each latent component's spread) on
+  // the latents of stages 2 and 3, so h and l stay tame near the training latents.
+  double latent_noise = 0.1;
   unsigned long long seed = 1;
   int threads = 0;                 // 0 = all cores
   long checkpoint_every = 250;     // steps; also written at the end of every stage

@@ -10,7 +10,10 @@ struct EvalOptions {
   std::string split = "test";  // "test", "train" or "all"
   size_t frame_stride = 1;     // every k-th frame (frames 1…N, as in eq. 11)
   size_t max_particles = 0;    // 0 = all; otherwise an evenly spaced subset (cheaper on big scenes)
-  int poly_degree = 4;         // degree of the per-frame polynomial fits (poly columns)
+  // > 0: refine each encoded latent by this many Gauss–Newton iterations on 1,024 evenly spaced
+  // particles, as the ROM's inversion would (are h and l accurate on the latents the ROM sees?).
+  int refine_iterations = 0;
+  int poly_degree = 4;  // degree of the per-frame polynomial fits (poly columns)
 };
 
 struct EvalRow {

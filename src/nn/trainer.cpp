@@ -17,6 +17,7 @@
 #include "nn/dataset.h"
 #include "nn/model.h"
 #include "nn/runtime.h"
+#include "rom/latent_inversion.h"
 
 #include <torch/optim/adam.h>
 
@@ -75,6 +76,8 @@ class Trainer {
   std::string config_key() const;
   void compute_statistics();
   void compute_latents();
+  void refine_latents();
+  torch::Tensor noisy(const torch::Tensor& z);
   void start_stage();
   std::vector<torch::Tensor> stage_parameters();
   double train_step();
@@ -106,7 +109,8 @@ std::string Trainer::config_key() const {
      << " enc=" << n.encoder_hidden << " mu=" << n.stress_uses_mu << " steps=" << cfg_.steps[0]
      << "," << cfg_.steps[1] << "," << cfg_.steps[2] << " batch=" << cfg_.frames_per_batch[0] << ","
      << cfg_.frames_per_batch[1] << "," << cfg_.frames_per_batch[2] << "x"
-     << cfg_.particles_per_frame << " seed=" << cfg_.seed << " runs=" << data_.train().size();
+     << cfg_.particles_per_frame << " seed=" << cfg_.seed << " runs=" << data_.train().size()
+     << " refine=" << cfg_.refine_latents << " latent_noise=" << cfg_.latent_noise;
   return os.str();
 }
 
@@ -153,21 +157,51 @@ void Trainer::compute_statistics() {
 }
 
 void Trainer::compute_latents() {
-  torch::NoGradGuard no_grad;
   const int64_t P = static_cast<int64_t>(data_.particle_count());
   const int64_t n = static_cast<int64_t>(store_.size());
   latents_ = torch::empty({n, model_.latent_dim()});
-  for (int64_t i = 0; i < n; ++i) {
-    const FrameData& f = store_.get(i);
-    const torch::Tensor x = torch::from_blob(const_cast<float*>(f.x.data()), {1, P, 3});
-    latents_[i] = model_.encode(x)[0];
+  {
+    torch::NoGradGuard no_grad;
+    for (int64_t i = 0; i < n; ++i) {
+      const FrameData& f = store_.get(i);
+      const torch::Tensor x = torch::from_blob(const_cast<float*>(f.x.data()), {1, P, 3});
+      latents_[i] = model_.encode(x)[0];
+    }
   }
+  if (cfg_.refine_latents > 0) refine_latents();  // needs autodiff for its Jacobians
   std::vector<double> s(model_.latent_dim(), 0.0), q(model_.latent_dim(), 0.0);
   auto acc = latents_.accessor<float, 2>();
   for (int64_t i = 0; i < n; ++i)
     for (int64_t j = 0; j < model_.latent_dim(); ++j)
       s[j] += acc[i][j], q[j] += acc[i][j] * acc[i][j];
   model_.norm_z = Normalizer::from_moments(s, q, double(n));
+}
+
+void Trainer::refine_latents() {
+  // The ROM finds ẑ by Gauss–Newton on positions, and that latent differs from the encoder's in
+  // directions g barely sees but h and l (trained on encoder latents only) answer wildly:
+  // measured with `nsf eval --refine`. Training h and l on refined latents removes the mismatch.
+  const size_t P = data_.particle_count(), m = std::min<size_t>(1024, P);
+  std::vector<int64_t> ids;
+  for (size_t i = 0; i < m; ++i) ids.push_back(int64_t(i * P / m));
+  const torch::Tensor Xn = Xn_.index_select(0, torch::tensor(ids, torch::kInt64));
+  GaussNewtonOptions gn;
+  gn.max_iterations = cfg_.refine_latents;
+  gn.tolerance = 1e-7;
+  Progress progress("refining latents", long(store_.size()), "frames");
+  for (int64_t i = 0; i < int64_t(store_.size()); ++i) {
+    const FrameData& f = store_.get(size_t(i));
+    std::vector<Vec3> target;
+    for (int64_t p : ids) target.emplace_back(f.x[3 * p], f.x[3 * p + 1], f.x[3 * p + 2]);
+    const torch::Tensor z0 = latents_[i].to(torch::kFloat64).contiguous();
+    const Eigen::VectorXd start =
+        Eigen::Map<const Eigen::VectorXd>(z0.data_ptr<double>(), z0.size(0));
+    const Eigen::VectorXd z = invert_deformation(model_, Xn, target, start, gn).z;
+    latents_[i] = torch::from_blob(const_cast<double*>(z.data()), {z.size()}, torch::kFloat64)
+                      .to(torch::kFloat32);
+    if (!cfg_.quiet) progress.update(long(i + 1));
+  }
+  if (!cfg_.quiet) progress.finish();
 }
 
 std::vector<torch::Tensor> Trainer::stage_parameters() {
@@ -182,6 +216,16 @@ std::vector<torch::Tensor> Trainer::stage_parameters() {
 void Trainer::start_stage() {
   adam_ = std::make_unique<torch::optim::Adam>(stage_parameters(),
                                                torch::optim::AdamOptions(kLearningRates[0]));
+}
+
+torch::Tensor Trainer::noisy(const torch::Tensor& z) {
+  if (cfg_.latent_noise <= 0) return z;
+  // From the trainer's own seeded generator, so that a resumed run draws the same noise.
+  std::normal_distribution<float> normal(0.0f, float(cfg_.latent_noise));
+  torch::Tensor e = torch::empty_like(z);
+  float* p = e.data_ptr<float>();
+  for (int64_t i = 0; i < e.numel(); ++i) p[i] = normal(rng_);
+  return z + e * model_.norm_z.std;
 }
 
 double Trainer::train_step() {
@@ -220,11 +264,11 @@ double Trainer::train_step() {
     goal = model_.displacement ? model_.norm_u.apply(target - model_.norm_X.invert(Xn))
                                : model_.norm_x.apply(target);
   } else if (stage_ == 1) {
-    const torch::Tensor z = latents_.index_select(0, fidx);
+    const torch::Tensor z = noisy(latents_.index_select(0, fidx));
     pred = model_.h->forward(model_.h_input(Xn, z, mu_.index_select(0, fidx)));
     goal = model_.norm_tau.apply(target);
   } else {
-    const torch::Tensor z = latents_.index_select(0, fidx);
+    const torch::Tensor z = noisy(latents_.index_select(0, fidx));
     pred = model_.l->forward(model_.l_input(Xn, z));
     goal = model_.norm_C.apply(target);
   }
