@@ -297,6 +297,24 @@ TEST_F(RomEndToEnd, CandidateSchemeFindsExactlyTheIntegrationParticlesAlongTheRu
   EXPECT_GT(rom.step_count(), 100);
 }
 
+TEST_F(RomEndToEnd, TimeStepRatioIsCappedAtTheCflBound) {
+  nsf::NeuralFields f = nsf::NeuralFields::load(model());
+  const nsf::Scene scene = nsf::load_scene(kTinyScene);
+  const double bound = nsf::cfl_time_step_bound(scene);
+  const double frame_time = scene.settings.substeps * scene.settings.dt;
+  nsf::RomOptions o;
+  o.sampling.count = 16;
+  o.dt_ratio = 1.0;
+  const nsf::LatentStepper plain(f, nsf::load_scene(kTinyScene), test_mu(), o);
+  EXPECT_EQ(plain.steps_per_frame(), scene.settings.substeps);
+  // Fifty times the scene's Δt would be far beyond the bound: the stepper takes the bound.
+  o.dt_ratio = 50;
+  const nsf::LatentStepper capped(f, nsf::load_scene(kTinyScene), test_mu(), o);
+  EXPECT_LE(capped.dt(), bound * (1 + 1e-12));
+  EXPECT_GT(capped.dt(), bound * double(capped.steps_per_frame() - 1) / capped.steps_per_frame());
+  EXPECT_NEAR(capped.dt() * capped.steps_per_frame(), frame_time, 1e-12);
+}
+
 TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {
   nsf::RomRunOptions o = options();
   o.rom.crom = true;

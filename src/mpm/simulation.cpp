@@ -28,9 +28,9 @@ Simulation::Simulation(Scene scene) : scene_(std::move(scene)) {
   for (auto& c : scene_.colliders) c->set_time(0.0);
 }
 
-void Simulation::check_time_step() const {
+double cfl_time_step_bound(const Scene& scene, double* wave_speed, size_t* particle) {
   // Explicit MPM is stable only if an elastic wave crosses less than a cell per step.
-  const Particles& P = scene_.particles;
+  const Particles& P = scene.particles;
   double worst = 0;
   size_t worst_p = 0;
   for (size_t p = 0; p < P.size(); ++p) {
@@ -38,8 +38,16 @@ void Simulation::check_time_step() const {
     double c = std::sqrt(Material::p_wave_modulus(P.mat[p]) / rho);
     if (c > worst) worst = c, worst_p = p;
   }
+  if (wave_speed) *wave_speed = worst;
+  if (particle) *particle = worst_p;
+  return scene.settings.cfl * scene.settings.dx / std::max(worst, 1e-30);
+}
+
+void Simulation::check_time_step() const {
+  double worst = 0;
+  size_t worst_p = 0;
+  const double bound = cfl_time_step_bound(scene_, &worst, &worst_p);
   const SimSettings& s = scene_.settings;
-  double bound = s.cfl * s.dx / std::max(worst, 1e-30);
   if (s.dt > bound)
     fail("simulation: dt = ", s.dt, " exceeds the CFL bound ", bound, " (elastic wave speed ",
          worst, " m/s at particle ", worst_p, ", dx = ", s.dx, ", cfl = ", s.cfl,

@@ -15,6 +15,11 @@ struct StepTimes {
   PhaseTimer sort, p2g, grid_update, g2p, stress;
 };
 
+// The largest stable explicit Δt: cfl · Δx / (fastest elastic wave speed over the particles).
+// Optionally returns that speed and the particle it belongs to.
+double cfl_time_step_bound(const Scene& scene, double* wave_speed = nullptr,
+                           size_t* particle = nullptr);
+
 class Simulation {
  public:
   explicit Simulation(Scene scene);
@@ -38,7 +43,7 @@ class Simulation {
   const Grid& grid() const { return grid_; }
   const StepTimes& times() const { return times_; }
 
-  // Throws nsf::Error if Δt exceeds the CFL bound for the stiffest material (checked at start).
+  // Throws nsf::Error if Δt exceeds cfl_time_step_bound (checked at start).
   void check_time_step() const;
 
  private:
