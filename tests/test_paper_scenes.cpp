@@ -1,5 +1,6 @@
 // The paper's seven scenes (scenes/paper/, docs/DATASETS.md): they load, match Table 1's size,
-// declare App. A's splits, and a few steps of each small scene run at both ends of its range.
+// declare App. A's splits (the jelly more), and a few steps of each small scene run at both ends of
+// its range.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -17,12 +18,15 @@ namespace {
 struct PaperScene {
   const char* name;
   size_t table1_particles;  // Table 1 of the paper
-  int train, test;          // App. A
+  int train, test;          // App. A, except the jelly (below)
 };
+
+// The jelly sweeps 12/2 runs where App. A has 3/1: with 3 training runs the encoder did not
+// generalise to the held-out speed (test δ 3.5 % against 1.5 % on training runs; docs/TRAINING.md).
 
 const std::vector<PaperScene> kScenes = {{"bread", 40000, 20, 4},      {"cake", 200000, 12, 3},
                                          {"sand", 71363, 16, 4},       {"metal", 49978, 12, 4},
-                                         {"toothpaste", 21811, 12, 4}, {"jelly", 10000, 3, 1},
+                                         {"toothpaste", 21811, 12, 4}, {"jelly", 10000, 12, 2},
                                          {"squishy_ball", 97857, 3, 1}};
 
 std::string scene_path(const PaperScene& s, const char* size) {
@@ -35,7 +39,7 @@ nsf::SweepSpec sweep_of(const nsf::Scene& scene) {
   return nsf::parse_sweep(scene.source.at("sweep"), scene.source);
 }
 
-TEST(PaperScenes, SmallScenesAreSmallAndDeclareAppendixASplits) {
+TEST(PaperScenes, SmallScenesAreSmallAndDeclareTheirSplits) {
   for (const PaperScene& s : kScenes) {
     SCOPED_TRACE(s.name);
     const nsf::Scene scene = nsf::load_scene(scene_path(s, "small"));
