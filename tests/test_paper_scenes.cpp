@@ -18,16 +18,18 @@ namespace {
 struct PaperScene {
   const char* name;
   size_t table1_particles;  // Table 1 of the paper
-  int train, test;          // App. A, except the jelly (below)
+  int train, test;          // App. A, except the jelly and the squishy ball (below)
 };
 
 // The jelly sweeps 12/2 runs where App. A has 3/1: with 3 training runs the encoder did not
 // generalise to the held-out speed (test δ 3.5 % against 1.5 % on training runs; docs/TRAINING.md).
+// The small squishy ball sweeps 12/2 for the same reason (3 runs: ROM δ 23.8 %, the ball flattened;
+// a run costs ≈ 3 s at this size). The paper-size scenes keep App. A's splits.
 
-const std::vector<PaperScene> kScenes = {{"bread", 40000, 20, 4},      {"cake", 200000, 12, 3},
-                                         {"sand", 71363, 16, 4},       {"metal", 49978, 12, 4},
-                                         {"toothpaste", 21811, 12, 4}, {"jelly", 10000, 12, 2},
-                                         {"squishy_ball", 97857, 3, 1}};
+const std::vector<PaperScene> kScenes = {{"bread", 40000, 20, 4},       {"cake", 200000, 12, 3},
+                                         {"sand", 71363, 16, 4},        {"metal", 49978, 12, 4},
+                                         {"toothpaste", 21811, 12, 4},  {"jelly", 10000, 12, 2},
+                                         {"squishy_ball", 97857, 12, 2}};
 
 std::string scene_path(const PaperScene& s, const char* size) {
   return (fs::path(NSF_SOURCE_DIR) / "scenes" / "paper" /

@@ -24,6 +24,7 @@
 #include "rom/integration_set.h"
 #include "rom/latent_inversion.h"
 #include "rom/latent_stepper.h"
+#include "rom/linearized_field.h"
 #include "rom/rom_run.h"
 
 namespace fs = std::filesystem;
@@ -119,6 +120,57 @@ TEST(RomInversion, JacobianMatchesFiniteDifferences) {
   }
   EXPECT_GT(scale, 1e-3);  // the network does depend on z
   EXPECT_LT(worst, 2e-3 * scale + 1e-4) << "max |J - FD| = " << worst;
+}
+
+// The tangent cache: at its anchor the expansion is the network itself; nearby it is the
+// network to first order (the error shrinks 4× when the offset halves); past the radius it
+// re-anchors, and then it is exact again at the new latent.
+TEST(RomTangentCache, ExpansionMatchesTheNetworkToFirstOrderAndReanchors) {
+  RandomModel m(30);
+  const Eigen::VectorXd scale = Eigen::VectorXd::Constant(4, 0.5);
+  nsf::LinearizedField g(
+      [&](const torch::Tensor& Xn, const torch::Tensor& z) { return m.model.deform(Xn, z); }, 3,
+      m.Xn, scale, /*radius=*/0.4);
+  std::vector<uint32_t> ids;
+  for (uint32_t p = 0; p < 30; p += 3) ids.push_back(p);
+  Eigen::VectorXd z(4);
+  z << 0.2, -0.4, 0.1, 0.3;
+  g.prepare(ids, z);
+  EXPECT_EQ(g.anchors(), 1);
+  std::vector<double> out;
+  auto worst_error = [&](const Eigen::VectorXd& at) {
+    g.evaluate(ids, at, out);
+    const std::vector<Vec3> x = m.deform(at);
+    double worst = 0;
+    for (size_t k = 0; k < ids.size(); ++k)
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(out[3 * k + c] - x[ids[k]][c]));
+    return worst;
+  };
+  EXPECT_LT(worst_error(z), 1e-6);
+  Eigen::VectorXd dir(4);
+  dir << 0.08, -0.05, 0.06, 0.04;
+  const double e1 = worst_error(z + dir), e2 = worst_error(z + 0.5 * dir);
+  const double moved = (m.deform(z + dir)[ids[1]] - m.deform(z)[ids[1]]).norm();
+  EXPECT_GT(moved, 1e-3);  // the offset does move the particles
+  EXPECT_LT(e1, 0.05 * moved) << "first-order error " << e1 << " for a move of " << moved;
+  EXPECT_LT(e2, 0.45 * e1) << "the error must fall quadratically: " << e1 << " -> " << e2;
+  // Within the radius (0.4 · 0.5 = 0.2 per component) nothing is recomputed.
+  g.prepare(ids, z + dir);
+  EXPECT_EQ(g.anchors(), 1);
+  EXPECT_EQ(g.expansions(), long(ids.size()));
+  // A particle not yet expanded joins at the same anchor.
+  ids.push_back(1);
+  g.prepare(ids, z + dir);
+  EXPECT_EQ(g.anchors(), 1);
+  EXPECT_EQ(g.expansions(), long(ids.size()));
+  // Past the radius: a new anchor, exact there.
+  Eigen::VectorXd far = z;
+  far[2] += 0.25;
+  g.prepare(ids, far);
+  EXPECT_EQ(g.anchors(), 2);
+  EXPECT_LT(worst_error(far), 1e-6);
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { g.evaluate({2}, far, out); }),
+                                "not prepared");
 }
 
 // The engine half of §5.2: with identical particle states, an MPM step over N (and G2P over S)
@@ -331,6 +383,22 @@ TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {
   EXPECT_LT(velocity.delta, 0.05);
   std::printf("tiny scene: ROM delta with C from the velocity field %.3f%%\n",
               100 * velocity.delta);
+}
+
+// The tangent cache along a whole run: a small radius reproduces the network-every-step run
+// closely; it does not combine with the variants that differentiate g in X.
+TEST_F(RomEndToEnd, TangentCacheFollowsTheNetworkRun) {
+  const nsf::RomReport plain = nsf::run_rom(options());
+  nsf::RomRunOptions o = options();
+  o.rom.linearize = 0.02;
+  const nsf::RomReport cached = nsf::run_rom(o);
+  EXPECT_GT(cached.linearization_anchors, 1);
+  EXPECT_LT(cached.linearization_anchors, long(cached.frames) * cached.rom_steps_per_frame);
+  EXPECT_NEAR(cached.delta, plain.delta, 0.2 * plain.delta + 1e-3);
+  std::printf("tiny scene: ROM delta %.3f%% with the tangent cache (%ld anchors), %.3f%% without\n",
+              100 * cached.delta, cached.linearization_anchors, 100 * plain.delta);
+  o.rom.crom = true;
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "--linearize");
 }
 
 TEST_F(RomEndToEnd, BadInputIsAClearError) {

@@ -64,6 +64,11 @@ void add_rom_command(CLI::App& app) {
                                               {"velocity", AffineSource::velocity},
                                               {"none", AffineSource::none}},
           CLI::ignore_case));
+  cmd->add_option("--linearize", a->opt.rom.linearize,
+                  "Tangent cache: g, h, l by per-particle first-order expansions in z, re-anchored "
+                  "when z moves this far (in latent spreads; 0 = the networks every step)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 100.0));
   cmd->add_option("--halo", a->opt.rom.halo, "Candidate margin around the grid nodes I, in cells")
       ->capture_default_str();
   cmd->add_flag("--verify-n", a->opt.rom.verify_integration_set,

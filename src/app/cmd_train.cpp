@@ -24,7 +24,8 @@ struct TrainArgs {
   std::vector<long> steps;
   std::vector<double> epochs;
   std::vector<int> frames;
-  int r = 0, depth = 0, width_g = 0, width_h = 0, width_l = 0;
+  int r = 0, depth = 0, width_g = 0, width_h = 0, width_l = 0, encoder_channels = 0,
+      encoder_hidden = 0;
   bool no_mu = false;
   TrainOptions opt;
 };
@@ -55,6 +56,8 @@ void run_train(TrainArgs& a) {
   if (a.width_g > 0) c.net.width_g = a.width_g;
   if (a.width_h > 0) c.net.width_h = a.width_h;
   if (a.width_l > 0) c.net.width_l = a.width_l;
+  if (a.encoder_channels > 0) c.net.encoder_channels = a.encoder_channels;
+  if (a.encoder_hidden > 0) c.net.encoder_hidden = a.encoder_hidden;
   if (a.no_mu) c.net.stress_uses_mu = false;
   per_stage(a.steps, c.steps, "--steps");
   per_stage(a.epochs, a.opt.epochs, "--epochs");
@@ -115,6 +118,12 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("--width-g", a->width_g, "Hidden width of g (default: Table 1)");
   cmd->add_option("--width-h", a->width_h, "Hidden width of h (default: Table 1)");
   cmd->add_option("--width-l", a->width_l, "Hidden width of l (default: Table 1)");
+  cmd->add_option("--encoder-channels", a->encoder_channels,
+                  "Output channels of each encoder convolution (default: 3, App. E)")
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--encoder-hidden", a->encoder_hidden,
+                  "Width of the encoder's hidden Linear layer (default: 32, App. E)")
+      ->check(CLI::Range(1, 4096));
   cmd->add_flag("--no-mu", a->no_mu, "Do not condition the stress field h on mu");
   cmd->add_option("--seed", c.seed, "Random seed (initialisation and batches)")
       ->capture_default_str();

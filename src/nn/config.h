@@ -15,6 +15,7 @@ struct NetConfig {
   int width_h = 64 * 6;
   int width_l = 64 * 9;
   int encoder_hidden = 32;     // the encoder's Linear → 32 before the last Linear → r
+  int encoder_channels = 3;    // output channels of each encoder convolution (App. E: 3)
   bool stress_uses_mu = true;  // h(X, ẑ, μ) when the dataset has a parameter μ
 };
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "core/error.h"
 #include "nn/dataset.h"
@@ -39,17 +40,9 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
   }
   const NeuralFields::Points pts = nf.prepare(X);
   const SmoothFit smooth(X, object, o.poly_degree);
-  // Particles the latent refinement fits (evenly spaced over all of P).
-  std::vector<size_t> fit_ids;
-  for (size_t i = 0, m = std::min<size_t>(1024, P); i < m; ++i) fit_ids.push_back(i * P / m);
-  torch::Tensor fit_Xn;
-  if (o.refine_iterations > 0) {
-    std::vector<Vec3> Xf;
-    for (size_t p : fit_ids) Xf.push_back(data.rest_positions()[p]);
-    fit_Xn = nf.model().norm_X.apply(
-        torch::from_blob(Xf.data()->data(), {int64_t(Xf.size()), 3}, torch::kFloat64)
-            .to(torch::kFloat32));
-  }
+  std::optional<FrameLatentRefiner> refiner;
+  if (o.refine_iterations > 0)
+    refiner.emplace(nf.model(), data.rest_positions(), o.refine_iterations);
 
   std::vector<EvalRow> rows;
   std::vector<Vec3> x;
@@ -69,14 +62,7 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
       std::vector<Vec3> full(P);
       for (size_t p = 0; p < P; ++p) full[p] = Vec3(f.x[3 * p], f.x[3 * p + 1], f.x[3 * p + 2]);
       Latent z = nf.encode(full);
-      if (o.refine_iterations > 0) {
-        std::vector<Vec3> target;
-        for (size_t p : fit_ids) target.push_back(full[p]);
-        GaussNewtonOptions gn;
-        gn.max_iterations = o.refine_iterations;
-        gn.tolerance = 1e-7;
-        z = invert_deformation(nf.model(), fit_Xn, target, z, gn).z;
-      }
+      if (refiner) z = refiner->refine(f.x.data(), z);
       nf.deform(pts, z, x);
       nf.stress(pts, z, run.mu, tau);
       nf.affine(pts, z, C);

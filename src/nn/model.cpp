@@ -88,7 +88,7 @@ std::string SceneFingerprint::describe() const {
 NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
     : config(c), scene(s), has_mu(mu) {
   const int64_t r = c.latent_dim;
-  encoder = Encoder(s.particles, r, c.encoder_hidden);
+  encoder = Encoder(s.particles, r, c.encoder_hidden, c.encoder_channels);
   g = FieldMlp(3 + r, 3, c.width_g, c.depth);
   h = FieldMlp(3 + r + (stress_has_mu() ? 1 : 0), 6, c.width_h, c.depth);
   l = FieldMlp(3 + r, 9, c.width_l, c.depth);
@@ -114,6 +114,7 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   a.write("width_h", c10::IValue(int64_t(config.width_h)));
   a.write("width_l", c10::IValue(int64_t(config.width_l)));
   a.write("encoder_hidden", c10::IValue(int64_t(config.encoder_hidden)));
+  a.write("encoder_channels", c10::IValue(int64_t(config.encoder_channels)));
   a.write("stress_uses_mu", c10::IValue(config.stress_uses_mu));
   a.write("has_mu", c10::IValue(has_mu));
   a.write("mu_min", c10::IValue(mu_min));
@@ -155,6 +156,9 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   c.width_h = integer("width_h");
   c.width_l = integer("width_l");
   c.encoder_hidden = integer("encoder_hidden");
+  c10::IValue channels;  // absent before the option existed: App. E's 3
+  if (a.try_read("encoder_channels", channels))
+    c.encoder_channels = static_cast<int>(channels.toInt());
   c.stress_uses_mu = read_value(a, "stress_uses_mu", path).toBool();
   SceneFingerprint s;
   s.scene_name = read_value(a, "scene_name", path).toStringRef();

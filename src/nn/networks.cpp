@@ -19,24 +19,25 @@ void xavier(torch::Tensor& weight, torch::Tensor& bias) {
 
 }  // namespace
 
-EncoderImpl::EncoderImpl(int64_t particles, int64_t latent_dim, int64_t hidden)
+EncoderImpl::EncoderImpl(int64_t particles, int64_t latent_dim, int64_t hidden,
+                         int64_t conv_channels)
     : particles_(particles) {
   // MKL-DNN (oneDNN) sets up a primitive per call; for these thin 1-3 channel convolutions that
   // overhead made one stage-1 step's encoder backward pass ~50 ms instead of ~3 ms (4 frames of
   // 5 056 particles, 2 threads). Torch's native convolution is used instead, process-wide; the
   // decoders (Linear → BLAS) do not go through MKL-DNN in float32 either way.
   at::globalContext().setUserEnabledMkldnn(false);
-  if (particles < 1 || latent_dim < 1 || hidden < 1)
-    fail("encoder: need at least one particle and a positive latent size (got ", particles,
-         " particles, r = ", latent_dim, ")");
+  if (particles < 1 || latent_dim < 1 || hidden < 1 || conv_channels < 1)
+    fail("encoder: need at least one particle and positive sizes (got ", particles,
+         " particles, r = ", latent_dim, ", hidden ", hidden, ", channels ", conv_channels, ")");
   int64_t length = 3 * particles, channels = 1;
   while (length > kMaxLength) {
-    auto conv =
-        torch::nn::Conv1d(torch::nn::Conv1dOptions(channels, kChannels, kKernel).stride(kStride));
+    auto conv = torch::nn::Conv1d(
+        torch::nn::Conv1dOptions(channels, conv_channels, kKernel).stride(kStride));
     xavier(conv->weight, conv->bias);
     convs_.push_back(register_module("conv" + std::to_string(convs_.size()), conv));
     length = (length - kKernel) / kStride + 1;
-    channels = kChannels;
+    channels = conv_channels;
   }
   flat_ = channels * length;
   fc1_ = register_module("fc1", torch::nn::Linear(flat_, hidden));

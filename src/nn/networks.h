@@ -13,16 +13,19 @@ namespace nsf {
 // e: the flattened positions of one frame (3|P| values, x y z per particle, one channel) →
 // ẑ ∈ R^r. Conv1d(kernel 6, stride 4, 3 channels) layers until the length is ≤ 12, flatten,
 // Linear → 32, Linear → r, ELU between. The layer count follows from |P|, so an encoder only
-// accepts the particle count it was built for.
+// accepts the particle count it was built for. `channels` widens the convolutions beyond App. E's
+// 3, whose flattened bottleneck of at most 36 features limits scenes with rigid-like motion
+// (docs/TRAINING.md).
 class EncoderImpl : public torch::nn::Module {
  public:
-  EncoderImpl(int64_t particles, int64_t latent_dim, int64_t hidden = 32);
+  EncoderImpl(int64_t particles, int64_t latent_dim, int64_t hidden = 32,
+              int64_t channels = kChannels);
   // x: B × 3|P| (normalised positions, particle-major) → B × r.
   torch::Tensor forward(const torch::Tensor& x);
 
   int64_t particles() const { return particles_; }
   int64_t conv_layers() const { return static_cast<int64_t>(convs_.size()); }
-  int64_t flat_length() const { return flat_; }  // 3 channels × final length, the Linear's input
+  int64_t flat_length() const { return flat_; }  // channels × final length, the Linear's input
 
   static constexpr int64_t kKernel = 6, kStride = 4, kChannels = 3, kMaxLength = 12;
 

@@ -111,6 +111,9 @@ std::string Trainer::config_key() const {
      << cfg_.frames_per_batch[1] << "," << cfg_.frames_per_batch[2] << "x"
      << cfg_.particles_per_frame << " seed=" << cfg_.seed << " runs=" << data_.train().size()
      << " refine=" << cfg_.refine_latents << " latent_noise=" << cfg_.latent_noise;
+  // Appended only when set, so checkpoints written before the option existed still resume.
+  if (n.encoder_channels != EncoderImpl::kChannels)
+    os << " encoder_channels=" << n.encoder_channels;
   return os.str();
 }
 
@@ -181,22 +184,13 @@ void Trainer::refine_latents() {
   // The ROM finds ẑ by Gauss–Newton on positions, and that latent differs from the encoder's in
   // directions g barely sees but h and l (trained on encoder latents only) answer wildly:
   // measured with `nsf eval --refine`. Training h and l on refined latents removes the mismatch.
-  const size_t P = data_.particle_count(), m = std::min<size_t>(1024, P);
-  std::vector<int64_t> ids;
-  for (size_t i = 0; i < m; ++i) ids.push_back(int64_t(i * P / m));
-  const torch::Tensor Xn = Xn_.index_select(0, torch::tensor(ids, torch::kInt64));
-  GaussNewtonOptions gn;
-  gn.max_iterations = cfg_.refine_latents;
-  gn.tolerance = 1e-7;
+  const FrameLatentRefiner refiner(model_, data_.rest_positions(), cfg_.refine_latents);
   Progress progress("refining latents", long(store_.size()), "frames");
   for (int64_t i = 0; i < int64_t(store_.size()); ++i) {
-    const FrameData& f = store_.get(size_t(i));
-    std::vector<Vec3> target;
-    for (int64_t p : ids) target.emplace_back(f.x[3 * p], f.x[3 * p + 1], f.x[3 * p + 2]);
     const torch::Tensor z0 = latents_[i].to(torch::kFloat64).contiguous();
-    const Eigen::VectorXd start =
-        Eigen::Map<const Eigen::VectorXd>(z0.data_ptr<double>(), z0.size(0));
-    const Eigen::VectorXd z = invert_deformation(model_, Xn, target, start, gn).z;
+    const Eigen::VectorXd z =
+        refiner.refine(store_.get(size_t(i)).x.data(),
+                       Eigen::Map<const Eigen::VectorXd>(z0.data_ptr<double>(), z0.size(0)));
     latents_[i] = torch::from_blob(const_cast<double*>(z.data()), {z.size()}, torch::kFloat64)
                       .to(torch::kFloat32);
     if (!cfg_.quiet) progress.update(long(i + 1));

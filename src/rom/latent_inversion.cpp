@@ -7,6 +7,7 @@
 #include <torch/autograd.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -104,6 +105,25 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
     if (!accepted || dz.norm() <= options.tolerance * (1.0 + res.z.norm())) break;
   }
   return res;
+}
+
+FrameLatentRefiner::FrameLatentRefiner(NeuralModel& model, const std::vector<Vec3>& rest,
+                                       int iterations)
+    : model_(model) {
+  const size_t P = rest.size(), m = std::min(kMaxParticles, P);
+  std::vector<Vec3> X;
+  for (size_t i = 0; i < m; ++i) ids_.push_back(i * P / m), X.push_back(rest[ids_.back()]);
+  Xn_ = model.norm_X.apply(
+      torch::from_blob(X.data()->data(), {int64_t(m), 3}, torch::kFloat64).to(torch::kFloat32));
+  options_.max_iterations = iterations;
+  options_.tolerance = 1e-7;
+}
+
+Eigen::VectorXd FrameLatentRefiner::refine(const float* x, const Eigen::VectorXd& start) const {
+  std::vector<Vec3> target;
+  target.reserve(ids_.size());
+  for (size_t p : ids_) target.emplace_back(x[3 * p], x[3 * p + 1], x[3 * p + 2]);
+  return invert_deformation(model_, Xn_, target, start, options_).z;
 }
 
 }  // namespace nsf

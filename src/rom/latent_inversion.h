@@ -31,4 +31,22 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
                                    const std::vector<Vec3>& target, const Eigen::VectorXd& z0,
                                    const GaussNewtonOptions& options);
 
+// A whole frame's latent as the ROM's inversion would find it: Gauss–Newton from a start (the
+// encoder's latent) on up to 1,024 particles spread evenly over P. Training fits h and l on these
+// latents and `nsf eval --refine` measures them (docs/TRAINING.md, "latent mismatch").
+class FrameLatentRefiner {
+ public:
+  FrameLatentRefiner(NeuralModel& model, const std::vector<Vec3>& rest, int iterations);
+  // x: the frame's positions, 3|P| floats (particle-major, as datasets store them).
+  Eigen::VectorXd refine(const float* x, const Eigen::VectorXd& start) const;
+
+  static constexpr size_t kMaxParticles = 1024;
+
+ private:
+  NeuralModel& model_;
+  std::vector<size_t> ids_;
+  torch::Tensor Xn_;
+  GaussNewtonOptions options_;
+};
+
 }  // namespace nsf

@@ -11,6 +11,7 @@
 #include "rom/field_gradients.h"
 #include "rom/integration_set.h"
 #include "rom/latent_inversion.h"
+#include "rom/linearized_field.h"
 
 namespace nsf {
 
@@ -34,6 +35,11 @@ void to_vec3(const torch::Tensor& t, std::vector<Vec3>& out) {
   const double* p = d.data_ptr<double>();
   out.resize(d.size(0));
   for (size_t k = 0; k < out.size(); ++k) out[k] = Vec3(p[3 * k], p[3 * k + 1], p[3 * k + 2]);
+}
+
+void rows_to_vec3(const std::vector<double>& v, std::vector<Vec3>& out) {
+  out.resize(v.size() / 3);
+  for (size_t k = 0; k < out.size(); ++k) out[k] = Vec3(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
 }
 
 Mat3 symmetric_from6(const double* s) {  // xx yy zz xy yz xz, the run files' order
@@ -71,6 +77,9 @@ struct LatentStepper::Impl {
   std::vector<uint32_t> N;
   std::vector<Vec3> x_cache;  // g on all particles at step cache_step
   long cache_step = -1;
+
+  // The tangent cache (opt.linearize > 0): g on K, h and l on N through first-order expansions.
+  std::unique_ptr<LinearizedField> lin_g, lin_h, lin_l;
 
   double sum_N = 0, sum_K = 0, last_residual = 0;
   long refreshes = 0, misses = 0;
@@ -114,6 +123,7 @@ struct LatentStepper::Impl {
         torch::from_blob(X.data()->data(), {int64_t(X.size()), 3}, torch::kFloat64)
             .to(torch::kFloat32));
     all_points = fields.prepare(X);
+    if (opt.linearize > 0) make_linearized_fields();
     sim = std::make_unique<Simulation>(std::move(scene));
     sim->particles() = Particles{};
     set_samples(sample_count_at(opt.sampling, 0, T));
@@ -129,6 +139,30 @@ struct LatentStepper::Impl {
     z_prev = invert_deformation(model, Xn_S, target, z, fit).z;
   }
 
+  void make_linearized_fields() {
+    if (opt.crom || opt.affine == AffineSource::velocity)
+      fail(
+          "rom: --linearize expands the networks g, h and l; it does not combine with --crom or "
+          "--affine velocity");
+    const torch::Tensor sd = model.norm_z.std.to(torch::kFloat64).contiguous();
+    const Eigen::VectorXd scale =
+        Eigen::Map<const Eigen::VectorXd>(sd.data_ptr<double>(), sd.numel());
+    const float mu_f = float(mu);
+    NeuralModel* m = &model;
+    lin_g = std::make_unique<LinearizedField>(
+        [m](const torch::Tensor& Xn, const torch::Tensor& zz) { return m->deform(Xn, zz); }, 3,
+        Xn_all, scale, opt.linearize);
+    lin_h = std::make_unique<LinearizedField>(
+        [m, mu_f](const torch::Tensor& Xn, const torch::Tensor& zz) {
+          return m->stress(Xn, zz, torch::full({Xn.size(0), 1}, mu_f));
+        },
+        6, Xn_all, scale, opt.linearize);
+    if (opt.affine == AffineSource::network)
+      lin_l = std::make_unique<LinearizedField>(
+          [m](const torch::Tensor& Xn, const torch::Tensor& zz) { return m->affine(Xn, zz); }, 9,
+          Xn_all, scale, opt.linearize);
+  }
+
   void set_samples(int count) {
     S.assign(ranked.begin(), ranked.begin() + count);
     Xn_S = Xn_all.index_select(0, index_tensor(S));
@@ -137,6 +171,15 @@ struct LatentStepper::Impl {
 
   // g at rows `ids` of the scene for ẑ_n and ẑ_{n−1} in one batched call.
   void deform_pair(const std::vector<uint32_t>& ids, std::vector<Vec3>& x, std::vector<Vec3>& xp) {
+    if (lin_g) {
+      lin_g->prepare(ids, z);
+      std::vector<double> out;
+      lin_g->evaluate(ids, z, out);
+      rows_to_vec3(out, x);
+      lin_g->evaluate(ids, z_prev, out);
+      rows_to_vec3(out, xp);
+      return;
+    }
     torch::NoGradGuard no_grad;
     const int64_t m = int64_t(ids.size());
     const torch::Tensor Xn = Xn_all.index_select(0, index_tensor(ids));
@@ -227,6 +270,11 @@ struct LatentStepper::Impl {
         F = deformation_gradients(model, XnN, zN);
       if (opt.crom) {
         crom_stress(F, tau);
+      } else if (lin_h) {
+        std::vector<double> out;
+        lin_h->prepare(N, z);
+        lin_h->evaluate(N, z, out);
+        for (int64_t k = 0; k < m; ++k) tau[k] = symmetric_from6(&out[6 * k]);
       } else {
         torch::NoGradGuard no_grad;
         const torch::Tensor muN = torch::full({m, 1}, float(mu));
@@ -234,7 +282,13 @@ struct LatentStepper::Impl {
         const double* hp = h.data_ptr<double>();
         for (int64_t k = 0; k < m; ++k) tau[k] = symmetric_from6(hp + 6 * k);
       }
-      if (opt.affine == AffineSource::network) {
+      if (lin_l) {
+        std::vector<double> out;
+        lin_l->prepare(N, z);
+        lin_l->evaluate(N, z, out);
+        for (int64_t k = 0; k < m; ++k)
+          C[k] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&out[9 * k]);
+      } else if (opt.affine == AffineSource::network) {
         torch::NoGradGuard no_grad;
         const torch::Tensor l = model.affine(XnN, zN).to(torch::kFloat64).contiguous();
         const double* lp = l.data_ptr<double>();
@@ -382,6 +436,9 @@ double LatentStepper::mean_candidate_count() const {
 }
 long LatentStepper::refreshes() const {
   return impl_->refreshes;
+}
+long LatentStepper::linearization_anchors() const {
+  return impl_->lin_g ? impl_->lin_g->anchors() : 0;
 }
 long LatentStepper::integration_misses() const {
   return impl_->misses;

@@ -55,6 +55,7 @@ class LatentStepper {
   double mean_integration_count() const;                       // mean |N| over the steps so far
   double mean_candidate_count() const;
   long refreshes() const;
+  long linearization_anchors() const;      // with RomOptions::linearize: re-anchorings of g so far
   long integration_misses() const;         // with verify_integration_set: particles of N not found
   double last_inversion_residual() const;  // rms ‖g − x‖ on S after the last inversion (m)
   const RomTimes& times() const;

@@ -31,6 +31,10 @@ struct RomOptions {
   bool crom = false;
   // Network by default, none when `crom` is set; the CROM baseline can also take `velocity`.
   AffineSource affine = AffineSource::network;
+  // > 0: the tangent cache (rom/linearized_field.h): g, h and l through per-particle first-order
+  // expansions in ẑ, recomputed when ẑ moves further than this from their anchor (in units of
+  // each latent component's training spread). 0: the networks at every step, as in the paper.
+  double linearize = 0;
   int halo = 3;  // candidate margin in cells around I (rom/integration_set.h)
   // Also find N by brute force (g on every particle) each step and count the particles the
   // candidate scheme missed. For tests and checks; costs a full evaluation of g per step.

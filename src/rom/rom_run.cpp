@@ -232,6 +232,7 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.mean_N = rom.mean_integration_count();
   rep.mean_K = rom.mean_candidate_count();
   rep.refreshes = rom.refreshes();
+  rep.linearization_anchors = rom.linearization_anchors();
   rep.rom_times = rom.times();
   return rep;
 }
@@ -251,6 +252,9 @@ std::string format_rom_report(const RomReport& r) {
   put("  |S| = %zu%s, mean |N| = %.0f (candidates %.0f, %ld full refreshes)", r.samples,
       r.samples_end != r.samples ? (" -> " + std::to_string(r.samples_end)).c_str() : "", r.mean_N,
       r.mean_K, r.refreshes);
+  if (r.linearization_anchors > 0)
+    put("  tangent cache: %ld anchors over %.0f steps", r.linearization_anchors,
+        double(r.frames) * r.rom_steps_per_frame);
   if (r.delta >= 0) put("  delta (eq. 11) vs %s: %.3f%%", r.truth_file.c_str(), 100 * r.delta);
   const double steps = double(r.frames) * r.rom_steps_per_frame;
   put("  reduced order: %.3f s for %d frames (%.2f ms/frame, %d steps/frame of %.3g x dt)",

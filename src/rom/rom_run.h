@@ -36,7 +36,8 @@ struct RomReport {
   size_t samples = 0, samples_end = 0;
   double mean_N = 0, mean_K = 0;
   long refreshes = 0;
-  double delta = -1;  // eq. (11) against the ground truth; < 0 when there is none
+  long linearization_anchors = 0;  // with --linearize
+  double delta = -1;               // eq. (11) against the ground truth; < 0 when there is none
   std::vector<double> delta_per_frame;
   double rom_seconds = 0;  // the latent steps only
   double rom_setup_seconds = 0, rom_output_seconds = 0;
