@@ -161,6 +161,20 @@ TEST_F(NnTraining, EvalReportsSmallErrorsOnHeldOutRun) {
   EXPECT_EQ(all[0].particles, 50u);
 }
 
+TEST(NnModelFile, KeepsTheEncoderShape) {
+  nsf::NetConfig c = tiny_options().config.net;
+  c.encoder_channels = 5;
+  c.encoder_hidden = 24;
+  const nsf::NeuralModel m(c, nsf::SceneFingerprint{"shape", kParticles, 7}, false);
+  const fs::path path = fs::temp_directory_path() / ("nsf_shape_" + std::to_string(::getpid()));
+  m.save(path.string());
+  const nsf::NeuralModel back = nsf::NeuralModel::load(path.string());
+  fs::remove(path);
+  EXPECT_EQ(back.config.encoder_channels, 5);
+  EXPECT_EQ(back.config.encoder_hidden, 24);
+  EXPECT_EQ(back.encoder->flat_length(), m.encoder->flat_length());
+}
+
 TEST_F(NnTraining, SaveAndReloadGiveBitIdenticalOutputs) {
   const std::vector<double> a = outputs(model(), data());
   nsf::NeuralModel m = nsf::NeuralModel::load(model());
