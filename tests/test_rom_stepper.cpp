@@ -6,6 +6,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <hdf5.h>
+
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -443,6 +445,18 @@ TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
   EXPECT_EQ(run.frame_count(), 13u);
   EXPECT_EQ(run.attribute_int("rom"), 1);
   EXPECT_FALSE(fs::exists(out + ".tmp"));
+  // The latent trajectory beside the frames: one row of r = 4 per written frame.
+  hid_t f = H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t d = H5Dopen2(f, "/rom/latent", H5P_DEFAULT);
+  ASSERT_GE(d, 0);
+  hid_t space = H5Dget_space(d);
+  hsize_t dims[2] = {0, 0};
+  H5Sget_simple_extent_dims(space, dims, nullptr);
+  EXPECT_EQ(dims[0], 13u);
+  EXPECT_EQ(dims[1], 4u);
+  H5Sclose(space);
+  H5Dclose(d);
+  H5Fclose(f);
 }
 
 }  // namespace

@@ -214,6 +214,36 @@ TEST_F(RunIo, CallerCannotOverwriteLayoutAttributes) {
   EXPECT_NO_THROW(w.set_attribute("mu", 2.0));  // a caller's own attribute may be replaced
 }
 
+// A caller's table (the ROM's latent per frame) as h5py sees it: rows × cols, row-major; the
+// layout's own datasets cannot be overwritten this way.
+TEST_F(RunIo, CallerTableIsAPlainTwoDimensionalDataset) {
+  const std::string path = file("table.h5");
+  nsf::Particles ps = make_particles(2);
+  nsf::RunWriter w(path, ps, settings(), "cube", kJson);
+  w.write_frame(ps, 0.0);
+  EXPECT_THROW(w.write_table("/X", 1, 1, std::vector<double>{1.0}.data()), nsf::Error);
+  EXPECT_THROW(w.write_table("/frames/z", 1, 1, std::vector<double>{1.0}.data()), nsf::Error);
+  const std::vector<double> table{1, 2, 3, 4, 5, 6};
+  w.write_table("/rom/latent", 2, 3, table.data());
+  w.finish();
+  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t d = H5Dopen2(f, "/rom/latent", H5P_DEFAULT);
+  ASSERT_GE(d, 0);
+  hid_t space = H5Dget_space(d);
+  hsize_t dims[2] = {0, 0};
+  EXPECT_EQ(H5Sget_simple_extent_ndims(space), 2);
+  H5Sget_simple_extent_dims(space, dims, nullptr);
+  EXPECT_EQ(dims[0], 2u);
+  EXPECT_EQ(dims[1], 3u);
+  std::vector<double> back(6);
+  EXPECT_GE(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, back.data()), 0);
+  EXPECT_EQ(back, table);
+  H5Sclose(space);
+  H5Dclose(d);
+  H5Fclose(f);
+  EXPECT_EQ(nsf::RunReader(path).frame_count(), 1u);
+}
+
 TEST_F(RunIo, WriterDestroyedWithoutFinishLeavesNoFiles) {
   {
     nsf::Particles ps = make_particles(3);

@@ -131,7 +131,8 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("--checkpoint-every", c.checkpoint_every, "Steps between checkpoints")
       ->capture_default_str();
   cmd->add_option("--memory-budget", c.memory_budget_gib,
-                  "GiB of training frames kept in RAM; larger datasets are streamed from disk")
+                  "GiB of training frames kept in RAM; larger datasets are streamed from disk "
+                  "(0 = half the available memory, at least 2)")
       ->capture_default_str();
   cmd->add_flag("--resume", a->opt.resume, "Continue from <out>.ckpt if it exists");
   cmd->add_option("--stop-after", a->opt.stop_after,

@@ -6,8 +6,8 @@
 namespace nsf {
 
 namespace {
-double status_field_mib(const char* field) {
-  std::ifstream f("/proc/self/status");
+double status_field_mib(const char* field, const char* file = "/proc/self/status") {
+  std::ifstream f(file);
   std::string key;
   while (f >> key) {
     if (key == field) {
@@ -26,6 +26,10 @@ double peak_rss_mib() {
 }
 double current_rss_mib() {
   return status_field_mib("VmRSS:");
+}
+
+double available_memory_mib() {
+  return status_field_mib("MemAvailable:", "/proc/meminfo");
 }
 
 bool reset_peak_rss() {

@@ -280,6 +280,17 @@ void check_not_reserved(const std::string& name, const std::string& file) {
 }
 }  // namespace
 
+void RunWriter::write_table(const std::string& name, size_t rows, size_t cols, const double* data) {
+  Impl& w = live("write_table");
+  for (const char* own : {"/X", "/mass", "/volume", "/material", "/object", "/frames"})
+    if (name.rfind(own, 0) == 0)
+      nsf::fail(w.path, ": dataset '", name, "' is part of the run layout, written by RunWriter");
+  if (rows == 0 || cols == 0) nsf::fail(w.path, ": table '", name, "' is empty");
+  h5::QuietErrors quiet;
+  write_static(w.file.get(), name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, rows, cols, 8, data, 0,
+               w.tmp);
+}
+
 void RunWriter::set_attribute(const std::string& name, double value) {
   Impl& w = live("set_attribute");
   check_not_reserved(name, w.path);

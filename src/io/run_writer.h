@@ -48,6 +48,10 @@ class RunWriter {
     set_int_attribute(name, static_cast<int64_t>(value));
   }
 
+  // A table a caller adds beside the frames, written at once: rows × cols doubles (row-major) at
+  // `name`, which must lie outside the layout's own datasets (e.g. "/rom/latent").
+  void write_table(const std::string& name, size_t rows, size_t cols, const double* data);
+
   // Closes the file and renames it to the final path. Nothing may be written afterwards.
   void finish();
 

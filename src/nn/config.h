@@ -48,9 +48,11 @@ struct TrainConfig {
   // the latents of stages 2 and 3, so h and l stay tame near the training latents.
   double latent_noise = 0.1;
   unsigned long long seed = 1;
-  int threads = 0;                 // 0 = all cores
-  long checkpoint_every = 250;     // steps; also written at the end of every stage
-  double memory_budget_gib = 2.0;  // training frames are cached in RAM up to this, else streamed
+  int threads = 0;              // 0 = all cores
+  long checkpoint_every = 250;  // steps; also written at the end of every stage
+  // Training frames are cached in RAM up to this many GiB, else read from disk per batch (several
+  // times slower for paper-size scenes). ≤ 0: half the memory available at the start, ≥ 2 GiB.
+  double memory_budget_gib = 0;
   bool quiet = false;
 };
 

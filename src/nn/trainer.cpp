@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/memory.h"
 #include "core/progress.h"
 #include "core/timer.h"
 #include "nn/dataset.h"
@@ -45,6 +46,12 @@ struct LossRow {
 constexpr int kTargetDim[kStageCount] = {3, 6, 9};
 constexpr const char* kNetworkNames[kStageCount] = {"g", "h", "l"};
 
+// ≤ 0: half of what the machine has available now, at least 2 GiB (the former fixed default).
+double memory_budget_gib(double requested) {
+  if (requested > 0) return requested;
+  return std::max(2.0, 0.5 * available_memory_mib() / 1024.0);
+}
+
 class Trainer {
  public:
   Trainer(const std::string& data_dir, const std::string& out, const TrainOptions& o)
@@ -53,7 +60,7 @@ class Trainer {
         out_(out),
         ckpt_(checkpoint_path_for(out)),
         data_(data_dir),
-        store_(data_, cfg_.memory_budget_gib),
+        store_(data_, memory_budget_gib(cfg_.memory_budget_gib)),
         model_(cfg_.net, SceneFingerprint::of(data_.scene_name(), data_.rest_positions()),
                data_.has_mu()),
         rng_(cfg_.seed) {

@@ -180,6 +180,7 @@ RomReport run_rom(const RomRunOptions& o) {
   std::unique_ptr<RunWriter> writer;
   Particles frame = out_points;
   std::vector<Vec3> x, v;
+  std::vector<double> latents;          // ẑ of every written frame, row by row
   double delta_num = 0, delta_den = 0;  // the sums of eq. (11) over frames 1…N
   auto output = [&](int f) {
     const double t1 = now_seconds();
@@ -198,6 +199,7 @@ RomReport run_rom(const RomRunOptions& o) {
       frame.x = x;
       frame.v = v;
       writer->write_frame(frame, rom.time());
+      latents.insert(latents.end(), rom.latent().data(), rom.latent().data() + rom.latent().size());
     }
     rep.rom_output_seconds += now_seconds() - t1;
   };
@@ -207,7 +209,8 @@ RomReport run_rom(const RomRunOptions& o) {
     writer->set_attribute("rom_model", o.model_path);
     writer->set_attribute("rom_fields",
                           "x and v from the neural deformation field; C, F and tau are not "
-                          "computed by the reduced-order run (identity F, zero C and tau)");
+                          "computed by the reduced-order run (identity F, zero C and tau); "
+                          "/rom/latent: the latent of each frame (frames x r)");
     if (rep.has_mu) writer->set_attribute("mu", rep.mu);
   }
   output(0);
@@ -225,7 +228,11 @@ RomReport run_rom(const RomRunOptions& o) {
     }
   }
   if (!o.quiet) progress.finish();
-  if (writer) writer->finish();
+  if (writer) {
+    const size_t r = size_t(rom.latent().size());
+    writer->write_table("/rom/latent", latents.size() / r, r, latents.data());
+    writer->finish();
+  }
   rep.rom_file = o.out_path;
   rep.rom_peak_mib = peak_rss_mib();
   rep.samples_end = rom.sample_count();
