@@ -41,12 +41,12 @@ TEST(NnEncoder, OutputShapeForSeveralParticleCounts) {
 }
 
 // Wider convolutions (--encoder-channels) keep the layer count and widen the flattened features;
-// the jelly's 5,056 particles end at length 2, so App. E's 3 channels leave 6 features.
+// the jelly's 5,056 particles end at length 3, so App. E's 3 channels leave 9 features.
 TEST(NnEncoder, ChannelsWidenTheFlattenedFeatures) {
-  EXPECT_EQ(Encoder(5056, 5)->flat_length(), 6);
+  EXPECT_EQ(Encoder(5056, 5)->flat_length(), 9);
   Encoder wide(5056, 5, /*hidden=*/128, /*channels=*/8);
   EXPECT_EQ(wide->conv_layers(), Encoder(5056, 5)->conv_layers());
-  EXPECT_EQ(wide->flat_length(), 16);
+  EXPECT_EQ(wide->flat_length(), 24);
   EXPECT_EQ(wide->forward(torch::randn({2, 3 * 5056})).size(1), 5);
   EXPECT_ANY_THROW(Encoder(100, 5, 32, 0));
 }

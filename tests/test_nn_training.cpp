@@ -165,7 +165,8 @@ TEST(NnModelFile, KeepsTheEncoderShape) {
   nsf::NetConfig c = tiny_options().config.net;
   c.encoder_channels = 5;
   c.encoder_hidden = 24;
-  const nsf::NeuralModel m(c, nsf::SceneFingerprint{"shape", kParticles, 7}, false);
+  nsf::NeuralModel m(c, nsf::SceneFingerprint{"shape", kParticles, 7}, false);
+  m.rest = torch::zeros({kParticles, 3});  // the displacement form stores the rest shape
   const fs::path path = fs::temp_directory_path() / ("nsf_shape_" + std::to_string(::getpid()));
   m.save(path.string());
   const nsf::NeuralModel back = nsf::NeuralModel::load(path.string());
