@@ -262,9 +262,11 @@ struct LatentStepper::Impl {
     std::vector<Mat3> tau(N.size()), C(N.size(), Mat3::Zero());
     {
       ScopedTimer timer(times.inference);
-      const torch::Tensor XnN = Xn_all.index_select(0, index_tensor(N));
       const int64_t m = int64_t(N.size());
-      const torch::Tensor zN = latent_row(z).expand({m, z.size()});
+      // With the tangent cache every field on N comes from it (--linearize excludes CROM and
+      // the velocity C), so the network inputs are not needed.
+      const torch::Tensor XnN = lin_h ? torch::Tensor() : Xn_all.index_select(0, index_tensor(N));
+      const torch::Tensor zN = lin_h ? torch::Tensor() : latent_row(z).expand({m, z.size()});
       torch::Tensor F;  // ∂g/∂X at ẑ_n on N, when the stress or C needs it
       if (opt.crom || opt.affine == AffineSource::velocity)
         F = deformation_gradients(model, XnN, zN);
