@@ -71,6 +71,12 @@ void add_rom_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 100.0));
   cmd->add_option("--halo", a->opt.rom.halo, "Candidate margin around the grid nodes I, in cells")
       ->capture_default_str();
+  cmd->add_option("--quadrature", a->opt.rom.quadrature_per_cell,
+                  "Integrate the MPM step on N with this many particles per grid cell of the rest "
+                  "shape, each carrying its share of the cell's mass (0 = every particle, the "
+                  "paper)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000));
   cmd->add_flag("--verify-n", a->opt.rom.verify_integration_set,
                 "Also find N by brute force every step and count misses (slow)");
   cmd->add_option("--threads,-j", a->opt.threads, "Threads for both engines (0 = all cores)")

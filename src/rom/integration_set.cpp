@@ -62,13 +62,17 @@ std::vector<uint32_t> integration_particles(const NodeMarks& I, const std::vecto
   return n;
 }
 
-void CandidateSet::refresh(NodeMarks& scratch, const std::vector<Vec3>& x_all,
-                           const std::vector<Vec3>& samples) {
+void CandidateSet::refresh(NodeMarks& scratch, const std::vector<Vec3>& x,
+                           const std::vector<Vec3>& samples, const std::vector<uint32_t>* ids) {
   scratch.clear();
   scratch.mark_stencils(samples, halo_);
-  ids_ = integration_particles(scratch, x_all);
-  x_ref_.resize(ids_.size());
-  for (size_t k = 0; k < ids_.size(); ++k) x_ref_[k] = x_all[ids_[k]];
+  const std::vector<uint32_t> rows = integration_particles(scratch, x);
+  ids_.resize(rows.size());
+  x_ref_.resize(rows.size());
+  for (size_t k = 0; k < rows.size(); ++k) {
+    ids_[k] = ids ? (*ids)[rows[k]] : rows[k];
+    x_ref_[k] = x[rows[k]];
+  }
   scratch.clear();
 }
 

@@ -48,9 +48,10 @@ class CandidateSet {
  public:
   explicit CandidateSet(int halo = 3) : halo_(halo) {}
 
-  // Rebuilds K from all particles' positions x_all and the sample positions.
-  void refresh(NodeMarks& scratch, const std::vector<Vec3>& x_all,
-               const std::vector<Vec3>& samples);
+  // Rebuilds K from the positions of the particles that can join N and the sample positions.
+  // x[k] is the position of particle ids[k] (ids null: of particle k, every particle).
+  void refresh(NodeMarks& scratch, const std::vector<Vec3>& x, const std::vector<Vec3>& samples,
+               const std::vector<uint32_t>* ids = nullptr);
   // True if positions of K now (same order as ids()) have drifted too far from the refresh.
   bool stale(const std::vector<Vec3>& x_now, double dx) const;
 

@@ -12,6 +12,7 @@
 #include "rom/integration_set.h"
 #include "rom/latent_inversion.h"
 #include "rom/linearized_field.h"
+#include "rom/quadrature.h"
 
 namespace nsf {
 
@@ -77,6 +78,14 @@ struct LatentStepper::Impl {
   std::vector<uint32_t> N;
   std::vector<Vec3> x_cache;  // g on all particles at step cache_step
   long cache_step = -1;
+  // The particles that can join N (all of P unless the quadrature is thinned) and their
+  // quadrature masses and volumes; prepared points for them when thinned.
+  ThinnedQuadrature quad;
+  std::vector<uint8_t> in_quad;
+  NeuralFields::Points quad_points;
+  // g(X, ẑ_n) on K from the last step: this step's g(X, ẑ_{n−1}) while K is unchanged.
+  std::vector<Vec3> xK_last;
+  bool xK_last_valid = false;
 
   // The tangent cache (opt.linearize > 0): g on K, h and l on N through first-order expansions.
   std::unique_ptr<LinearizedField> lin_g, lin_h, lin_l;
@@ -167,17 +176,53 @@ struct LatentStepper::Impl {
     S.assign(ranked.begin(), ranked.begin() + count);
     Xn_S = Xn_all.index_select(0, index_tensor(S));
     K = CandidateSet(opt.halo);  // forces a refresh
+    xK_last_valid = false;
+    if (quad.ids.empty() || opt.quadrature_per_cell > 0) {
+      // S is kept in the quadrature, so it changes with S.
+      const SimSettings& s = sim->settings();
+      quad =
+          thin_quadrature(X, mass, vol0, material, s.domain_lo, s.dx, opt.quadrature_per_cell, S);
+      in_quad.assign(X.size(), 0);
+      for (uint32_t p : quad.ids) in_quad[p] = 1;
+      if (thinned()) {
+        std::vector<Vec3> XQ(quad.ids.size());
+        for (size_t k = 0; k < XQ.size(); ++k) XQ[k] = X[quad.ids[k]];
+        quad_points = fields.prepare(XQ);
+      }
+    }
+  }
+
+  bool thinned() const { return quad.ids.size() < X.size(); }
+
+  // g at rows `ids` of the scene for one latent.
+  void deform_rows(const std::vector<uint32_t>& ids, const Latent& zz, std::vector<Vec3>& x) {
+    if (lin_g) {
+      lin_g->prepare(ids, z);
+      std::vector<double> out;
+      lin_g->evaluate(ids, zz, out);
+      rows_to_vec3(out, x);
+      return;
+    }
+    torch::NoGradGuard no_grad;
+    const int64_t m = int64_t(ids.size());
+    to_vec3(model.deform(Xn_all.index_select(0, index_tensor(ids)),
+                         latent_row(zz).expand({m, zz.size()})),
+            x);
+  }
+
+  // g on K at ẑ_n and ẑ_{n−1}; the second is last step's first while K has not changed.
+  void deform_candidates(std::vector<Vec3>& x, std::vector<Vec3>& xp) {
+    ScopedTimer timer(times.inference);
+    if (!xK_last_valid) return deform_pair(K.ids(), x, xp);
+    xp.swap(xK_last);
+    deform_rows(K.ids(), z, x);
   }
 
   // g at rows `ids` of the scene for ẑ_n and ẑ_{n−1} in one batched call.
   void deform_pair(const std::vector<uint32_t>& ids, std::vector<Vec3>& x, std::vector<Vec3>& xp) {
     if (lin_g) {
-      lin_g->prepare(ids, z);
-      std::vector<double> out;
-      lin_g->evaluate(ids, z, out);
-      rows_to_vec3(out, x);
-      lin_g->evaluate(ids, z_prev, out);
-      rows_to_vec3(out, xp);
+      deform_rows(ids, z, x);
+      deform_rows(ids, z_prev, xp);
       return;
     }
     torch::NoGradGuard no_grad;
@@ -200,10 +245,29 @@ struct LatentStepper::Impl {
 
   void refresh() {
     ScopedTimer timer(times.refresh);
-    const std::vector<Vec3>& x = all_positions();
-    std::vector<Vec3> xs(S.size());
-    for (size_t k = 0; k < S.size(); ++k) xs[k] = x[S[k]];
-    K.refresh(marks, x, xs);
+    xK_last_valid = false;
+    if (!thinned() || cache_step == n) {
+      const std::vector<Vec3>& x = all_positions();
+      std::vector<Vec3> xs(S.size());
+      for (size_t k = 0; k < S.size(); ++k) xs[k] = x[S[k]];
+      if (!thinned()) {
+        K.refresh(marks, x, xs);
+      } else {
+        std::vector<Vec3> xq(quad.ids.size());
+        for (size_t k = 0; k < xq.size(); ++k) xq[k] = x[quad.ids[k]];
+        K.refresh(marks, xq, xs, &quad.ids);
+      }
+    } else {
+      // Only the quadrature particles can join N, so only they need g.
+      std::vector<Vec3> xq;
+      fields.deform(quad_points, z, xq);
+      std::vector<Vec3> xs(S.size());
+      for (size_t k = 0; k < S.size(); ++k) {
+        const auto at = std::lower_bound(quad.ids.begin(), quad.ids.end(), S[k]);
+        xs[k] = xq[size_t(at - quad.ids.begin())];
+      }
+      K.refresh(marks, xq, xs, &quad.ids);
+    }
     ++refreshes;
   }
 
@@ -227,15 +291,11 @@ struct LatentStepper::Impl {
 
     // (1) Inference on the candidates K ⊇ N, then N itself.
     std::vector<Vec3> xK, xK_prev;
-    {
-      if (K.empty() || cache_step == n) refresh();  // free when all positions are known
-      ScopedTimer timer(times.inference);
-      deform_pair(K.ids(), xK, xK_prev);
-    }
+    if (K.empty() || cache_step == n) refresh();  // free when all positions are known
+    deform_candidates(xK, xK_prev);
     if (K.stale(xK, dx)) {
       refresh();
-      ScopedTimer timer(times.inference);
-      deform_pair(K.ids(), xK, xK_prev);
+      deform_candidates(xK, xK_prev);
     }
     std::vector<size_t> n_in_K;  // N as positions in K
     {
@@ -321,8 +381,8 @@ struct LatentStepper::Impl {
         P.C[k] = C[k];
         P.F[k] = Mat3::Identity();
         P.tau[k] = tau[k];
-        P.mass[k] = mass[p];
-        P.vol0[k] = vol0[p];
+        P.mass[k] = quad.mass[p];
+        P.vol0[k] = quad.vol0[p];
         P.mat[k] = mat0[p];
         P.material[k] = material[p];
         P.object[k] = 0;
@@ -343,6 +403,8 @@ struct LatentStepper::Impl {
       z_prev = z;
       z = res.z;
       last_residual = res.rms_residual;
+      xK_last.swap(xK);
+      xK_last_valid = true;
     }
     t += dt;
     ++n;
@@ -369,7 +431,7 @@ struct LatentStepper::Impl {
     std::vector<uint32_t> ours = N;
     std::sort(ours.begin(), ours.end());
     for (uint32_t p : exact)
-      if (!std::binary_search(ours.begin(), ours.end(), p)) ++misses;
+      if (in_quad[p] && !std::binary_search(ours.begin(), ours.end(), p)) ++misses;
   }
 };
 
@@ -432,6 +494,9 @@ const std::vector<uint32_t>& LatentStepper::integration_particles() const {
 }
 double LatentStepper::mean_integration_count() const {
   return impl_->n ? impl_->sum_N / double(impl_->n) : 0.0;
+}
+size_t LatentStepper::quadrature_count() const {
+  return impl_->quad.ids.size();
 }
 double LatentStepper::mean_candidate_count() const {
   return impl_->n ? impl_->sum_K / double(impl_->n) : 0.0;

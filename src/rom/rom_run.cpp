@@ -238,6 +238,7 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.samples_end = rom.sample_count();
   rep.mean_N = rom.mean_integration_count();
   rep.mean_K = rom.mean_candidate_count();
+  rep.quadrature_points = rom.quadrature_count();
   rep.refreshes = rom.refreshes();
   rep.linearization_anchors = rom.linearization_anchors();
   rep.rom_times = rom.times();
@@ -259,6 +260,9 @@ std::string format_rom_report(const RomReport& r) {
   put("  |S| = %zu%s, mean |N| = %.0f (candidates %.0f, %ld full refreshes)", r.samples,
       r.samples_end != r.samples ? (" -> " + std::to_string(r.samples_end)).c_str() : "", r.mean_N,
       r.mean_K, r.refreshes);
+  if (r.quadrature_points > 0 && r.quadrature_points < r.particles)
+    put("  thinned quadrature: N drawn from %zu of the %zu particles", r.quadrature_points,
+        r.particles);
   if (r.linearization_anchors > 0)
     put("  tangent cache: %ld anchors over %.0f steps", r.linearization_anchors,
         double(r.frames) * r.rom_steps_per_frame);
