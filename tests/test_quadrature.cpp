@@ -1,17 +1,21 @@
 // The thinned quadrature of the ROM's MPM step (rom/quadrature.h): per grid cell of the rest
-// shape and material, a few particles carry the whole cell's mass and volume.
+// shape and material, the particles are merged into a few points at their groups' centres of
+// mass, carrying the groups' mass and volume; the particles to keep stay themselves.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
-#include <set>
 #include <tuple>
 
+#include "error_matchers.h"
 #include "rom/quadrature.h"
 
 using nsf::Vec3;
 
 namespace {
+
+using Bin = std::tuple<int, int, int, int>;
 
 // A 4 × 3 × 2-cell block of 2³ particles per cell (dx = 0.1), masses varying by particle.
 struct Block {
@@ -30,80 +34,110 @@ struct Block {
           material.push_back(0);
         }
   }
-  std::tuple<int, int, int, int> bin(size_t p) const {
-    return {int(X[p][0] / dx), int(X[p][1] / dx), int(X[p][2] / dx), material[p]};
+  Bin bin_of(const Vec3& x, int m) const {
+    return {int(std::floor(x[0] / dx)), int(std::floor(x[1] / dx)), int(std::floor(x[2] / dx)), m};
+  }
+  // Rest position and material of quadrature point `id`.
+  Vec3 point(const nsf::ThinnedQuadrature& q, uint32_t id) const {
+    return id < X.size() ? X[id] : q.merged_X[id - X.size()];
+  }
+  int material_of(const nsf::ThinnedQuadrature& q, uint32_t id) const {
+    return material[id < X.size() ? id : q.merged_group[id - X.size()]];
   }
 };
 
 }  // namespace
 
-TEST(RomQuadrature, EachCellKeepsItsMassAndVolumeOnTheKeptParticles) {
+TEST(RomQuadrature, EachCellKeepsItsMassVolumeAndCentreOfMass) {
   const Block b;
-  const std::vector<uint32_t> keep = {5, 77};  // e.g. sample particles: always kept
-  for (int per_cell : {1, 3}) {
+  const std::vector<uint32_t> keep = {5, 77};  // e.g. sample particles: they stay themselves
+  for (int per_cell : {1, 2, 3}) {
     const nsf::ThinnedQuadrature q =
         nsf::thin_quadrature(b.X, b.mass, b.vol0, b.material, b.lo, b.dx, per_cell, keep);
-    std::map<std::tuple<int, int, int, int>, double> m_all, m_q, v_all, v_q;
-    std::map<std::tuple<int, int, int, int>, int> count;
-    for (size_t p = 0; p < b.X.size(); ++p)
-      m_all[b.bin(p)] += b.mass[p], v_all[b.bin(p)] += b.vol0[p];
-    for (uint32_t p : q.ids) {
-      m_q[b.bin(p)] += q.mass[p], v_q[b.bin(p)] += q.vol0[p];
-      ++count[b.bin(p)];
+    ASSERT_EQ(q.particles, b.X.size());
+    ASSERT_EQ(q.mass.size(), b.X.size() + q.merged_X.size());
+    std::map<Bin, double> m_all, m_q, v_all, v_q;
+    std::map<Bin, Vec3> mx_all, mx_q;
+    std::map<Bin, int> points;
+    for (size_t p = 0; p < b.X.size(); ++p) {
+      const Bin c = b.bin_of(b.X[p], 0);
+      m_all[c] += b.mass[p], v_all[c] += b.vol0[p];
+      mx_all[c] = mx_all.count(c) ? Vec3(mx_all[c] + b.mass[p] * b.X[p]) : Vec3(b.mass[p] * b.X[p]);
+    }
+    for (uint32_t id : q.ids) {
+      const Vec3 x = b.point(q, id);
+      const Bin c = b.bin_of(x, b.material_of(q, id));
+      m_q[c] += q.mass[id], v_q[c] += q.vol0[id], ++points[c];
+      mx_q[c] = mx_q.count(c) ? Vec3(mx_q[c] + q.mass[id] * x) : Vec3(q.mass[id] * x);
     }
     ASSERT_EQ(m_all.size(), 24u);
-    for (const auto& [cell, m] : m_all) {
-      EXPECT_NEAR(m_q[cell], m, 1e-12 * m) << "per cell " << per_cell;
-      EXPECT_NEAR(v_q[cell], v_all[cell], 1e-18);
+    for (const auto& [c, m] : m_all) {
+      EXPECT_NEAR(m_q[c], m, 1e-12 * m) << "per cell " << per_cell;
+      EXPECT_NEAR(v_q[c], v_all[c], 1e-18);
+      EXPECT_LT((mx_q[c] - mx_all[c]).norm(), 1e-12) << "first moment, per cell " << per_cell;
+      const bool has_keep = c == b.bin_of(b.X[5], 0) || c == b.bin_of(b.X[77], 0);
+      EXPECT_EQ(points[c], per_cell + (has_keep ? 1 : 0));
     }
-    for (const auto& [cell, n] : count) {
-      const bool has_keep = cell == b.bin(5) || cell == b.bin(77);
-      EXPECT_EQ(n, has_keep && per_cell == 1 ? 1 : per_cell);
+    for (uint32_t p : keep) {
+      EXPECT_EQ(q.mass[p], b.mass[p]) << "kept particle " << p;
+      EXPECT_TRUE(std::binary_search(q.ids.begin(), q.ids.end(), p));
     }
-    EXPECT_EQ(q.ids.size(), 24u * per_cell);
-    for (uint32_t p : keep) EXPECT_GT(q.mass[p], 0) << "kept particle " << p;
-    std::set<uint32_t> ids(q.ids.begin(), q.ids.end());
+    // Particles merged away carry nothing themselves.
     for (size_t p = 0; p < b.X.size(); ++p) {
-      if (!ids.count(uint32_t(p))) {
+      if (p != 5 && p != 77) {
         EXPECT_EQ(q.mass[p], 0.0);
       }
     }
+    EXPECT_TRUE(std::is_sorted(q.ids.begin(), q.ids.end()));
   }
 }
 
-TEST(RomQuadrature, PointsOfACellSpreadAndMaterialsAreNotMerged) {
+TEST(RomQuadrature, OnePointPerFullCellSitsAtItsCentreAndMaterialsAreNotMerged) {
   Block b;
-  // Second material in the first cell: the same positions, another material id.
+  // A second material in the first cell: the same positions, another material id.
   const size_t n = b.X.size();
   for (size_t p = 0; p < n; ++p)
-    if (b.bin(p) == std::make_tuple(0, 0, 0, 0)) {
+    if (b.bin_of(b.X[p], 0) == Bin(0, 0, 0, 0)) {
       b.X.push_back(b.X[p]), b.mass.push_back(2.0), b.vol0.push_back(b.vol0[p]);
       b.material.push_back(1);
     }
   const nsf::ThinnedQuadrature q =
-      nsf::thin_quadrature(b.X, b.mass, b.vol0, b.material, b.lo, b.dx, 2, {});
-  EXPECT_EQ(q.ids.size(), 25u * 2);
+      nsf::thin_quadrature(b.X, b.mass, b.vol0, b.material, b.lo, b.dx, 1, {});
+  ASSERT_EQ(q.ids.size(), 25u);
+  ASSERT_EQ(q.merged_X.size(), 25u);
   double m1 = 0;
-  for (uint32_t p : q.ids)
-    if (b.material[p] == 1) m1 += q.mass[p];
+  for (uint32_t id : q.ids) {
+    if (b.material_of(q, id) == 1) m1 += q.mass[id];
+    // The 2³ lattice's centre of mass lies near the cell centre (masses vary by 1 %).
+    const Vec3 x = b.point(q, id);
+    const Vec3 centre = (x / b.dx).array().floor().matrix() * b.dx + Vec3::Constant(0.5 * b.dx);
+    EXPECT_LT((x - centre).norm(), 0.01 * b.dx);
+  }
   EXPECT_NEAR(m1, 16.0, 1e-12);  // the 8 particles of material 1, 2 kg each
-  // Two points per cell: the farthest-point rule takes opposite corners of the 2³ sub-lattice.
-  for (size_t a = 0; a < q.ids.size(); ++a)
-    for (size_t c = a + 1; c < q.ids.size(); ++c) {
-      if (b.bin(q.ids[a]) == b.bin(q.ids[c])) {
-        EXPECT_NEAR((b.X[q.ids[a]] - b.X[q.ids[c]]).norm(), std::sqrt(3.0) * 0.05, 1e-12);
-      }
-    }
 }
 
 TEST(RomQuadrature, ZeroPerCellKeepsEveryParticleAsItIs) {
   const Block b;
   const nsf::ThinnedQuadrature q =
       nsf::thin_quadrature(b.X, b.mass, b.vol0, b.material, b.lo, b.dx, 0, {});
+  EXPECT_FALSE(q.thinned());
   ASSERT_EQ(q.ids.size(), b.X.size());
   for (size_t p = 0; p < b.X.size(); ++p) {
     EXPECT_EQ(q.ids[p], p);
     EXPECT_EQ(q.mass[p], b.mass[p]);
     EXPECT_EQ(q.vol0[p], b.vol0[p]);
   }
+}
+
+TEST(RomQuadrature, BadInputIsAClearError) {
+  const Block b;
+  nsf::testing::expect_contains(
+      nsf::testing::error_of(
+          [&] { nsf::thin_quadrature(b.X, b.mass, b.vol0, b.material, b.lo, b.dx, 1, {100000}); }),
+      "particle 100000 to keep");
+  const std::vector<double> short_mass(b.mass.begin(), b.mass.end() - 1);
+  nsf::testing::expect_contains(
+      nsf::testing::error_of(
+          [&] { nsf::thin_quadrature(b.X, short_mass, b.vol0, b.material, b.lo, b.dx, 1, {}); }),
+      "masses");
 }

@@ -52,7 +52,14 @@ struct RandomModel {
     c.encoder_hidden = 8;
     return c;
   }
-  explicit RandomModel(int n) : model(config(), nsf::SceneFingerprint{"random", n, 1}, false) {
+  // The same weights whatever ran before in the process (the initialisation draws from torch's
+  // global generator).
+  static nsf::NetConfig seeded_config() {
+    torch::manual_seed(5);
+    return config();
+  }
+  explicit RandomModel(int n)
+      : model(seeded_config(), nsf::SceneFingerprint{"random", n, 1}, false) {
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> u(-1, 1);
     for (int p = 0; p < n; ++p) X.emplace_back(u(rng), u(rng), u(rng));
@@ -152,7 +159,11 @@ TEST(RomTangentCache, ExpansionMatchesTheNetworkToFirstOrderAndReanchors) {
   Eigen::VectorXd dir(4);
   dir << 0.08, -0.05, 0.06, 0.04;
   const double e1 = worst_error(z + dir), e2 = worst_error(z + 0.5 * dir);
-  const double moved = (m.deform(z + dir)[ids[1]] - m.deform(z)[ids[1]]).norm();
+  // The worst error is compared with the largest move (the finite-difference Jacobian is float32,
+  // so the error carries noise that depends on the thread count; one particle's move is too
+  // small a yardstick for the worst particle's error).
+  double moved = 0;
+  for (uint32_t p : ids) moved = std::max(moved, (m.deform(z + dir)[p] - m.deform(z)[p]).norm());
   EXPECT_GT(moved, 1e-3);  // the offset does move the particles
   EXPECT_LT(e1, 0.05 * moved) << "first-order error " << e1 << " for a move of " << moved;
   EXPECT_LT(e2, 0.45 * e1) << "the error must fall quadratically: " << e1 << " -> " << e2;
@@ -351,8 +362,9 @@ TEST_F(RomEndToEnd, CandidateSchemeFindsExactlyTheIntegrationParticlesAlongTheRu
   EXPECT_GT(rom.step_count(), 100);
 }
 
-// The thinned quadrature (one particle per cell of the rest shape): N is then exact among the
-// kept particles, it shrinks by about the thinning factor, and the run stays close to ground truth.
+// The thinned quadrature (one merged point per cell of the rest shape): N is then exact among
+// the quadrature points, it shrinks by about the thinning factor, and the run stays close to
+// ground truth.
 TEST_F(RomEndToEnd, ThinnedQuadratureKeepsNExactAmongTheKeptParticles) {
   nsf::NeuralFields f = nsf::NeuralFields::load(model());
   nsf::RomOptions o;
@@ -366,9 +378,8 @@ TEST_F(RomEndToEnd, ThinnedQuadratureKeepsNExactAmongTheKeptParticles) {
   nsf::Scene scene = nsf::load_scene(kTinyScene, {"objects[0].velocity=[1.0,-1.0,0]"});
   const int frames = scene.settings.frames;
   nsf::LatentStepper rom(f, std::move(scene), test_mu(), o);
-  // 864 particles in 108 cells of 2³; the 8 samples stay, in cells of their own or shared.
-  EXPECT_GE(rom.quadrature_count(), 108u);
-  EXPECT_LE(rom.quadrature_count(), 108u + 8u);
+  // 864 particles in 108 cells of 2³: one merged point per cell, and the 8 samples themselves.
+  EXPECT_EQ(rom.quadrature_count(), 108u + 8u);
   for (int k = 0; k < frames; ++k) rom.advance_frame();
   EXPECT_EQ(rom.integration_misses(), 0);
   EXPECT_LE(rom.mean_candidate_count(), double(rom.quadrature_count()));

@@ -28,14 +28,21 @@ struct ReportArgs {
   int threads = 2;
   std::string docs = "docs", out = "out/report";
   double sand_extrapolation = 44;
+  int quadrature = 0;  // > 0: the ROM's thinned quadrature, rows labelled with it
   bool page_only = false;
 };
 
 // One reduced-order run, its picture and its stored row.
 void report_run(const ReportArgs& a, const std::string& scene, const std::string& model,
-                const std::string& name, double mu, const std::string& label) {
-  const std::string tag = label.empty() ? name : name + "_" + label;
+                const std::string& name, double mu, std::string label) {
+  std::string tag = label.empty() ? name : name + "_" + label;
+  if (a.quadrature > 0) {
+    const std::string q = "quadrature " + std::to_string(a.quadrature) + "/cell";
+    label = label.empty() ? q : label + ", " + q;
+    tag += "_q" + std::to_string(a.quadrature);
+  }
   RomRunOptions ro;
+  ro.rom.quadrature_per_cell = a.quadrature;
   ro.model_path = model;
   ro.scene_path = scene;
   ro.mu = mu;
@@ -111,6 +118,12 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--docs", a->docs, "Where RESULTS.md and results/ go")->capture_default_str();
   cmd->add_option("--out", a->out, "Where the runs and animations go")->capture_default_str();
+  cmd->add_option("--quadrature", a->quadrature,
+                  "ROM with this many quadrature points per grid cell (nsf rom --quadrature); "
+                  "0 = every particle, the paper. Rows are labelled with it and kept beside the "
+                  "others")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000));
   cmd->add_flag("--page-only", a->page_only,
                 "Run nothing: rebuild RESULTS.md from the rows stored in docs/results/");
   cmd->add_option("--sand-extrapolation", a->sand_extrapolation,

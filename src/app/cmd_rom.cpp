@@ -72,9 +72,9 @@ void add_rom_command(CLI::App& app) {
   cmd->add_option("--halo", a->opt.rom.halo, "Candidate margin around the grid nodes I, in cells")
       ->capture_default_str();
   cmd->add_option("--quadrature", a->opt.rom.quadrature_per_cell,
-                  "Integrate the MPM step on N with this many particles per grid cell of the rest "
-                  "shape, each carrying its share of the cell's mass (0 = every particle, the "
-                  "paper)")
+                  "Integrate the MPM step on N with this many points per grid cell of the rest "
+                  "shape, each merging a group of particles (their mass, volume, centre of "
+                  "mass); the sample particles stay themselves (0 = every particle, the paper)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1000));
   cmd->add_flag("--verify-n", a->opt.rom.verify_integration_set,

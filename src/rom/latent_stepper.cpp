@@ -57,12 +57,15 @@ struct LatentStepper::Impl {
   RomOptions opt;
   double mu;
   std::unique_ptr<Simulation> sim;  // its particles() hold N only, rebuilt every step
-  // Per particle of the scene: what the ROM needs of the full particle set.
+  // Per particle of the scene, then per merged quadrature point (rom/quadrature.h): what the ROM
+  // needs of the full particle set. mass and vol0 are the particles' own.
+  size_t np = 0;  // |P|
   std::vector<Vec3> X;
   std::vector<double> mass, vol0;
   std::vector<uint16_t> material;
   std::vector<MaterialPoint> mat0;
-  torch::Tensor Xn_all;  // |P| × 3 normalised rest positions
+  torch::Tensor Xn_particles;  // |P| × 3 normalised rest positions
+  torch::Tensor Xn_all;        // the same, then the merged points'
   NeuralFields::Points all_points;
 
   std::vector<uint32_t> ranked, S;
@@ -81,7 +84,6 @@ struct LatentStepper::Impl {
   // The particles that can join N (all of P unless the quadrature is thinned) and their
   // quadrature masses and volumes; prepared points for them when thinned.
   ThinnedQuadrature quad;
-  std::vector<uint8_t> in_quad;
   NeuralFields::Points quad_points;
   // g(X, ẑ_n) on K from the last step: this step's g(X, ẑ_{n−1}) while K is unchanged.
   std::vector<Vec3> xK_last;
@@ -105,6 +107,7 @@ struct LatentStepper::Impl {
     const Particles& P = scene.particles;
     fields.check_scene(scene.name, P.X, "scene '" + scene.name + "'");
     X = P.X, mass = P.mass, vol0 = P.vol0, material = P.material, mat0 = P.mat;
+    np = X.size();
     const std::vector<Vec3> v0 = P.v;
     const SimSettings& s = scene.settings;
     // The baseline has no affine network: network means its default, none.
@@ -128,10 +131,13 @@ struct LatentStepper::Impl {
     ranked = rank_samples(X, opt.sampling);
     slot.assign(X.size(), -1);
 
-    Xn_all = model.norm_X.apply(
+    Xn_particles = model.norm_X.apply(
         torch::from_blob(X.data()->data(), {int64_t(X.size()), 3}, torch::kFloat64)
             .to(torch::kFloat32));
+    Xn_all = Xn_particles;
     all_points = fields.prepare(X);
+    if (opt.linearize > 0 && opt.quadrature_per_cell > 0)
+      fail("rom: --linearize and --quadrature do not combine (the tangent cache is per particle)");
     if (opt.linearize > 0) make_linearized_fields();
     sim = std::make_unique<Simulation>(std::move(scene));
     sim->particles() = Particles{};
@@ -140,7 +146,7 @@ struct LatentStepper::Impl {
     // ẑ_0: the encoder's latent of the rest state, refined on S so that step 1 starts from the
     // latent the inversion itself would pick; ẑ_{-1}: fitted to X − Δt·v⁰.
     GaussNewtonOptions fit{8, 1e-7, false};
-    z = fields.encode(X);
+    z = fields.encode(std::vector<Vec3>(X.begin(), X.begin() + np));
     std::vector<Vec3> target(S.size());
     for (size_t k = 0; k < S.size(); ++k) target[k] = X[S[k]];
     z = invert_deformation(model, Xn_S, target, z, fit).z;
@@ -177,22 +183,36 @@ struct LatentStepper::Impl {
     Xn_S = Xn_all.index_select(0, index_tensor(S));
     K = CandidateSet(opt.halo);  // forces a refresh
     xK_last_valid = false;
-    if (quad.ids.empty() || opt.quadrature_per_cell > 0) {
-      // S is kept in the quadrature, so it changes with S.
-      const SimSettings& s = sim->settings();
-      quad =
-          thin_quadrature(X, mass, vol0, material, s.domain_lo, s.dx, opt.quadrature_per_cell, S);
-      in_quad.assign(X.size(), 0);
-      for (uint32_t p : quad.ids) in_quad[p] = 1;
-      if (thinned()) {
-        std::vector<Vec3> XQ(quad.ids.size());
-        for (size_t k = 0; k < XQ.size(); ++k) XQ[k] = X[quad.ids[k]];
-        quad_points = fields.prepare(XQ);
-      }
-    }
+    if (quad.ids.empty() || opt.quadrature_per_cell > 0) set_quadrature();
   }
 
-  bool thinned() const { return quad.ids.size() < X.size(); }
+  // The sample particles stay themselves in a thinned quadrature, so it follows S.
+  void set_quadrature() {
+    X.resize(np), material.resize(np), mat0.resize(np);
+    const SimSettings& s = sim->settings();
+    quad = thin_quadrature(X, mass, vol0, material, s.domain_lo, s.dx, opt.quadrature_per_cell, S);
+    for (size_t j = 0; j < quad.merged_X.size(); ++j) {
+      const uint32_t member = quad.merged_group[j];
+      X.push_back(quad.merged_X[j]);
+      material.push_back(material[member]);
+      mat0.push_back(mat0[member]);
+    }
+    Xn_all = Xn_particles;
+    if (thinned()) {
+      const std::vector<Vec3>& merged = quad.merged_X;
+      Xn_all = torch::cat(
+          {Xn_particles,
+           model.norm_X.apply(torch::from_blob(const_cast<double*>(merged.data()->data()),
+                                               {int64_t(merged.size()), 3}, torch::kFloat64)
+                                  .to(torch::kFloat32))});
+      std::vector<Vec3> XQ(quad.ids.size());
+      for (size_t k = 0; k < XQ.size(); ++k) XQ[k] = X[quad.ids[k]];
+      quad_points = fields.prepare(XQ);
+    }
+    slot.assign(X.size(), -1);
+  }
+
+  bool thinned() const { return quad.thinned(); }
 
   // g at rows `ids` of the scene for one latent.
   void deform_rows(const std::vector<uint32_t>& ids, const Latent& zz, std::vector<Vec3>& x) {
@@ -246,19 +266,13 @@ struct LatentStepper::Impl {
   void refresh() {
     ScopedTimer timer(times.refresh);
     xK_last_valid = false;
-    if (!thinned() || cache_step == n) {
+    if (!thinned()) {
       const std::vector<Vec3>& x = all_positions();
       std::vector<Vec3> xs(S.size());
       for (size_t k = 0; k < S.size(); ++k) xs[k] = x[S[k]];
-      if (!thinned()) {
-        K.refresh(marks, x, xs);
-      } else {
-        std::vector<Vec3> xq(quad.ids.size());
-        for (size_t k = 0; k < xq.size(); ++k) xq[k] = x[quad.ids[k]];
-        K.refresh(marks, xq, xs, &quad.ids);
-      }
+      K.refresh(marks, x, xs);
     } else {
-      // Only the quadrature particles can join N, so only they need g.
+      // Only the quadrature points can join N, so only they need g.
       std::vector<Vec3> xq;
       fields.deform(quad_points, z, xq);
       std::vector<Vec3> xs(S.size());
@@ -291,7 +305,8 @@ struct LatentStepper::Impl {
 
     // (1) Inference on the candidates K ⊇ N, then N itself.
     std::vector<Vec3> xK, xK_prev;
-    if (K.empty() || cache_step == n) refresh();  // free when all positions are known
+    // Free when all particles' positions are known (output frames), unless thinned.
+    if (K.empty() || (cache_step == n && !thinned())) refresh();
     deform_candidates(xK, xK_prev);
     if (K.stale(xK, dx)) {
       refresh();
@@ -424,14 +439,13 @@ struct LatentStepper::Impl {
   }
 
   void verify_integration_set() {
-    // Brute force: g on every particle, N by the definition, compared with the scheme's N.
+    // Brute force: g on every quadrature point, N by the definition, compared with the scheme's.
     std::vector<Vec3> x;
-    fields.deform(all_points, z, x);
-    const std::vector<uint32_t> exact = nsf::integration_particles(marks, x);
+    fields.deform(thinned() ? quad_points : all_points, z, x);
     std::vector<uint32_t> ours = N;
     std::sort(ours.begin(), ours.end());
-    for (uint32_t p : exact)
-      if (in_quad[p] && !std::binary_search(ours.begin(), ours.end(), p)) ++misses;
+    for (uint32_t row : nsf::integration_particles(marks, x))
+      if (!std::binary_search(ours.begin(), ours.end(), quad.ids[row])) ++misses;
   }
 };
 
@@ -481,7 +495,7 @@ void LatentStepper::particle_state(std::vector<Vec3>& x, std::vector<Vec3>* v) {
 }
 
 size_t LatentStepper::particle_count() const {
-  return impl_->X.size();
+  return impl_->np;
 }
 size_t LatentStepper::sample_count() const {
   return impl_->S.size();

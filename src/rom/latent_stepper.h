@@ -51,10 +51,11 @@ class LatentStepper {
   size_t particle_count() const;
   size_t sample_count() const;  // |S| now
   const std::vector<uint32_t>& samples() const;
-  const std::vector<uint32_t>& integration_particles() const;  // N of the last step
-  double mean_integration_count() const;                       // mean |N| over the steps so far
+  // N of the last step; with a thinned quadrature, ids ≥ particle_count() are merged points.
+  const std::vector<uint32_t>& integration_particles() const;
+  double mean_integration_count() const;  // mean |N| over the steps so far
   double mean_candidate_count() const;
-  size_t quadrature_count() const;  // particles that can join N (|P| unless thinned)
+  size_t quadrature_count() const;  // points that can join N (|P| unless thinned)
   long refreshes() const;
   long linearization_anchors() const;      // with RomOptions::linearize: re-anchorings of g so far
   long integration_misses() const;         // with verify_integration_set: particles of N not found

@@ -12,35 +12,34 @@ namespace nsf {
 
 namespace {
 
-// Greedy farthest-point order within one bin, starting from the particle nearest its centroid,
-// after the particles that must stay. Returns the kept members.
-std::vector<uint32_t> spread_pick(const std::vector<Vec3>& X, const std::vector<uint32_t>& bin,
-                                  const std::vector<uint8_t>& must, int per_cell) {
-  std::vector<uint32_t> kept;
-  for (uint32_t p : bin)
-    if (must[p]) kept.push_back(p);
-  if (int(kept.size()) >= per_cell) return kept;
-  std::vector<double> gap(bin.size(), std::numeric_limits<double>::infinity());
-  auto update_gaps = [&](uint32_t q) {
-    for (size_t k = 0; k < bin.size(); ++k) gap[k] = std::min(gap[k], (X[bin[k]] - X[q]).norm());
-  };
-  for (uint32_t q : kept) update_gaps(q);
-  if (kept.empty()) {
-    Vec3 c = Vec3::Zero();
-    for (uint32_t p : bin) c += X[p];
-    c /= double(bin.size());
-    size_t best = 0;
-    for (size_t k = 1; k < bin.size(); ++k)
-      if ((X[bin[k]] - c).norm() < (X[bin[best]] - c).norm()) best = k;
-    kept.push_back(bin[best]);
-    update_gaps(bin[best]);
+// Splits `members` into at most `groups` groups: seeds in farthest-point order from the member
+// nearest the centroid, each member to its nearest seed (the first on ties). Returns a group index
+// per member.
+std::vector<int> group_members(const std::vector<Vec3>& X, const std::vector<uint32_t>& members,
+                               int groups) {
+  Vec3 c = Vec3::Zero();
+  for (uint32_t p : members) c += X[p];
+  c /= double(members.size());
+  size_t first = 0;
+  for (size_t k = 1; k < members.size(); ++k)
+    if ((X[members[k]] - c).norm() < (X[members[first]] - c).norm()) first = k;
+  std::vector<size_t> seeds = {first};
+  std::vector<double> gap(members.size(), std::numeric_limits<double>::infinity());
+  while (true) {
+    for (size_t k = 0; k < members.size(); ++k)
+      gap[k] = std::min(gap[k], (X[members[k]] - X[members[seeds.back()]]).norm());
+    if (int(seeds.size()) >= groups || seeds.size() >= members.size()) break;
+    seeds.push_back(size_t(std::max_element(gap.begin(), gap.end()) - gap.begin()));
   }
-  while (int(kept.size()) < per_cell && kept.size() < bin.size()) {
-    const size_t far = size_t(std::max_element(gap.begin(), gap.end()) - gap.begin());
-    kept.push_back(bin[far]);
-    update_gaps(bin[far]);
+  std::vector<int> group(members.size(), 0);
+  for (size_t k = 0; k < members.size(); ++k) {
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t s = 0; s < seeds.size(); ++s) {
+      const double d = (X[members[k]] - X[members[seeds[s]]]).norm();
+      if (d < best) best = d, group[k] = int(s);
+    }
   }
-  return kept;
+  return group;
 }
 
 }  // namespace
@@ -54,6 +53,7 @@ ThinnedQuadrature thin_quadrature(const std::vector<Vec3>& X, const std::vector<
     fail("quadrature: ", n, " positions but ", mass.size(), " masses, ", vol0.size(),
          " volumes and ", material.size(), " material ids");
   ThinnedQuadrature q;
+  q.particles = n;
   if (per_cell <= 0) {
     q.ids.resize(n);
     std::iota(q.ids.begin(), q.ids.end(), 0u);
@@ -61,15 +61,16 @@ ThinnedQuadrature thin_quadrature(const std::vector<Vec3>& X, const std::vector<
     return q;
   }
   if (!(dx > 0)) fail("quadrature: the cell size must be positive, got ", dx);
-  std::vector<uint8_t> must(n, 0);
+  std::vector<uint8_t> kept(n, 0);
   for (uint32_t p : keep) {
     if (p >= n) fail("quadrature: particle ", p, " to keep is not among the ", n);
-    must[p] = 1;
+    kept[p] = 1;
   }
-  // Bins in first-seen order, so the result does not depend on hashing.
+  // Bins in first-seen order, so the numbering does not depend on hashing.
   std::unordered_map<uint64_t, uint32_t> bin_of_key;
   std::vector<std::vector<uint32_t>> bins;
   for (size_t p = 0; p < n; ++p) {
+    if (kept[p]) continue;
     uint64_t key = material[p];
     for (int d = 0; d < 3; ++d)
       key = key * 1000003u + uint64_t(int64_t(std::floor((X[p][d] - lo[d]) / dx)) + (1 << 20));
@@ -78,18 +79,27 @@ ThinnedQuadrature thin_quadrature(const std::vector<Vec3>& X, const std::vector<
     bins[it->second].push_back(uint32_t(p));
   }
   q.mass.assign(n, 0.0), q.vol0.assign(n, 0.0);
+  for (size_t p = 0; p < n; ++p)
+    if (kept[p]) q.ids.push_back(uint32_t(p)), q.mass[p] = mass[p], q.vol0[p] = vol0[p];
   for (const auto& bin : bins) {
-    const std::vector<uint32_t> kept = spread_pick(X, bin, must, per_cell);
-    double m_all = 0, v_all = 0, m_kept = 0, v_kept = 0;
-    for (uint32_t p : bin) m_all += mass[p], v_all += vol0[p];
-    for (uint32_t p : kept) m_kept += mass[p], v_kept += vol0[p];
-    for (uint32_t p : kept) {
-      q.mass[p] = m_kept > 0 ? mass[p] * (m_all / m_kept) : 0.0;
-      q.vol0[p] = v_kept > 0 ? vol0[p] * (v_all / v_kept) : 0.0;
-      q.ids.push_back(p);
+    const std::vector<int> group = group_members(X, bin, per_cell);
+    const int groups = *std::max_element(group.begin(), group.end()) + 1;
+    std::vector<double> m(groups, 0.0), v(groups, 0.0);
+    std::vector<Vec3> mx(groups, Vec3::Zero());
+    std::vector<uint32_t> member(groups, 0);
+    for (size_t k = 0; k < bin.size(); ++k) {
+      const int g = group[k];
+      const uint32_t p = bin[k];
+      m[g] += mass[p], v[g] += vol0[p], mx[g] += mass[p] * X[p], member[g] = p;
+    }
+    for (int g = 0; g < groups; ++g) {
+      q.ids.push_back(uint32_t(n + q.merged_X.size()));
+      q.merged_X.push_back(m[g] > 0 ? Vec3(mx[g] / m[g]) : X[member[g]]);
+      q.merged_group.push_back(member[g]);
+      q.mass.push_back(m[g]);
+      q.vol0.push_back(v[g]);
     }
   }
-  std::sort(q.ids.begin(), q.ids.end());
   return q;
 }
 

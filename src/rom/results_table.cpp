@@ -62,6 +62,7 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   j["samples"] = r.samples;
   j["samples_end"] = r.samples_end;
   j["mean_N"] = r.mean_N;
+  j["quadrature_points"] = r.quadrature_points;
   j["delta"] = r.delta;
   j["frames"] = r.frames;
   j["rom_seconds"] = r.rom_seconds;
@@ -96,7 +97,11 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
        "full-order engine on the same scene in the same process, with the same threads. "
        "δ is eq. 11 over all particles and frames; speed-up is full-order step time over "
        "ROM step time (output excluded from both); memory is each phase's peak resident "
-       "size (the process baseline, mostly LibTorch and the model, is in both).\n\n";
+       "size (the process baseline, mostly LibTorch and the model, is in both). Rows "
+       "labelled *quadrature k/cell* (`nsf report --quadrature k`) integrate the ROM's MPM step "
+       "with k points per grid cell of the rest shape, each merging a group of particles (their "
+       "mass, volume and centre of mass; docs/ROM.md, \"Thinned quadrature\"), and their mean "
+       "|N| counts those points; the others use every particle, as the paper does.\n\n";
   s << "| scene | μ | \\|P\\| | r | γ | \\|S\\| | mean \\|N\\| | δ | speed-up | ROM ms/frame | "
        "full ms/frame | memory full / ROM (MiB) | paper: \\|P\\|, δ, \\|S\\|, speed-up, memory |\n"
     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";

@@ -36,9 +36,9 @@ struct RomOptions {
   // each latent component's training spread). 0: the networks at every step, as in the paper.
   double linearize = 0;
   int halo = 3;  // candidate margin in cells around I (rom/integration_set.h)
-  // > 0: the MPM step on N integrates with this many particles per grid cell of the rest shape,
-  // each carrying its share of the cell's mass and volume (rom/quadrature.h); N, K and the
-  // inference on them shrink by the thinning factor. 0: every particle (the paper).
+  // > 0: the MPM step on N integrates with this many points per grid cell of the rest shape, each
+  // merging a group of particles (rom/quadrature.h); N, K and the inference on them shrink by
+  // the thinning factor. 0: every particle (the paper).
   int quadrature_per_cell = 0;
   // Also find N by brute force (g on every particle) each step and count the particles the
   // candidate scheme missed. For tests and checks; costs a full evaluation of g per step.

@@ -261,8 +261,8 @@ std::string format_rom_report(const RomReport& r) {
       r.samples_end != r.samples ? (" -> " + std::to_string(r.samples_end)).c_str() : "", r.mean_N,
       r.mean_K, r.refreshes);
   if (r.quadrature_points > 0 && r.quadrature_points < r.particles)
-    put("  thinned quadrature: N drawn from %zu of the %zu particles", r.quadrature_points,
-        r.particles);
+    put("  thinned quadrature: N drawn from %zu points standing for the %zu particles",
+        r.quadrature_points, r.particles);
   if (r.linearization_anchors > 0)
     put("  tangent cache: %ld anchors over %.0f steps", r.linearization_anchors,
         double(r.frames) * r.rom_steps_per_frame);
