@@ -51,6 +51,21 @@ TEST(NnEncoder, ChannelsWidenTheFlattenedFeatures) {
   EXPECT_ANY_THROW(Encoder(100, 5, 32, 0));
 }
 
+// --encoder-max-length stops the convolutions earlier: with 48 the jelly's 5,056 particles go
+// 15168 → 3791 → 947 → 236 → 58 → 14 (five layers, not six), so 3 channels leave 42 features.
+TEST(NnEncoder, MaxLengthStopsTheConvolutionsEarlier) {
+  Encoder e(5056, 5, /*hidden=*/32, /*channels=*/3, /*max_length=*/48);
+  EXPECT_EQ(e->conv_layers(), 5);
+  EXPECT_EQ(e->flat_length(), 3 * 14);
+  EXPECT_EQ(e->forward(torch::randn({2, 3 * 5056})).size(1), 5);
+  EXPECT_EQ(Encoder(5056, 5, 32, 3, 64)->flat_length(), 3 * 58);
+  EXPECT_EQ(Encoder(5056, 5, 32, 8, 48)->flat_length(), 8 * 14);
+  // No convolution at all when the input is already short enough.
+  EXPECT_EQ(Encoder(10, 5, 32, 3, 30)->conv_layers(), 0);
+  EXPECT_EQ(Encoder(10, 5, 32, 3, 30)->flat_length(), 30);
+  EXPECT_ANY_THROW(Encoder(100, 5, 32, 3, 4));  // a length-5 input would not fill a kernel
+}
+
 TEST(NnEncoder, RejectsAnotherParticleCount) {
   Encoder e(100, 6);
   EXPECT_ANY_THROW(e->forward(torch::zeros({1, 3 * 101})));

@@ -165,6 +165,7 @@ TEST(NnModelFile, KeepsTheEncoderShape) {
   nsf::NetConfig c = tiny_options().config.net;
   c.encoder_channels = 5;
   c.encoder_hidden = 24;
+  c.encoder_max_length = 20;  // one convolution fewer than App. E's 12 for these particles
   nsf::NeuralModel m(c, nsf::SceneFingerprint{"shape", kParticles, 7}, false);
   m.rest = torch::zeros({kParticles, 3});  // the displacement form stores the rest shape
   const fs::path path = fs::temp_directory_path() / ("nsf_shape_" + std::to_string(::getpid()));
@@ -173,6 +174,9 @@ TEST(NnModelFile, KeepsTheEncoderShape) {
   fs::remove(path);
   EXPECT_EQ(back.config.encoder_channels, 5);
   EXPECT_EQ(back.config.encoder_hidden, 24);
+  EXPECT_EQ(back.config.encoder_max_length, 20);
+  EXPECT_EQ(back.encoder->conv_layers(), m.encoder->conv_layers());
+  EXPECT_EQ(back.encoder->conv_layers(), nsf::Encoder(kParticles, c.latent_dim)->conv_layers() - 1);
   EXPECT_EQ(back.encoder->flat_length(), m.encoder->flat_length());
 }
 

@@ -25,7 +25,7 @@ struct TrainArgs {
   std::vector<double> epochs;
   std::vector<int> frames;
   int r = 0, depth = 0, width_g = 0, width_h = 0, width_l = 0, encoder_channels = 0,
-      encoder_hidden = 0;
+      encoder_hidden = 0, encoder_max_length = 0;
   bool no_mu = false;
   TrainOptions opt;
 };
@@ -58,6 +58,7 @@ void run_train(TrainArgs& a) {
   if (a.width_l > 0) c.net.width_l = a.width_l;
   if (a.encoder_channels > 0) c.net.encoder_channels = a.encoder_channels;
   if (a.encoder_hidden > 0) c.net.encoder_hidden = a.encoder_hidden;
+  if (a.encoder_max_length > 0) c.net.encoder_max_length = a.encoder_max_length;
   if (a.no_mu) c.net.stress_uses_mu = false;
   per_stage(a.steps, c.steps, "--steps");
   per_stage(a.epochs, a.opt.epochs, "--epochs");
@@ -121,6 +122,10 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("--encoder-channels", a->encoder_channels,
                   "Output channels of each encoder convolution (default: 3, App. E)")
       ->check(CLI::Range(1, 64));
+  cmd->add_option("--encoder-max-length", a->encoder_max_length,
+                  "Encoder convolutions continue while the length exceeds this (default: 12, "
+                  "App. E)")
+      ->check(CLI::Range(5, 1 << 20));
   cmd->add_option("--encoder-hidden", a->encoder_hidden,
                   "Width of the encoder's hidden Linear layer (default: 32, App. E)")
       ->check(CLI::Range(1, 4096));

@@ -14,9 +14,10 @@ struct NetConfig {
   int width_g = 48 * 3;
   int width_h = 64 * 6;
   int width_l = 64 * 9;
-  int encoder_hidden = 32;     // the encoder's Linear → 32 before the last Linear → r
-  int encoder_channels = 3;    // output channels of each encoder convolution (App. E: 3)
-  bool stress_uses_mu = true;  // h(X, ẑ, μ) when the dataset has a parameter μ
+  int encoder_hidden = 32;      // the encoder's Linear → 32 before the last Linear → r
+  int encoder_channels = 3;     // output channels of each encoder convolution (App. E: 3)
+  int encoder_max_length = 12;  // convolutions continue while the length exceeds this (App. E: 12)
+  bool stress_uses_mu = true;   // h(X, ẑ, μ) when the dataset has a parameter μ
 };
 
 // Table 1, keyed by the scene name stored in the run files; unknown scenes get the bread row.

@@ -12,7 +12,9 @@ namespace nsf {
 namespace {
 
 constexpr const char* kFormat = "nsf-model";
-constexpr int64_t kFormatVersion = 2;  // 2: g predicts x − X (displacement, norm_u)
+// 2: g predicts x − X (displacement, norm_u). 3: encoder_max_length, which an older nsf would
+// ignore and then fail on the encoder's parameters, so it refuses the file instead.
+constexpr int64_t kFormatVersion = 3;
 
 torch::Tensor to_tensor(const std::vector<double>& v) {
   std::vector<float> f(v.begin(), v.end());
@@ -88,7 +90,7 @@ std::string SceneFingerprint::describe() const {
 NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
     : config(c), scene(s), has_mu(mu) {
   const int64_t r = c.latent_dim;
-  encoder = Encoder(s.particles, r, c.encoder_hidden, c.encoder_channels);
+  encoder = Encoder(s.particles, r, c.encoder_hidden, c.encoder_channels, c.encoder_max_length);
   g = FieldMlp(3 + r, 3, c.width_g, c.depth);
   h = FieldMlp(3 + r + (stress_has_mu() ? 1 : 0), 6, c.width_h, c.depth);
   l = FieldMlp(3 + r, 9, c.width_l, c.depth);
@@ -115,6 +117,7 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   a.write("width_l", c10::IValue(int64_t(config.width_l)));
   a.write("encoder_hidden", c10::IValue(int64_t(config.encoder_hidden)));
   a.write("encoder_channels", c10::IValue(int64_t(config.encoder_channels)));
+  a.write("encoder_max_length", c10::IValue(int64_t(config.encoder_max_length)));
   a.write("stress_uses_mu", c10::IValue(config.stress_uses_mu));
   a.write("has_mu", c10::IValue(has_mu));
   a.write("mu_min", c10::IValue(mu_min));
@@ -159,6 +162,9 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   c10::IValue channels;  // absent before the option existed: App. E's 3
   if (a.try_read("encoder_channels", channels))
     c.encoder_channels = static_cast<int>(channels.toInt());
+  c10::IValue max_length;  // absent before format version 3: App. E's 12
+  if (a.try_read("encoder_max_length", max_length))
+    c.encoder_max_length = static_cast<int>(max_length.toInt());
   c.stress_uses_mu = read_value(a, "stress_uses_mu", path).toBool();
   SceneFingerprint s;
   s.scene_name = read_value(a, "scene_name", path).toStringRef();

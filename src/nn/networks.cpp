@@ -20,7 +20,7 @@ void xavier(torch::Tensor& weight, torch::Tensor& bias) {
 }  // namespace
 
 EncoderImpl::EncoderImpl(int64_t particles, int64_t latent_dim, int64_t hidden,
-                         int64_t conv_channels)
+                         int64_t conv_channels, int64_t max_length)
     : particles_(particles) {
   // MKL-DNN (oneDNN) sets up a primitive per call; for these thin 1-3 channel convolutions that
   // overhead made one stage-1 step's encoder backward pass ~50 ms instead of ~3 ms (4 frames of
@@ -30,8 +30,10 @@ EncoderImpl::EncoderImpl(int64_t particles, int64_t latent_dim, int64_t hidden,
   if (particles < 1 || latent_dim < 1 || hidden < 1 || conv_channels < 1)
     fail("encoder: need at least one particle and positive sizes (got ", particles,
          " particles, r = ", latent_dim, ", hidden ", hidden, ", channels ", conv_channels, ")");
+  if (max_length < kKernel - 1)
+    fail("encoder: the maximum length must be at least ", kKernel - 1, " (got ", max_length, ")");
   int64_t length = 3 * particles, channels = 1;
-  while (length > kMaxLength) {
+  while (length > max_length) {
     auto conv = torch::nn::Conv1d(
         torch::nn::Conv1dOptions(channels, conv_channels, kKernel).stride(kStride));
     xavier(conv->weight, conv->bias);

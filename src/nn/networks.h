@@ -15,11 +15,12 @@ namespace nsf {
 // Linear → 32, Linear → r, ELU between. The layer count follows from |P|, so an encoder only
 // accepts the particle count it was built for. `channels` widens the convolutions beyond App. E's
 // 3, whose flattened bottleneck of at most 36 features limits scenes with rigid-like motion
-// (docs/TRAINING.md).
+// (docs/TRAINING.md); `max_length` (≥ 5, so that every convolution has a full kernel) stops them
+// earlier, so that the Linear sees a longer sequence.
 class EncoderImpl : public torch::nn::Module {
  public:
   EncoderImpl(int64_t particles, int64_t latent_dim, int64_t hidden = 32,
-              int64_t channels = kChannels);
+              int64_t channels = kChannels, int64_t max_length = kMaxLength);
   // x: B × 3|P| (normalised positions, particle-major) → B × r.
   torch::Tensor forward(const torch::Tensor& x);
 

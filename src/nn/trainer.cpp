@@ -121,6 +121,8 @@ std::string Trainer::config_key() const {
   // Appended only when set, so checkpoints written before the option existed still resume.
   if (n.encoder_channels != EncoderImpl::kChannels)
     os << " encoder_channels=" << n.encoder_channels;
+  if (n.encoder_max_length != EncoderImpl::kMaxLength)
+    os << " encoder_max_length=" << n.encoder_max_length;
   return os.str();
 }
 
