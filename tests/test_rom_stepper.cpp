@@ -342,19 +342,25 @@ TEST_F(RomEndToEnd, StaysCloseToTheFullOrderRunAndBeatsAFrozenLatent) {
   EXPECT_LE(r.mean_N, double(r.particles));
 }
 
-TEST_F(RomEndToEnd, CandidateSchemeFindsExactlyTheIntegrationParticlesAlongTheRun) {
-  nsf::NeuralFields f = nsf::NeuralFields::load(model());
+// N checked by brute force every step, with samples clustered at one end of the bar (so that K
+// and N are proper subsets of P) and the tightest halo (the most refreshes would be missed if
+// the rule were wrong).
+nsf::RomOptions verified_cluster_options() {
   nsf::RomOptions o;
-  // Samples clustered at one end of the bar, so that K and N are proper subsets of P.
   o.sampling.count = 8;
   o.sampling.mode = "cluster";
   o.sampling.center = Vec3(0.2, 0.26, 0.5);
   o.sampling.sigma = 0.04;
   o.verify_integration_set = true;
-  o.halo = 2;  // the tightest margin: the most refreshes would be missed if the rule were wrong
+  o.halo = 2;
+  return o;
+}
+
+TEST_F(RomEndToEnd, CandidateSchemeFindsExactlyTheIntegrationParticlesAlongTheRun) {
+  nsf::NeuralFields f = nsf::NeuralFields::load(model());
   nsf::Scene scene = nsf::load_scene(kTinyScene, {"objects[0].velocity=[1.0,-1.0,0]"});
   const int frames = scene.settings.frames;
-  nsf::LatentStepper rom(f, std::move(scene), test_mu(), o);
+  nsf::LatentStepper rom(f, std::move(scene), test_mu(), verified_cluster_options());
   for (int k = 0; k < frames; ++k) rom.advance_frame();
   EXPECT_EQ(rom.integration_misses(), 0);
   EXPECT_GT(rom.mean_candidate_count(), rom.mean_integration_count());
@@ -365,15 +371,9 @@ TEST_F(RomEndToEnd, CandidateSchemeFindsExactlyTheIntegrationParticlesAlongTheRu
 // The thinned quadrature (one merged point per cell of the rest shape): N is then exact among
 // the quadrature points, it shrinks by about the thinning factor, and the run stays close to
 // ground truth.
-TEST_F(RomEndToEnd, ThinnedQuadratureKeepsNExactAmongTheKeptParticles) {
+TEST_F(RomEndToEnd, ThinnedQuadratureKeepsNExactAmongTheQuadraturePoints) {
   nsf::NeuralFields f = nsf::NeuralFields::load(model());
-  nsf::RomOptions o;
-  o.sampling.count = 8;
-  o.sampling.mode = "cluster";
-  o.sampling.center = Vec3(0.2, 0.26, 0.5);
-  o.sampling.sigma = 0.04;
-  o.verify_integration_set = true;
-  o.halo = 2;
+  nsf::RomOptions o = verified_cluster_options();
   o.quadrature_per_cell = 1;
   nsf::Scene scene = nsf::load_scene(kTinyScene, {"objects[0].velocity=[1.0,-1.0,0]"});
   const int frames = scene.settings.frames;
@@ -391,7 +391,7 @@ TEST_F(RomEndToEnd, ThinnedQuadratureKeepsNExactAmongTheKeptParticles) {
   EXPECT_LT(b.mean_N, 0.25 * a.mean_N) << "thinned " << b.mean_N << " vs " << a.mean_N;
   EXPECT_LT(b.delta, 0.05);
   std::printf(
-      "tiny scene: ROM delta %.3f%% with one quadrature particle per cell (mean |N| %.0f), "
+      "tiny scene: ROM delta %.3f%% with one quadrature point per cell (mean |N| %.0f), "
       "%.3f%% with all (mean |N| %.0f)\n",
       100 * b.delta, b.mean_N, 100 * a.delta, a.mean_N);
 }
