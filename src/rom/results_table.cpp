@@ -63,6 +63,7 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   j["samples_end"] = r.samples_end;
   j["mean_N"] = r.mean_N;
   j["quadrature_points"] = r.quadrature_points;
+  j["threads"] = r.threads;
   j["delta"] = r.delta;
   j["frames"] = r.frames;
   j["rom_seconds"] = r.rom_seconds;
@@ -94,7 +95,9 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
     << "`nsf report --scenes NAME` (each scene's measurements are kept in "
     << "`docs/results/*.json`, and the page is rebuilt from all of them). Every row is one "
        "reduced-order run at a held-out μ (never in the training set), measured against the "
-       "full-order engine on the same scene in the same process, with the same threads. "
+       "full-order engine on the same scene in the same process, with the same threads (the "
+       "last column of the time table; — for rows stored before the count was, which ran with "
+       "`nsf report`'s default of 2). "
        "δ is eq. 11 over all particles and frames; speed-up is full-order step time over "
        "ROM step time (output excluded from both); memory is each phase's peak resident "
        "size (the process baseline, mostly LibTorch and the model, is in both). Rows "
@@ -132,8 +135,8 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
   }
   s << "\n## Where the reduced-order time goes\n\n"
     << "| scene | inference (g on candidates, h, l on N) | MPM on N | Gauss–Newton | "
-       "candidate refresh | ROM steps/frame | full-order steps/frame |\n"
-    << "|---|---|---|---|---|---|---|\n";
+       "candidate refresh | ROM steps/frame | full-order steps/frame | threads |\n"
+    << "|---|---|---|---|---|---|---|---|\n";
   for (const auto& j : rows) {
     const double t = j["rom_seconds"].get<double>();
     auto pct = [&](const char* k) {
@@ -144,6 +147,8 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
       << pct("inference_seconds") << " | " << pct("mpm_seconds") << " | "
       << pct("inversion_seconds") << " | " << pct("refresh_seconds") << " | "
       << j["rom_steps_per_frame"].get<int>() << " | " << j["fom_steps_per_frame"].get<int>()
+      << " | "
+      << (j.contains("threads") ? std::to_string(j["threads"].get<int>()) : std::string("—"))
       << " |\n";
   }
   s << "\n## Pictures (top: ground truth, bottom: reduced order)\n\n";

@@ -239,6 +239,7 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.mean_N = rom.mean_integration_count();
   rep.mean_K = rom.mean_candidate_count();
   rep.quadrature_points = rom.quadrature_count();
+  rep.threads = o.threads;
   rep.refreshes = rom.refreshes();
   rep.linearization_anchors = rom.linearization_anchors();
   rep.rom_times = rom.times();
