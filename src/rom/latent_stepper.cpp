@@ -81,8 +81,8 @@ struct LatentStepper::Impl {
   std::vector<uint32_t> N;
   std::vector<Vec3> x_cache;  // g on all particles at step cache_step
   long cache_step = -1;
-  // The particles that can join N (all of P unless the quadrature is thinned) and their
-  // quadrature masses and volumes; prepared points for them when thinned.
+  // The quadrature points that can join N (every particle unless thinned, rom/quadrature.h)
+  // with their masses and volumes; when thinned, the points prepared for g.
   ThinnedQuadrature quad;
   NeuralFields::Points quad_points;
   // g(X, ẑ_n) on K from the last step: this step's g(X, ẑ_{n−1}) while K is unchanged.
