@@ -56,6 +56,8 @@ class CandidateSet {
   bool stale(const std::vector<Vec3>& x_now, double dx) const;
 
   const std::vector<uint32_t>& ids() const { return ids_; }
+  // Positions of K at the refresh (same order as ids()).
+  const std::vector<Vec3>& refresh_positions() const { return x_ref_; }
   int halo() const { return halo_; }
   bool empty() const { return ids_.empty(); }
 

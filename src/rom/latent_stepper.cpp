@@ -88,6 +88,7 @@ struct LatentStepper::Impl {
   // g(X, ẑ_n) on K from the last step: this step's g(X, ẑ_{n−1}) while K is unchanged.
   std::vector<Vec3> xK_last;
   bool xK_last_valid = false;
+  long refreshed_at = -1;  // step of the last refresh: g(X, ẑ_n) on K is then known
 
   // The tangent cache (opt.linearize > 0): g on K, h and l on N through first-order expansions.
   std::unique_ptr<LinearizedField> lin_g, lin_h, lin_l;
@@ -233,6 +234,10 @@ struct LatentStepper::Impl {
   // g on K at ẑ_n and ẑ_{n−1}; the second is last step's first while K has not changed.
   void deform_candidates(std::vector<Vec3>& x, std::vector<Vec3>& xp) {
     ScopedTimer timer(times.inference);
+    if (refreshed_at == n && !lin_g) {  // the refresh evaluated g at ẑ_n on K already
+      x = K.refresh_positions();
+      return deform_rows(K.ids(), z_prev, xp);
+    }
     if (!xK_last_valid) return deform_pair(K.ids(), x, xp);
     xp.swap(xK_last);
     deform_rows(K.ids(), z, x);
@@ -283,6 +288,7 @@ struct LatentStepper::Impl {
       K.refresh(marks, xq, xs, &quad.ids);
     }
     ++refreshes;
+    refreshed_at = n;
   }
 
   void check_finite_inside(const std::vector<Vec3>& xs, const char* what) const {
