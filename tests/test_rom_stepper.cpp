@@ -337,6 +337,13 @@ TEST_F(RomEndToEnd, StaysCloseToTheFullOrderRunAndBeatsAFrozenLatent) {
   const double frozen = std::sqrt(num / den);
   EXPECT_LT(r.delta, 0.5 * frozen) << "ROM " << r.delta << " vs frozen latent " << frozen;
   std::printf("tiny scene: frozen-latent delta %.3f%%\n", 100 * frozen);
+  // The inversion projects the samples' displacements after the MPM step onto g's tangent: a
+  // least-squares projection (equal masses here) cannot add kinetic energy; it may only drop
+  // the part g cannot represent.
+  EXPECT_GT(r.energy_kept, 0.5);
+  EXPECT_LE(r.energy_kept, 1.0 + 1e-3);
+  std::printf("tiny scene: the inversion keeps %.2f%% of the samples' kinetic energy per step\n",
+              100 * r.energy_kept);
   EXPECT_EQ(r.samples, 64u);
   EXPECT_GT(r.mean_N, double(r.samples));
   EXPECT_LE(r.mean_N, double(r.particles));

@@ -94,6 +94,7 @@ struct LatentStepper::Impl {
   std::unique_ptr<LinearizedField> lin_g, lin_h, lin_l;
 
   double sum_N = 0, sum_K = 0, last_residual = 0;
+  double energy_after_mpm = 0, energy_after_inversion = 0;  // summed over steps, on S
   long refreshes = 0, misses = 0;
   RomTimes times;
 
@@ -319,11 +320,12 @@ struct LatentStepper::Impl {
       deform_candidates(xK, xK_prev);
     }
     std::vector<size_t> n_in_K;  // N as positions in K
+    std::vector<Vec3> xs;        // S at ẑ_n
     {
       ScopedTimer timer(times.mpm);
       const auto& ids = K.ids();
       for (size_t k = 0; k < ids.size(); ++k) slot[ids[k]] = int32_t(k);
-      std::vector<Vec3> xs(S.size());
+      xs.resize(S.size());
       for (size_t k = 0; k < S.size(); ++k) {
         if (slot[S[k]] < 0) fail("rom: internal error, sample particle ", S[k], " not a candidate");
         xs[k] = xK[slot[S[k]]];
@@ -424,11 +426,30 @@ struct LatentStepper::Impl {
       z_prev = z;
       z = res.z;
       last_residual = res.rms_residual;
+      track_kinetic_energy(xs, xs_new, res.z);
       xK_last.swap(xK);
       xK_last_valid = true;
     }
     t += dt;
     ++n;
+  }
+
+  // The samples' kinetic energy after the MPM step, (x_S^{n+1} − x_S^n)/Δt, against what the
+  // inversion keeps of it, (g(X_S, ẑ_{n+1}) − x_S^n)/Δt: velocity outside g's tangent is lost
+  // at every step, and the loss compounds over a run's thousands of steps.
+  void track_kinetic_energy(const std::vector<Vec3>& xs, const std::vector<Vec3>& xs_new,
+                            const Latent& z_new) {
+    std::vector<Vec3> fitted;
+    {
+      torch::NoGradGuard no_grad;
+      to_vec3(model.deform(Xn_S, latent_row(z_new).expand({int64_t(S.size()), z_new.size()})),
+              fitted);
+    }
+    for (size_t k = 0; k < S.size(); ++k) {
+      const double m = quad.mass[S[k]];
+      energy_after_mpm += 0.5 * m * ((xs_new[k] - xs[k]) / dt).squaredNorm();
+      energy_after_inversion += 0.5 * m * ((fitted[k] - xs[k]) / dt).squaredNorm();
+    }
   }
 
   // CROM: τ = τ(F) with F = ∂g/∂X, through the scene's own constitutive models (each particle's
@@ -529,6 +550,10 @@ long LatentStepper::linearization_anchors() const {
 }
 long LatentStepper::integration_misses() const {
   return impl_->misses;
+}
+double LatentStepper::inversion_energy_kept() const {
+  return impl_->energy_after_mpm > 0 ? impl_->energy_after_inversion / impl_->energy_after_mpm
+                                     : 1.0;
 }
 double LatentStepper::last_inversion_residual() const {
   return impl_->last_residual;

@@ -60,6 +60,9 @@ class LatentStepper {
   long linearization_anchors() const;      // with RomOptions::linearize: re-anchorings of g so far
   long integration_misses() const;         // with verify_integration_set: particles of N not found
   double last_inversion_residual() const;  // rms ‖g − x‖ on S after the last inversion (m)
+  // Σ over steps of the samples' kinetic energy the inversion keeps, over Σ of what the MPM step
+  // gave them: below 1, the projection onto g's tangent bleeds velocity every step.
+  double inversion_energy_kept() const;
   const RomTimes& times() const;
 
  private:

@@ -238,6 +238,7 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.samples_end = rom.sample_count();
   rep.mean_N = rom.mean_integration_count();
   rep.mean_K = rom.mean_candidate_count();
+  rep.energy_kept = rom.inversion_energy_kept();
   rep.quadrature_points = rom.quadrature_count();
   rep.threads = o.threads;
   rep.refreshes = rom.refreshes();
@@ -261,6 +262,8 @@ std::string format_rom_report(const RomReport& r) {
   put("  |S| = %zu%s, mean |N| = %.0f (candidates %.0f, %ld full refreshes)", r.samples,
       r.samples_end != r.samples ? (" -> " + std::to_string(r.samples_end)).c_str() : "", r.mean_N,
       r.mean_K, r.refreshes);
+  put("  inversion keeps %.2f%% of the samples' kinetic energy per step (energy-weighted mean)",
+      100 * r.energy_kept);
   if (r.quadrature_points > 0 && r.quadrature_points < r.particles)
     put("  thinned quadrature: N drawn from %zu points standing for the %zu particles",
         r.quadrature_points, r.particles);

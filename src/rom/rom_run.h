@@ -35,6 +35,7 @@ struct RomReport {
   double gamma = 0;  // 3|P|/r
   size_t samples = 0, samples_end = 0;
   double mean_N = 0, mean_K = 0;
+  double energy_kept = 1;        // LatentStepper::inversion_energy_kept
   int threads = 0;               // as asked (0 = all cores)
   size_t quadrature_points = 0;  // particles that can join N: |P| unless the quadrature is thinned
   long refreshes = 0;
