@@ -94,6 +94,10 @@ TEST(RomInversion, RecoversAKnownLatentFromTheNetworksOwnOutput) {
   EXPECT_LT((r.z - z_true).norm(), 1e-3) << r.z.transpose();
   // Float32 networks: the residual floor is a few ulps of the positions (~1).
   EXPECT_LT(r.rms_residual, 1e-4);
+  // The positions it returns are g at the returned latent.
+  const std::vector<Vec3> at_z = m.deform(r.z);
+  ASSERT_EQ(r.fitted.size(), at_z.size());
+  for (size_t p = 0; p < at_z.size(); ++p) EXPECT_LT((r.fitted[p] - at_z[p]).norm(), 1e-6);
   // Started far away, the line search never returns a latent that fits worse than the start.
   const Eigen::VectorXd far = z_true + Eigen::VectorXd::Constant(4, 3.0);
   opt.max_iterations = 2;

@@ -41,17 +41,21 @@ void deformation_jacobian(NeuralModel& model, const torch::Tensor& Xn, const Eig
 
 namespace {
 
+// Σ‖g(X_p, ẑ) − target_p‖², with g(X_p, ẑ) left in `g`.
 double squared_residual(NeuralModel& model, const torch::Tensor& Xn, const Eigen::VectorXd& z,
-                        const std::vector<Vec3>& target) {
+                        const std::vector<Vec3>& target, std::vector<Vec3>& g) {
   torch::NoGradGuard no_grad;
   const int64_t n = Xn.size(0), r = z.size();
   const torch::Tensor zt =
       torch::from_blob(const_cast<double*>(z.data()), {1, r}, torch::kFloat64).to(torch::kFloat32);
   const torch::Tensor o = model.deform(Xn, zt.expand({n, r})).to(torch::kFloat64).contiguous();
   const double* op = o.data_ptr<double>();
+  g.resize(n);
   double sum = 0;
-  for (int64_t p = 0; p < n; ++p)
-    sum += (Vec3(op[3 * p], op[3 * p + 1], op[3 * p + 2]) - target[p]).squaredNorm();
+  for (int64_t p = 0; p < n; ++p) {
+    g[p] = Vec3(op[3 * p], op[3 * p + 1], op[3 * p + 2]);
+    sum += (g[p] - target[p]).squaredNorm();
+  }
   return sum;
 }
 
@@ -69,7 +73,7 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
   InversionResult res;
   res.z = z0;
   Eigen::MatrixXd J;
-  std::vector<Vec3> g;
+  std::vector<Vec3> g, trial;
   const int iterations = options.taylor ? 1 : std::max(1, options.max_iterations);
   for (int it = 0; it < iterations; ++it) {
     deformation_jacobian(model, Xn, res.z, J, g);
@@ -85,17 +89,20 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
     if (!dz.allFinite())
       fail("inversion: the Gauss–Newton step is not finite (iteration ", it + 1, ")");
     res.iterations = it + 1;
+    res.fitted = g;
     if (options.taylor) {  // the linearised update as it stands, by definition
       res.z += dz;
+      res.fitted.clear();  // g at the stepped latent was never evaluated
       break;
     }
     // Backtracking: a full Gauss–Newton step can overshoot where g is strongly nonlinear in ẑ;
     // the latent must never fit the samples worse than the one it started from.
     bool accepted = false;
     for (int halvings = 0; halvings < 6; ++halvings) {
-      const double r1 = squared_residual(model, Xn, res.z + dz, target);
+      const double r1 = squared_residual(model, Xn, res.z + dz, target, trial);
       if (r1 < r0) {
         res.z += dz;
+        res.fitted.swap(trial);
         res.rms_residual = std::sqrt(r1 / double(n));
         accepted = true;
         break;

@@ -20,6 +20,9 @@ struct InversionResult {
   int iterations = 0;
   double rms_residual =
       0;  // √(mean ‖g(X_p, ẑ) − x_p‖²) at the returned ẑ (Taylor: before the step)
+  // g(X_p, ẑ) at the returned ẑ, as the last evaluation left it; empty after a Taylor step,
+  // which never evaluates g at the latent it returns.
+  std::vector<Vec3> fitted;
 };
 
 // g(X_p, ẑ) for the normalised rest positions Xn (|S| × 3, float) and ∂g/∂ẑ as a 3|S| × r

@@ -426,7 +426,7 @@ struct LatentStepper::Impl {
       z_prev = z;
       z = res.z;
       last_residual = res.rms_residual;
-      track_kinetic_energy(xs, xs_new, res.z);
+      track_kinetic_energy(xs, xs_new, res);
       xK_last.swap(xK);
       xK_last_valid = true;
     }
@@ -438,13 +438,14 @@ struct LatentStepper::Impl {
   // inversion keeps of it, (g(X_S, ẑ_{n+1}) − x_S^n)/Δt: velocity outside g's tangent is lost
   // at every step, and the loss compounds over a run's thousands of steps.
   void track_kinetic_energy(const std::vector<Vec3>& xs, const std::vector<Vec3>& xs_new,
-                            const Latent& z_new) {
-    std::vector<Vec3> fitted;
-    {
+                            const InversionResult& res) {
+    std::vector<Vec3> taylor_fit;  // the Taylor step leaves g at its latent unevaluated
+    if (res.fitted.empty()) {
       torch::NoGradGuard no_grad;
-      to_vec3(model.deform(Xn_S, latent_row(z_new).expand({int64_t(S.size()), z_new.size()})),
-              fitted);
+      to_vec3(model.deform(Xn_S, latent_row(res.z).expand({int64_t(S.size()), res.z.size()})),
+              taylor_fit);
     }
+    const std::vector<Vec3>& fitted = res.fitted.empty() ? taylor_fit : res.fitted;
     for (size_t k = 0; k < S.size(); ++k) {
       const double m = quad.mass[S[k]];
       energy_after_mpm += 0.5 * m * ((xs_new[k] - xs[k]) / dt).squaredNorm();
