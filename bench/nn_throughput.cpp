@@ -6,6 +6,8 @@
 #include <benchmark/benchmark.h>
 #include <torch/torch.h>
 
+#include <malloc.h>
+
 #include <cstdlib>
 #include <string>
 
@@ -27,7 +29,7 @@ const char* name_of(int net) {
   return net == 0 ? "g" : net == 1 ? "h" : "l";
 }
 
-void train_step(benchmark::State& state) {
+void adam_steps(benchmark::State& state) {
   const int net = int(state.range(0));
   const int64_t width = state.range(1);
   torch::manual_seed(1);
@@ -46,8 +48,27 @@ void train_step(benchmark::State& state) {
   state.SetLabel(std::string(name_of(net)) + " width " + std::to_string(width));
 }
 
+// The same Adam step with glibc's default allocator (a dynamic mmap threshold, freed heap tops
+// trimmed) and with nsf's (nsf::retain_freed_memory), side by side in one run. The settings are
+// process-wide and cannot be undone, so the default cases are registered first and every other
+// benchmark starts by switching to nsf's.
+void train_step(benchmark::State& state) {
+  nsf::retain_freed_memory();
+  adam_steps(state);
+}
+
+void train_step_allocator(benchmark::State& state) {
+  const bool retain = state.range(2) != 0;
+  if (retain) nsf::retain_freed_memory();
+  adam_steps(state);
+  state.SetLabel(std::string(name_of(int(state.range(0)))) + " width " +
+                 std::to_string(state.range(1)) +
+                 (retain ? ", nsf allocator" : ", glibc default allocator"));
+}
+
 void inference(benchmark::State& state) {
   const int net = int(state.range(0));
+  nsf::retain_freed_memory();
   const int64_t width = state.range(1), points = state.range(2);
   torch::manual_seed(1);
   nsf::FieldMlp mlp(in_of(net), out_of(net), width, kDepth);
@@ -62,9 +83,10 @@ void inference(benchmark::State& state) {
 }
 
 void encoder_frames(benchmark::State& state) {
-  const int64_t particles = state.range(0), frames = 4;
+  nsf::retain_freed_memory();
+  const int64_t particles = state.range(0), max_length = state.range(1), frames = 4;
   torch::manual_seed(1);
-  nsf::Encoder e(particles, kLatent);
+  nsf::Encoder e(particles, kLatent, 32, 3, max_length);
   const torch::Tensor x = torch::randn({frames, 3 * particles});
   for (auto _ : state) {
     const torch::Tensor z = e->forward(x);
@@ -72,7 +94,8 @@ void encoder_frames(benchmark::State& state) {
     benchmark::DoNotOptimize(z.data_ptr<float>());
   }
   state.SetItemsProcessed(state.iterations() * frames);
-  state.SetLabel("forward + backward, " + std::to_string(particles) + " particles");
+  state.SetLabel("forward + backward, " + std::to_string(particles) + " particles, max length " +
+                 std::to_string(max_length));
 }
 
 // Table 1's widths (β·d) of the scenes, and the 128 that `nsf report` and `nsf demo` use.
@@ -90,13 +113,27 @@ void inference_widths(benchmark::internal::Benchmark* b) {
 
 }  // namespace
 
+BENCHMARK(train_step_allocator)
+    ->Args({0, 192, 0})
+    ->Args({1, 128, 0})
+    ->Args({0, 192, 1})
+    ->Args({1, 128, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(train_step)->Apply(widths)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(inference)->Apply(inference_widths)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(encoder_frames)->Arg(5000)->Arg(50000)->Unit(benchmark::kMillisecond)->UseRealTime();
+// App. E's stop at length 12, and the 1024 that the jelly trains with (docs/TRAINING.md).
+BENCHMARK(encoder_frames)
+    ->Args({5000, 12})
+    ->Args({5000, 1024})
+    ->Args({50000, 12})
+    ->Args({50000, 1024})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 int main(int argc, char** argv) {
   const char* t = std::getenv("NSF_THREADS");
-  const int threads = nsf::set_nn_threads(t ? std::atoi(t) : 2);
+  const int threads = nsf::set_nn_threads(t ? std::atoi(t) : 2, /*retain_memory=*/false);
   benchmark::Initialize(&argc, argv);
   benchmark::AddCustomContext("gemm_threads", std::to_string(threads));
   benchmark::AddCustomContext("blas", nsf::blas_info());

@@ -7,8 +7,14 @@ namespace nsf {
 // Uses `requested` threads (0 = all cores) for the networks: OpenBLAS's pool gets them all (the
 // GEMMs are nearly all the work); torch's intra-op OpenMP pool gets one thread unless
 // OMP_WAIT_POLICY=passive, since idle libgomp threads otherwise spin on the cores OpenBLAS
-// needs. Returns the thread count of the GEMMs.
-int set_nn_threads(int requested);
+// needs. Also calls retain_freed_memory() unless told not to. Returns the thread count of the
+// GEMMs.
+int set_nn_threads(int requested, bool retain_memory = true);
+
+// Keeps freed blocks up to 32 MiB in the process's heap (glibc mallopt) instead of handing them
+// back to the kernel, so that the tensors every step allocates anew do not page-fault again.
+// The price: memory freed after a peak stays with the process until it exits.
+void retain_freed_memory();
 
 // Which BLAS the process actually loaded: "OpenBLAS 0.3.21 … (2 threads)", or a warning when
 // it is not OpenBLAS (the reference BLAS is 6–10× slower; see scripts/install-deps.sh).
