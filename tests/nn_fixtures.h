@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "io/run_writer.h"
 #include "mpm/particles.h"
@@ -34,9 +35,10 @@ inline void set_synthetic_frame(Particles& ps, double t, double mu) {
 
 // Writes <dir>/train_k.h5 and test_k.h5 (attribute mu) and a manifest.json.
 inline void write_synthetic_dataset(const std::filesystem::path& dir, int particles,
-                                    unsigned seed = 7, int frames = 12) {
+                                    unsigned seed = 7, int frames = 12,
+                                    const std::vector<double>& train_mu = {0.5, 1.0, 1.5, 2.0}) {
   std::filesystem::create_directories(dir);
-  const double train_mu[] = {0.5, 1.0, 1.5, 2.0}, test_mu[] = {1.25};
+  const double test_mu[] = {1.25};
   SimSettings s;
   s.dt = 0.05;
   s.substeps = 1;
@@ -50,11 +52,15 @@ inline void write_synthetic_dataset(const std::filesystem::path& dir, int partic
     }
     w.finish();
   };
-  for (int k = 0; k < 4; ++k) write("train_" + std::to_string(k) + ".h5", train_mu[k]);
+  std::string train_list;
+  for (size_t k = 0; k < train_mu.size(); ++k) {
+    const std::string name = "train_" + std::to_string(k) + ".h5";
+    write(name, train_mu[k]);
+    train_list += (k ? ", \"" : "\"") + name + "\"";
+  }
   write("test_0.h5", test_mu[0]);
-  std::ofstream(dir / "manifest.json")
-      << R"({"scene": "synthetic", "train": ["train_0.h5", "train_1.h5", "train_2.h5", )"
-      << R"("train_3.h5"], "test": [{"file": "test_0.h5", "mu": 1.25}]})";
+  std::ofstream(dir / "manifest.json") << R"({"scene": "synthetic", "train": [)" << train_list
+                                       << R"(], "test": [{"file": "test_0.h5", "mu": 1.25}]})";
 }
 
 }  // namespace nsf::test

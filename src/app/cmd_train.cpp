@@ -114,6 +114,11 @@ void add_nn_commands(CLI::App& app) {
                   "Noise on the latents of stages 2, 3, in units of each component's spread")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 10.0));
+  cmd->add_option("--mix-frames", c.mix_frames,
+                  "Probability that a stage-1 batch frame blends two runs with neighbouring mu at "
+                  "the same time (0 = off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--latent-dim,-r", a->r, "Latent dimension r (default: Table 1 for the scene)");
   cmd->add_option("--depth", a->depth, "Hidden layers per decoder (default 5)");
   cmd->add_option("--width-g", a->width_g, "Hidden width of g (default: Table 1)");

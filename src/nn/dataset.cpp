@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <numeric>
 #include <regex>
 
 #include "core/error.h"
@@ -178,6 +180,36 @@ const FrameData& FrameStore::get(size_t i) const {
   if (cached_) return frames_[i];
   scratch_ = data_.read_frame(data_.train()[index_[i].first], index_[i].second);
   return scratch_;
+}
+
+std::vector<std::vector<size_t>> FrameStore::neighbour_frames() const {
+  const std::vector<SimulationFile>& runs = data_.train();
+  std::map<std::pair<size_t, size_t>, size_t> index;  // (run, frame) → training frame
+  for (size_t i = 0; i < size(); ++i) index[{sim_of(i), frame_of(i)}] = i;
+  // Runs in order of μ; each run's neighbours in that order share its frames' times.
+  std::vector<size_t> order(runs.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return runs[a].mu < runs[b].mu; });
+  std::vector<std::vector<size_t>> neighbours(runs.size());
+  for (size_t k = 0; k < order.size(); ++k) {
+    if (k > 0) neighbours[order[k]].push_back(order[k - 1]);
+    if (k + 1 < order.size()) neighbours[order[k]].push_back(order[k + 1]);
+  }
+  std::vector<std::vector<size_t>> partners(size());
+  for (size_t i = 0; i < size(); ++i) {
+    const size_t sim = sim_of(i), frame = frame_of(i);
+    std::vector<std::pair<size_t, size_t>> candidates;
+    if (data_.has_mu())
+      for (size_t other : neighbours[sim]) candidates.push_back({other, frame});
+    else
+      candidates = {{sim, frame - 1}, {sim, frame + 1}};  // frame 0 − 1 wraps: not found
+    for (const auto& c : candidates) {
+      auto it = index.find(c);
+      if (it != index.end()) partners[i].push_back(it->second);
+    }
+  }
+  return partners;
 }
 
 }  // namespace nsf

@@ -77,6 +77,9 @@ class FrameStore {
   // Frame i; valid until the next call when streaming.
   const FrameData& get(size_t i) const;
   bool cached() const { return cached_; }
+  // Per frame, the frames at the same time in the runs next to its run in order of μ (without μ:
+  // the frames before and after it in its own run). `nsf train --mix-frames` blends them.
+  std::vector<std::vector<size_t>> neighbour_frames() const;
 
  private:
   const Dataset& data_;

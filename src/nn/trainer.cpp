@@ -101,6 +101,8 @@ class Trainer {
   torch::Tensor Xn_;       // |P| × 3 normalised rest positions
   torch::Tensor latents_;  // frames × r, ẑ_n = e(xⁿ) once stage 1 is done
   torch::Tensor mu_;       // frames × 1 (physical μ of each training frame's run)
+  // For --mix-frames: per training frame, the frames it may be blended with.
+  std::vector<std::vector<size_t>> mix_partners_;
   std::mt19937_64 rng_;
   int stage_ = 0;
   long step_ = 0;
@@ -123,6 +125,7 @@ std::string Trainer::config_key() const {
     os << " encoder_channels=" << n.encoder_channels;
   if (n.encoder_max_length != EncoderImpl::kMaxLength)
     os << " encoder_max_length=" << n.encoder_max_length;
+  if (cfg_.mix_frames > 0) os << " mix_frames=" << cfg_.mix_frames;
   return os.str();
 }
 
@@ -245,6 +248,7 @@ double Trainer::train_step() {
   torch::Tensor target = torch::empty({B * n, d});
   torch::Tensor full_x = stage_ == 0 ? torch::empty({B, P, 3}) : torch::Tensor();
   float* t = target.data_ptr<float>();
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
   for (int64_t b = 0; b < B; ++b) {
     frames[b] = static_cast<int64_t>(pick_frame(rng_));
     const FrameData& f = store_.get(frames[b]);
@@ -254,6 +258,22 @@ double Trainer::train_step() {
       const int64_t p = n == P ? j : pick_particle(rng_);
       particles[b * n + j] = p;
       std::copy(&src[d * p], &src[d * p] + d, t + (b * n + j) * d);
+    }
+    // No draws at all when off, so that runs without the option stay bit-identical.
+    if (stage_ == 0 && cfg_.mix_frames > 0 && uniform(rng_) < cfg_.mix_frames) {
+      const std::vector<size_t>& partners = mix_partners_[size_t(frames[b])];
+      if (partners.empty()) continue;
+      const size_t other =
+          partners[std::uniform_int_distribution<size_t>(0, partners.size() - 1)(rng_)];
+      const float a = uniform(rng_);
+      const FrameData& g = store_.get(other);  // `f` may be invalid from here on (streaming)
+      float* xb = full_x[b].data_ptr<float>();
+      for (int64_t k = 0; k < 3 * P; ++k) xb[k] += a * (g.x[size_t(k)] - xb[k]);
+      for (int64_t j = 0; j < n; ++j) {
+        const int64_t p = particles[b * n + j];
+        float* tp = t + (b * n + j) * d;
+        for (int c = 0; c < 3; ++c) tp[c] += a * (g.x[size_t(3 * p + c)] - tp[c]);
+      }
     }
   }
   const torch::Tensor pidx = torch::tensor(particles, torch::kInt64);
@@ -425,6 +445,7 @@ TrainReport Trainer::run() {
   for (size_t i = 0; i < store_.size(); ++i)
     mu.push_back(float(data_.train()[store_.sim_of(i)].mu));
   mu_ = torch::tensor(mu).reshape({-1, 1});
+  if (cfg_.mix_frames > 0) mix_partners_ = store_.neighbour_frames();
 
   long steps_this_process = 0;
   for (; stage_ < kStageCount; ++stage_, step_ = 0) {
