@@ -4,6 +4,7 @@
 
 #include "nn/config.h"
 #include "nn/networks.h"
+#include "nn/runtime.h"
 
 using nsf::Encoder;
 using nsf::FieldMlp;
@@ -118,4 +119,15 @@ TEST(NnConfig, LearningRateStepsCoverTheStage) {
   EXPECT_EQ(nsf::learning_rate(79, 100), 1e-4);
   EXPECT_EQ(nsf::learning_rate(99, 100), 5e-5);
   EXPECT_EQ(nsf::learning_rate(2, 3), 1e-4);  // fewer steps than rates: still ends lower
+}
+
+TEST(NnRuntime, ScopedBlasThreadsRestoresTheCount) {
+  if (!nsf::blas_is_openblas()) GTEST_SKIP() << "libblas.so.3 is not OpenBLAS";
+  nsf::set_nn_threads(2);
+  ASSERT_EQ(nsf::blas_thread_count(), 2);
+  {
+    const nsf::ScopedBlasThreads one(1);
+    EXPECT_EQ(nsf::blas_thread_count(), 1);
+  }
+  EXPECT_EQ(nsf::blas_thread_count(), 2);
 }

@@ -49,6 +49,10 @@ void add_rom_command(CLI::App& app) {
   cmd->add_option("--gn-iterations", a->opt.rom.inversion.max_iterations,
                   "Gauss-Newton iteration cap")
       ->capture_default_str();
+  cmd->add_option("--gn-threads", a->opt.rom.inversion.threads,
+                  "BLAS threads of the Gauss-Newton fit (0 = those of -j)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 256));
   cmd->add_option("--gn-tolerance", a->opt.rom.inversion.tolerance,
                   "Stop when |dz| <= tol (1 + |z|)")
       ->capture_default_str();

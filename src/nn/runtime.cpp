@@ -55,6 +55,21 @@ int set_nn_threads(int requested, bool retain_memory) {
   return at::get_num_threads();
 }
 
+ScopedBlasThreads::ScopedBlasThreads(int n) : previous_(blas_thread_count()) {
+  auto set = openblas_symbol<void (*)(int)>("openblas_set_num_threads");
+  if (set && previous_ > 0 && previous_ != n) set(n);
+}
+
+ScopedBlasThreads::~ScopedBlasThreads() {
+  auto set = openblas_symbol<void (*)(int)>("openblas_set_num_threads");
+  if (set && previous_ > 0 && blas_thread_count() != previous_) set(previous_);
+}
+
+int blas_thread_count() {
+  auto get = openblas_symbol<int (*)()>("openblas_get_num_threads");
+  return get ? get() : 0;
+}
+
 bool blas_is_openblas() {
   return openblas_symbol<char* (*)()>("openblas_get_config") != nullptr;
 }
@@ -65,10 +80,8 @@ std::string blas_info() {
     return "WARNING: libblas.so.3 is not OpenBLAS (the reference BLAS is 6-10x slower); run "
            "scripts/install-deps.sh or `update-alternatives --config "
            "libblas.so.3-x86_64-linux-gnu`";
-  std::string s = std::string("OpenBLAS ") + config();
-  if (auto threads = openblas_symbol<int (*)()>("openblas_get_num_threads"))
-    s += " (" + std::to_string(threads()) + " threads)";
-  return s;
+  return std::string("OpenBLAS ") + config() + " (" + std::to_string(blas_thread_count()) +
+         " threads)";
 }
 
 void seed_torch(unsigned long long seed) {

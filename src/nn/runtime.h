@@ -16,10 +16,25 @@ int set_nn_threads(int requested, bool retain_memory = true);
 // The price: memory freed after a peak stays with the process until it exits.
 void retain_freed_memory();
 
+// Runs the GEMMs of a scope on `n` threads and restores the previous count on exit. For work
+// on a few hundred points (the Gauss–Newton fit on the sample particles), where splitting each
+// small GEMM across threads costs more than it saves. No effect without OpenBLAS.
+class ScopedBlasThreads {
+ public:
+  explicit ScopedBlasThreads(int n);
+  ~ScopedBlasThreads();
+  ScopedBlasThreads(const ScopedBlasThreads&) = delete;
+  ScopedBlasThreads& operator=(const ScopedBlasThreads&) = delete;
+
+ private:
+  int previous_ = 0;
+};
+
 // Which BLAS the process actually loaded: "OpenBLAS 0.3.21 … (2 threads)", or a warning when
 // it is not OpenBLAS (the reference BLAS is 6–10× slower; see scripts/install-deps.sh).
 std::string blas_info();
 bool blas_is_openblas();
+int blas_thread_count();  // OpenBLAS's current thread count; 0 without OpenBLAS
 
 // Seeds torch's global generator (network initialisation).
 void seed_torch(unsigned long long seed);

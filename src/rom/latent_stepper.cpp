@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/error.h"
 #include "mpm/simulation.h"
 #include "nn/model.h"
+#include "nn/runtime.h"
 #include "rom/field_gradients.h"
 #include "rom/integration_set.h"
 #include "rom/latent_inversion.h"
@@ -422,6 +424,8 @@ struct LatentStepper::Impl {
     // (3) Inversion for ẑ_{n+1}, warm-started from ẑ_n.
     {
       ScopedTimer timer(times.inversion);
+      std::optional<ScopedBlasThreads> fit_threads;
+      if (opt.inversion.threads > 0) fit_threads.emplace(opt.inversion.threads);
       const InversionResult res = invert_deformation(model, Xn_S, xs_new, z, opt.inversion);
       z_prev = z;
       z = res.z;

@@ -8,6 +8,9 @@ struct GaussNewtonOptions {
   int max_iterations = 3;   // the paper converges in 2–3
   double tolerance = 1e-5;  // stop when ‖Δẑ‖ ≤ tolerance · (1 + ‖ẑ‖)
   bool taylor = false;      // one linearised step at ẑ_n (first-order Taylor, Chen et al. 2023a)
+  // BLAS threads of the fit (0 = those of the rest of the step). Its GEMMs are |S| points wide,
+  // a few hundred, too small to split across threads (docs/ROM.md, "Threads of the inversion").
+  int threads = 1;
 };
 
 // Where the ROM step takes the particles' APIC affine matrices C from.
