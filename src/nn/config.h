@@ -49,8 +49,8 @@ struct TrainConfig {
   // the latents of stages 2 and 3, so h and l stay tame near the training latents.
   double latent_noise = 0.1;
   // Probability that a stage-1 batch frame is a blend (1 − α)·xᵃ + α·xᵇ, α ~ U(0, 1), of a
-  // training frame and the same frame of the run with the neighbouring μ (the next frame in time
-  // when the runs carry no μ). e and g form an autoencoder of positions, so a blend is its own
+  // training frame and the same frame of a run with a neighbouring μ (without μ: the frame before
+  // or after it in its own run). e and g form an autoencoder of positions, so a blend is its own
   // target; it fills the gaps between the runs' μ, where the test runs lie. docs/TRAINING.md.
   double mix_frames = 0;
   unsigned long long seed = 1;

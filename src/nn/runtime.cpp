@@ -24,11 +24,12 @@ Fn openblas_symbol(const char* name) {
 }  // namespace
 
 void retain_freed_memory() {
-  // Every training step and every ROM step allocates the same activation tensors (0.1-10 MiB)
-  // and frees them again. By default glibc serves such blocks with mmap and trims the heap top
-  // on free, so each step re-faults its pages in and zero-fills them: perf showed a third of a
-  // stage-1 step in page faults and OpenBLAS's sgemm_beta touching fresh pages. Keeping them in
-  // the heap measured 56k -> 84k points/s (jelly, g width 192, 2 threads).
+  // Every training step allocates the same activation and gradient tensors (0.1-10 MiB) and
+  // frees them again. By default glibc serves such blocks with mmap, or trims them off the heap
+  // top on free, so each step re-faults its pages in and zero-fills them: perf showed a third of
+  // a stage-1 step in page faults and OpenBLAS's sgemm_beta touching fresh pages. Keeping them
+  // in the heap doubled the Adam step of g at width 192 (bench/nn_throughput, allocator rows;
+  // docs/BENCHMARKS.md, "The allocator").
   mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's maximum on 64-bit
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 }
