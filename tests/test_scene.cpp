@@ -11,6 +11,7 @@
 #include "mpm/materials/param_check.h"
 #include "mpm/scene/scene.h"
 #include "mpm/scene/shape_json.h"
+#include "mpm/scene/train_section.h"
 
 namespace nsf {
 namespace {
@@ -235,6 +236,39 @@ TEST(SceneValidation, RejectsUnknownKeysWrongTypesAndOutOfRangeValues) {
   expect_rejected(j, {"colliders[0].normal"});
 }
 
+TEST(SceneValidation, TrainSectionSetsWhatTheCommandLineLeavesOpen) {
+  const TrainSection t =
+      parse_train_section(json::parse(R"({"steps": [34000, 1500, 1500], "widths": [192, 128, 128],
+                      "encoder_max_length": 1024})"));
+  const TrainPlan cli{{6000, 4000, 4000}, {0, 128, 128}};
+  const TrainPlan scene = with_train_section(cli, t, false, false);
+  EXPECT_EQ(scene.steps, (std::array<long, 3>{34000, 1500, 1500}));
+  EXPECT_EQ(scene.widths, (std::array<int, 3>{192, 128, 128}));
+  EXPECT_EQ(scene.encoder_max_length, 1024);
+  const TrainPlan given = with_train_section(cli, t, true, true);  // --steps and --widths win
+  EXPECT_EQ(given.steps, cli.steps);
+  EXPECT_EQ(given.widths, cli.widths);
+  EXPECT_EQ(given.encoder_max_length, 1024);
+  // Keys left out keep the command's values.
+  const TrainPlan partial = with_train_section(
+      cli, parse_train_section(json::parse(R"({"steps": [1, 2, 3]})")), false, false);
+  EXPECT_EQ(partial.steps, (std::array<long, 3>{1, 2, 3}));
+  EXPECT_EQ(partial.widths, cli.widths);
+  EXPECT_EQ(partial.encoder_max_length, 0);
+
+  json j = small_scene();
+  j["train"] = {{"steps", {100, 0, 100}}};
+  expect_rejected(j, {"train.steps[1]", "0"});
+  j["train"] = {{"widths", {64, 64}}};
+  expect_rejected(j, {"train.widths", "three"});
+  j["train"] = {{"encoder_max_length", 3}};
+  expect_rejected(j, {"train.encoder_max_length", "3"});
+  j["train"] = {{"epochs", 5}};
+  expect_rejected(j, {"train.epochs"});
+  j["train"] = 5;
+  expect_rejected(j, {"'train'"});
+}
+
 TEST(SceneValidation, RejectsMissingSectionsAndEmptyObjects) {
   json j = small_scene();
   j.erase("simulation");
@@ -435,6 +469,10 @@ TEST(Docs, SceneSnippetsAreValid) {
       json scene = read_scene_json(
           (fs::path(NSF_SOURCE_DIR) / "scenes" / "paper" / "cake_small.json").string());
       scene["sweep"] = j["sweep"];
+      EXPECT_NO_THROW(build_scene(scene));
+    } else if (j.contains("train")) {
+      json scene = small_scene();
+      scene["train"] = j["train"];
       EXPECT_NO_THROW(build_scene(scene));
     } else if (j.contains("camera")) {
       EXPECT_TRUE(parse_camera(j).has_value());

@@ -25,6 +25,7 @@ struct DemoArgs {
   std::string scene = "scenes/paper/metal_small.json";
   std::string data, model, out = "out";
   TrainPlan train{{6000, 4000, 4000}, {0, 128, 128}};
+  bool steps_given = false, widths_given = false;  // else the scene's "train" section may set them
   int samples = 0;
   int threads = 2;
 };
@@ -46,7 +47,8 @@ void run_demo(const DemoArgs& a) {
   const Dataset dataset(data);
   if (dataset.test().empty()) fail("demo: dataset ", data, " has no test run to hold out");
   std::printf("== 2/3 neural fields: nsf train %s --out %s\n", data.c_str(), model.c_str());
-  ensure_model(data, model, a.train, a.threads);
+  ensure_model(data, model, with_scene_recipe(a.train, a.scene, a.steps_given, a.widths_given),
+               a.threads);
 
   const SimulationFile& held_out = dataset.test()[0];
   std::printf("== 3/3 reduced-order run at the held-out mu = %g (not in the training set)\n",
@@ -91,7 +93,9 @@ void add_demo_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--samples,-k", a->samples, "Sample particles (default: the scene's)");
   cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")->capture_default_str();
-  cmd->callback([a] {
+  cmd->callback([a, cmd] {
+    a->steps_given = cmd->count("--steps") > 0;
+    a->widths_given = cmd->count("--widths") > 0;
     // Line-buffered, so the step headers interleave correctly with the progress lines on stderr.
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
     set_threads(a->threads);

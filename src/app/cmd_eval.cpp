@@ -46,14 +46,20 @@ void run_eval(const EvalArgs& a) {
   std::printf("%-16s %9s %6s %8s | %8s %8s %8s | %8s %8s\n", "mean", "", "", percent(d / n).c_str(),
               percent(s / n).c_str(), percent(sf / n).c_str(), percent(f / n).c_str(),
               percent(c / n).c_str(), percent(cf / n).c_str());
+  char latents[96] = "latents from the encoder";
+  if (a.opt.refine_iterations > 0)
+    std::snprintf(latents, sizeof latents,
+                  "encoder latents refined by %d Gauss-Newton iterations on positions",
+                  a.opt.refine_iterations);
   std::printf(
-      "(latents from the encoder on each ground-truth frame; %zu particles per frame; %.1f s)\n"
+      "(%s on each ground-truth frame; %zu particles per frame; %.1f s)\n"
       "delta: eq. 11. stress, affine: relative error of h and l per particle. poly: residual of\n"
       "the best per-frame polynomial of degree %d in X per object, fitted to the ground truth "
       "(how\n"
       "much of the field is smooth at that scale; particle-scale noise stays). force: relative\n"
       "error of the grid forces -sum V tau grad w from h's stress, what the MPM step uses.\n",
-      rows.empty() ? size_t(0) : rows[0].particles, now_seconds() - start, a.opt.poly_degree);
+      latents, rows.empty() ? size_t(0) : rows[0].particles, now_seconds() - start,
+      a.opt.poly_degree);
 }
 
 }  // namespace

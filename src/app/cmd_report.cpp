@@ -24,6 +24,7 @@ struct ReportArgs {
   std::vector<std::string> scenes = {"bread",      "cake",  "sand",        "metal",
                                      "toothpaste", "jelly", "squishy_ball"};
   TrainPlan train{{6000, 4000, 4000}, {0, 128, 128}};
+  bool steps_given = false, widths_given = false;  // else the scene's "train" section may set them
   bool make_missing = true;
   int threads = 2;
   std::string docs = "docs", out = "out/report";
@@ -75,7 +76,8 @@ void run_report(const ReportArgs& a) {
       continue;
     }
     ensure_dataset(scene, data, a.threads);
-    ensure_model(data, model, a.train, a.threads);
+    ensure_model(data, model, with_scene_recipe(a.train, scene, a.steps_given, a.widths_given),
+                 a.threads);
     const Dataset dataset(data);
     if (dataset.test().empty() || !dataset.test()[0].has_mu)
       fail("report: dataset ", data, " has no test run with a parameter to hold out");
@@ -106,11 +108,14 @@ void add_report_command(CLI::App& app) {
       "report", "The paper's Table 1 on nsf: ROM vs full order on the seven scenes");
   cmd->add_option("--size", a->size, "small or paper")->capture_default_str();
   cmd->add_option("--scenes", a->scenes, "Scenes to run (default all seven)")->delimiter(',');
-  cmd->add_option("--steps", a->train.steps, "Training steps per stage, where a model is trained")
+  cmd->add_option("--steps", a->train.steps,
+                  "Training steps per stage, where a model is trained (default: the scene's "
+                  "\"train\" section, else these)")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--widths", a->train.widths,
-                  "Decoder widths g,h,l where a model is trained (0 = Table 1's)")
+                  "Decoder widths g,h,l where a model is trained (0 = Table 1's; default: the "
+                  "scene's \"train\" section, else these)")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_flag("!--no-make", a->make_missing,
@@ -129,7 +134,9 @@ void add_report_command(CLI::App& app) {
   cmd->add_option("--sand-extrapolation", a->sand_extrapolation,
                   "Friction angle of the App. B extrapolation run (deg)")
       ->capture_default_str();
-  cmd->callback([a] {
+  cmd->callback([a, cmd] {
+    a->steps_given = cmd->count("--steps") > 0;
+    a->widths_given = cmd->count("--widths") > 0;
     // Line-buffered, so the step headers interleave correctly with the progress lines on stderr.
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
     set_threads(a->threads);

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "data/sweep.h"
+#include "mpm/scene/scene.h"
 #include "nn/dataset.h"
 #include "nn/neural_fields.h"
 #include "nn/trainer.h"
@@ -20,6 +21,13 @@ double ensure_dataset(const std::string& scene, const std::string& data, int thr
   std::printf("   %s: %d runs (%d simulated now, %d reused) in %.1f s\n", data.c_str(), s.planned,
               s.ran, s.skipped, s.seconds);
   return s.seconds;
+}
+
+TrainPlan with_scene_recipe(TrainPlan plan, const std::string& scene, bool steps_given,
+                            bool widths_given) {
+  const nlohmann::json j = read_scene_json(scene);
+  if (!j.contains("train")) return plan;
+  return with_train_section(plan, parse_train_section(j.at("train")), steps_given, widths_given);
 }
 
 bool ensure_model(const std::string& data, const std::string& model, const TrainPlan& plan,
@@ -41,6 +49,7 @@ bool ensure_model(const std::string& data, const std::string& model, const Train
   int* widths[3] = {&to.config.net.width_g, &to.config.net.width_h, &to.config.net.width_l};
   for (int s = 0; s < 3; ++s)
     if (plan.widths[s] > 0) *widths[s] = plan.widths[s];
+  if (plan.encoder_max_length > 0) to.config.net.encoder_max_length = plan.encoder_max_length;
   to.config.threads = threads;
   to.resume = true;  // an interrupted demo or report continues where it stopped
   train_model(data, model, to);

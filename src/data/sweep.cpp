@@ -84,11 +84,12 @@ void worker(const std::vector<Job>& jobs, const std::string& parameter, int thre
 
 namespace {
 // The scene without the keys that do not change what is simulated, so that editing a
-// description, a camera or the reduced-order samples does not redo a finished sweep.
+// description, a camera, the reduced-order samples or the training recipe does not redo a
+// finished sweep.
 nlohmann::json simulated_part(const std::string& scene_json) {
   nlohmann::json j = nlohmann::json::parse(scene_json, nullptr, false);
   if (j.is_object())
-    for (const char* key : {"description", "camera", "rom"}) j.erase(key);
+    for (const char* key : {"description", "camera", "rom", "train"}) j.erase(key);
   return j;
 }
 }  // namespace

@@ -1,0 +1,51 @@
+#include "mpm/scene/train_section.h"
+
+#include "core/error.h"
+#include "core/json_util.h"
+
+namespace nsf {
+
+namespace {
+
+// Three positive integers, each at most `hi`.
+template <typename T>
+std::array<T, 3> positive_triple(const nlohmann::json& j, const std::string& path, long hi) {
+  if (!j.is_array() || j.size() != 3)
+    fail("scene: '", path, "' must be an array of three positive integers, got ", j.dump());
+  std::array<T, 3> out{};
+  for (size_t i = 0; i < 3; ++i) {
+    if (!j[i].is_number_integer() || j[i].get<long>() < 1 || j[i].get<long>() > hi)
+      fail("scene: '", json::child(path, i), "' must be an integer in [1, ", hi, "], got ",
+           j[i].dump());
+    out[i] = T(j[i].get<long>());
+  }
+  return out;
+}
+
+}  // namespace
+
+TrainSection parse_train_section(const nlohmann::json& train, const std::string& path) {
+  json::require_object(train, path);
+  json::check_keys(train, path, {"steps", "widths", "encoder_max_length"});
+  TrainSection t;
+  if (train.contains("steps"))
+    t.steps = positive_triple<long>(train.at("steps"), json::child(path, "steps"), 100000000);
+  if (train.contains("widths"))
+    t.widths = positive_triple<int>(train.at("widths"), json::child(path, "widths"), 4096);
+  t.encoder_max_length = json::get_int(train, path, "encoder_max_length", 0, 0, 1 << 20);
+  if (t.encoder_max_length > 0 && t.encoder_max_length < 5)
+    fail("scene: '", json::child(path, "encoder_max_length"),
+         "' must be at least 5 (the convolution kernel is 6), or 0 for App. E's, got ",
+         t.encoder_max_length);
+  return t;
+}
+
+TrainPlan with_train_section(TrainPlan plan, const TrainSection& section, bool steps_given,
+                             bool widths_given) {
+  if (section.steps && !steps_given) plan.steps = *section.steps;
+  if (section.widths && !widths_given) plan.widths = *section.widths;
+  if (section.encoder_max_length > 0) plan.encoder_max_length = section.encoder_max_length;
+  return plan;
+}
+
+}  // namespace nsf

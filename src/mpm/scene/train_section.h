@@ -1,0 +1,33 @@
+#pragma once
+// The optional "train" section of a scene: the training recipe that `nsf report` and `nsf demo`
+// use for it where their command lines do not give one (docs/SCENES.md, "Training recipe").
+// A scene whose fields need more than the commands' common recipe carries its own here: the
+// jelly's encoder, for one (docs/TRAINING.md).
+#include <array>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+namespace nsf {
+
+struct TrainSection {
+  std::optional<std::array<long, 3>> steps;  // optimiser steps of stages 1, 2, 3
+  std::optional<std::array<int, 3>> widths;  // hidden widths of g, h, l
+  int encoder_max_length = 0;                // 0: App. E's (the encoder's default)
+};
+
+TrainSection parse_train_section(const nlohmann::json& train, const std::string& path = "train");
+
+// What `nsf report` and `nsf demo` train: steps per stage and, where > 0, decoder widths (g, h, l)
+// in place of Table 1's for the scene.
+struct TrainPlan {
+  std::array<long, 3> steps = {2000, 1500, 1500};
+  std::array<int, 3> widths = {0, 0, 0};
+  int encoder_max_length = 0;  // 0: App. E's
+};
+
+// `plan` with the section's values in place of those the command line did not give.
+TrainPlan with_train_section(TrainPlan plan, const TrainSection& section, bool steps_given,
+                             bool widths_given);
+
+}  // namespace nsf
