@@ -11,8 +11,10 @@
 #include <cstdlib>
 #include <string>
 
+#include "nn/model.h"
 #include "nn/networks.h"
 #include "nn/runtime.h"
+#include "rom/latent_inversion.h"
 
 namespace {
 
@@ -98,6 +100,53 @@ void encoder_frames(benchmark::State& state) {
                  std::to_string(max_length));
 }
 
+// Refining training frames' latents before stages 2 and 3 (nsf train --refine-latents): frame
+// by frame on the pool's BLAS threads (range 0 = 0, as nsf train did before 2026-11-24) against
+// FrameLatentRefiner::refine_many, one frame per thread (1). The jelly's shapes: 5,056
+// particles, r = 5, g width 192; targets are g at a random latent plus noise, starts at 0.
+void refine_frames(benchmark::State& state) {
+  nsf::retain_freed_memory();
+  const bool many = state.range(0) != 0;
+  const int64_t particles = 5056, frames = 8;
+  torch::manual_seed(1);
+  nsf::NetConfig c;
+  c.latent_dim = 5, c.width_g = 192;
+  std::vector<nsf::Vec3> X(particles);
+  const torch::Tensor Xt = torch::rand({particles, 3}, torch::kFloat64);
+  for (int64_t p = 0; p < particles; ++p)
+    X[p] = nsf::Vec3(Xt[p][0].item<double>(), Xt[p][1].item<double>(), Xt[p][2].item<double>());
+  nsf::NeuralModel model(c, nsf::SceneFingerprint::of("bench", X), false);
+  const nsf::FrameLatentRefiner refiner(model, X, 10);
+  std::vector<std::vector<float>> x(frames);
+  for (auto& f : x) {
+    torch::NoGradGuard no_grad;
+    const torch::Tensor z = torch::randn({1, c.latent_dim}).expand({particles, c.latent_dim});
+    const torch::Tensor g =
+        model.deform(Xt.to(torch::kFloat32), z) + 0.01 * torch::randn({particles, 3});
+    f.assign(g.data_ptr<float>(), g.data_ptr<float>() + 3 * particles);
+  }
+  const int batch = std::max(1, nsf::blas_thread_count());
+  for (auto _ : state) {
+    std::vector<Eigen::VectorXd> z(frames, Eigen::VectorXd::Zero(c.latent_dim));
+    if (many) {
+      for (int64_t first = 0; first < frames; first += batch) {
+        std::vector<const float*> xs;
+        std::vector<Eigen::VectorXd> zs;
+        for (int64_t k = first; k < std::min<int64_t>(frames, first + batch); ++k)
+          xs.push_back(x[k].data()), zs.push_back(z[k]);
+        refiner.refine_many(xs, zs);
+        for (size_t k = 0; k < zs.size(); ++k) z[first + int64_t(k)] = zs[k];
+      }
+    } else {
+      for (int64_t k = 0; k < frames; ++k) z[k] = refiner.refine(x[k].data(), z[k]);
+    }
+    benchmark::DoNotOptimize(z.back().data());
+  }
+  state.SetItemsProcessed(state.iterations() * frames);
+  state.SetLabel(many ? "refine_many, one frame per thread"
+                      : "frame by frame, GEMMs on the pool's threads");
+}
+
 // Table 1's widths (β·d) of the scenes, and the 128 that `nsf report` and `nsf demo` use.
 void widths(benchmark::internal::Benchmark* b) {
   for (int64_t w : {96, 144}) b->Args({0, w});
@@ -130,6 +179,8 @@ BENCHMARK(encoder_frames)
     ->Args({50000, 1024})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+BENCHMARK(refine_frames)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 int main(int argc, char** argv) {
   const char* t = std::getenv("NSF_THREADS");

@@ -16,6 +16,7 @@
 #include "nn/runtime.h"
 #include "nn/trainer.h"
 #include "nn_fixtures.h"
+#include "rom/latent_inversion.h"
 
 namespace fs = std::filesystem;
 using nsf::Latent;
@@ -159,6 +160,34 @@ TEST_F(NnTraining, EvalReportsSmallErrorsOnHeldOutRun) {
   ASSERT_EQ(all.size(), 5u);
   EXPECT_EQ(all[0].frames, 3u);  // 1, 6, 11
   EXPECT_EQ(all[0].particles, 50u);
+}
+
+TEST_F(NnTraining, LatentsRefinedInParallelEqualThoseRefinedOneByOne) {
+  nsf::NeuralModel m = nsf::NeuralModel::load(model());
+  const nsf::Dataset d(data());
+  const nsf::FrameLatentRefiner refiner(m, d.rest_positions(), 5);
+  std::vector<nsf::FrameData> frames;
+  std::vector<const float*> x;
+  std::vector<Eigen::VectorXd> start, parallel;
+  for (size_t k = 1; k <= 5; ++k) {
+    frames.push_back(d.read_frame(d.test()[0], 2 * k));
+    const torch::Tensor z =
+        m.encode(torch::from_blob(frames.back().x.data(), {1, kParticles, 3})).to(torch::kFloat64);
+    start.emplace_back(Eigen::Map<const Eigen::VectorXd>(z.data_ptr<double>(), z.size(1)));
+  }
+  for (const nsf::FrameData& f : frames) x.push_back(f.x.data());
+  parallel = start;
+  refiner.refine_many(x, parallel);  // five frames on at most five threads
+  const nsf::ScopedBlasThreads one_blas_thread(1);
+  auto same = [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    return bit_identical({a.data(), a.data() + a.size()}, {b.data(), b.data() + b.size()});
+  };
+  for (size_t k = 0; k < frames.size(); ++k) {
+    const Eigen::VectorXd alone = refiner.refine(x[k], start[k]);
+    EXPECT_FALSE(same(alone, start[k])) << "frame " << k << ": nothing was refined";
+    EXPECT_TRUE(same(alone, parallel[k])) << "frame " << k;
+  }
+  EXPECT_THROW(refiner.refine_many(x, start = {}), nsf::Error);
 }
 
 TEST(NnModelFile, KeepsTheEncoderShape) {

@@ -197,15 +197,26 @@ void Trainer::refine_latents() {
   // directions g barely sees but h and l (trained on encoder latents only) answer wildly:
   // measured with `nsf eval --refine`. Training h and l on refined latents removes the mismatch.
   const FrameLatentRefiner refiner(model_, data_.rest_positions(), cfg_.refine_latents);
-  Progress progress("refining latents", long(store_.size()), "frames");
-  for (int64_t i = 0; i < int64_t(store_.size()); ++i) {
-    const torch::Tensor z0 = latents_[i].to(torch::kFloat64).contiguous();
-    const Eigen::VectorXd z =
-        refiner.refine(store_.get(size_t(i)).x.data(),
-                       Eigen::Map<const Eigen::VectorXd>(z0.data_ptr<double>(), z0.size(0)));
-    latents_[i] = torch::from_blob(const_cast<double*>(z.data()), {z.size()}, torch::kFloat64)
-                      .to(torch::kFloat32);
-    if (!cfg_.quiet) progress.update(long(i + 1));
+  // As many frames at a time as the GEMMs have threads (refine_many: one frame per thread).
+  const size_t batch = size_t(std::max(1, blas_thread_count()));
+  const int64_t frames = int64_t(store_.size());
+  std::vector<std::vector<float>> x(batch);
+  Progress progress("refining latents", long(frames), "frames");
+  for (int64_t first = 0; first < frames; first += int64_t(batch)) {
+    const size_t count = size_t(std::min<int64_t>(int64_t(batch), frames - first));
+    std::vector<const float*> xs(count);
+    std::vector<Eigen::VectorXd> z(count);
+    for (size_t k = 0; k < count; ++k) {
+      x[k] = store_.get(size_t(first) + k).x;  // a copy: streamed frames share one buffer
+      xs[k] = x[k].data();
+      const torch::Tensor z0 = latents_[first + int64_t(k)].to(torch::kFloat64).contiguous();
+      z[k] = Eigen::Map<const Eigen::VectorXd>(z0.data_ptr<double>(), z0.size(0));
+    }
+    refiner.refine_many(xs, z);
+    for (size_t k = 0; k < count; ++k)
+      latents_[first + int64_t(k)] =
+          torch::from_blob(z[k].data(), {z[k].size()}, torch::kFloat64).to(torch::kFloat32);
+    if (!cfg_.quiet) progress.update(long(first + int64_t(count)));
   }
   if (!cfg_.quiet) progress.finish();
 }

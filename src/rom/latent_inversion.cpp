@@ -9,9 +9,11 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <exception>
 
 #include "core/error.h"
 #include "nn/model.h"
+#include "nn/runtime.h"
 
 namespace nsf {
 
@@ -131,6 +133,24 @@ Eigen::VectorXd FrameLatentRefiner::refine(const float* x, const Eigen::VectorXd
   target.reserve(ids_.size());
   for (size_t p : ids_) target.emplace_back(x[3 * p], x[3 * p + 1], x[3 * p + 2]);
   return invert_deformation(model_, Xn_, target, start, options_).z;
+}
+
+void FrameLatentRefiner::refine_many(const std::vector<const float*>& x,
+                                     std::vector<Eigen::VectorXd>& z) const {
+  if (x.size() != z.size()) fail("refine_many: ", x.size(), " frames but ", z.size(), " starts");
+  const ScopedBlasThreads one_blas_thread(1);
+  std::vector<std::exception_ptr> errors(x.size());
+  // Inside an OpenMP region torch and Eigen run each frame's operations serially.
+#pragma omp parallel for num_threads(int(std::max <size_t>(1, x.size()))) schedule(static, 1)
+  for (size_t k = 0; k < x.size(); ++k) {
+    try {
+      z[k] = refine(x[k], z[k]);
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+  }
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
 }
 
 }  // namespace nsf
