@@ -36,7 +36,8 @@ inline void set_synthetic_frame(Particles& ps, double t, double mu) {
 // Writes <dir>/train_k.h5 and test_k.h5 (attribute mu) and a manifest.json.
 inline void write_synthetic_dataset(const std::filesystem::path& dir, int particles,
                                     unsigned seed = 7, int frames = 12,
-                                    const std::vector<double>& train_mu = {0.5, 1.0, 1.5, 2.0}) {
+                                    const std::vector<double>& train_mu = {0.5, 1.0, 1.5, 2.0},
+                                    const std::string& scene_json = R"({"name": "synthetic"})") {
   std::filesystem::create_directories(dir);
   const double test_mu[] = {1.25};
   SimSettings s;
@@ -44,7 +45,7 @@ inline void write_synthetic_dataset(const std::filesystem::path& dir, int partic
   s.substeps = 1;
   auto write = [&](const std::string& name, double mu) {
     Particles ps = synthetic_particles(particles, seed);
-    RunWriter w((dir / name).string(), ps, s, "synthetic", "{\"name\": \"synthetic\"}");
+    RunWriter w((dir / name).string(), ps, s, "synthetic", scene_json);
     w.set_attribute("mu", mu);
     for (int f = 0; f < frames; ++f) {
       set_synthetic_frame(ps, 0.1 * f, mu);

@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "cli_runner.h"
 #include "core/error.h"
+#include "nn/config.h"
 #include "nn/dataset.h"
 #include "nn/evaluate.h"
 #include "nn/model.h"
@@ -342,4 +344,49 @@ TEST_F(NnTraining, BatchedFieldsMatchPerPointCalls) {
   nf.stress(nf.prepare(X), z, 1.0, tau);
   for (const auto& t : tau) EXPECT_EQ(t, t.transpose());
   EXPECT_THROW(nf.encode(std::vector<Vec3>(10)), nsf::Error);
+}
+
+// `nsf train` takes steps, widths and the encoder's length from the "train" section of the scene
+// that the dataset's runs were simulated from, where the command line gives none.
+TEST_F(NnTraining, TrainCommandFollowsTheScenesRecipe) {
+  const fs::path data = root_ / "recipe_data";
+  nsf::test::write_synthetic_dataset(
+      data, 64, /*seed=*/7, /*frames=*/4, {0.5, 1.0},
+      R"({"name": "synthetic", "train": {"steps": [12, 7, 5], "widths": [16, 24, 32]}})");
+  auto train = [&](const std::string& name, const std::string& flags, std::string& out) {
+    const std::string model = (root_ / (name + ".nsf")).string();
+    const int code = nsf::testing::run_cli(
+        "train '" + data.string() + "' --out '" + model + "' -j 1 -q --refine-latents 1 " + flags,
+        out);
+    return code;
+  };
+  auto stage_steps = [&](const std::string& name) {
+    const LossCurve c = read_losses((root_ / (name + ".loss.csv")).string());
+    return std::vector<size_t>{c.loss[0].size(), c.loss[1].size(), c.loss[2].size()};
+  };
+  std::string out;
+  ASSERT_EQ(train("recipe", "", out), 0) << out;
+  EXPECT_NE(out.find("widths g 16, h 24, l 32"), std::string::npos) << out;
+  EXPECT_EQ(stage_steps("recipe"), (std::vector<size_t>{12, 7, 5}));
+
+  ASSERT_EQ(train("recipe_flags", "--steps 6 --width-h 8", out), 0) << out;
+  EXPECT_NE(out.find("widths g 16, h 8, l 32"), std::string::npos) << out;
+  EXPECT_EQ(stage_steps("recipe_flags"), (std::vector<size_t>{6, 6, 6}));
+
+  ASSERT_EQ(train("recipe_off", "--steps 6 --no-scene-recipe", out), 0) << out;
+  const nsf::NetConfig table1 = nsf::default_net_config("synthetic");
+  EXPECT_NE(out.find("widths g " + std::to_string(table1.width_g) + ", h " +
+                     std::to_string(table1.width_h)),
+            std::string::npos)
+      << out;
+
+  // A malformed recipe stops training with the key at fault, and writes no model.
+  const fs::path bad = root_ / "recipe_bad";
+  nsf::test::write_synthetic_dataset(bad, 64, 7, 4, {0.5, 1.0},
+                                     R"({"name": "synthetic", "train": {"steps": [0, 7, 5]}})");
+  const std::string model = (root_ / "recipe_bad.nsf").string();
+  EXPECT_NE(
+      nsf::testing::run_cli("train '" + bad.string() + "' --out '" + model + "' -j 1 -q", out), 0);
+  EXPECT_NE(out.find("train.steps[0]"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(model));
 }

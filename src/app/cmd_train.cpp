@@ -1,6 +1,9 @@
 // `nsf train data/NAME --out models/NAME.nsf`: train e, g, h, l on a dataset (docs/TRAINING.md).
 // Also registers `nsf eval` (cmd_eval.cpp), so commands.h needs one line for both.
 #include <cstdio>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -8,6 +11,8 @@
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/progress.h"
+#include "io/run_reader.h"
+#include "mpm/scene/train_section.h"
 #include "nn/config.h"
 #include "nn/dataset.h"
 #include "nn/runtime.h"
@@ -26,7 +31,7 @@ struct TrainArgs {
   std::vector<int> frames;
   int r = 0, depth = 0, width_g = 0, width_h = 0, width_l = 0, encoder_channels = 0,
       encoder_hidden = 0, encoder_max_length = 0;
-  bool no_mu = false;
+  bool no_mu = false, no_scene_recipe = false;
   TrainOptions opt;
 };
 
@@ -36,6 +41,45 @@ void per_stage(const std::vector<T>& in, U& out, const char* flag) {
   if (in.size() != 1 && in.size() != kStageCount)
     fail(flag, " takes one value for all stages or three (g,h,l), got ", in.size());
   for (int s = 0; s < kStageCount; ++s) out[s] = in[in.size() == 1 ? 0 : s];
+}
+
+// The "train" section of the scene the dataset was simulated from, as its first run stored it
+// (docs/SCENES.md, "Training recipe"); none for a scene without one.
+std::optional<TrainSection> scene_recipe(const Dataset& data) {
+  const RunReader run(data.train().front().path);
+  const nlohmann::json scene = nlohmann::json::parse(run.scene_json(), nullptr, false);
+  if (scene.is_discarded() || !scene.is_object() || !scene.contains("train")) return std::nullopt;
+  try {
+    return parse_train_section(scene.at("train"));
+  } catch (const Error& e) {
+    fail(data.train().front().path, ": the training recipe of its scene: ", e.what());
+  }
+}
+
+// The recipe's values where the command line gives none; returns what it set, for the log.
+std::string apply_recipe(const TrainSection& t, const TrainArgs& a, TrainConfig& c) {
+  std::ostringstream set;
+  if (t.steps && a.steps.empty() && a.epochs.empty()) {
+    for (int s = 0; s < kStageCount; ++s) c.steps[s] = (*t.steps)[s];
+    set << " steps " << c.steps[0] << "," << c.steps[1] << "," << c.steps[2] << ";";
+  }
+  if (t.widths) {
+    const int given[3] = {a.width_g, a.width_h, a.width_l};
+    int* width[3] = {&c.net.width_g, &c.net.width_h, &c.net.width_l};
+    const char* name[3] = {"g", "h", "l"};
+    for (int n = 0; n < 3; ++n) {
+      if (given[n] > 0) continue;
+      *width[n] = (*t.widths)[n];
+      set << " width " << name[n] << " " << *width[n] << ";";
+    }
+  }
+  if (t.encoder_max_length > 0 && a.encoder_max_length == 0) {
+    c.net.encoder_max_length = t.encoder_max_length;
+    set << " encoder_max_length " << t.encoder_max_length << ";";
+  }
+  std::string out = set.str();
+  if (!out.empty()) out.pop_back();
+  return out;
 }
 
 void run_train(TrainArgs& a) {
@@ -50,6 +94,17 @@ void run_train(TrainArgs& a) {
                  "runs%s\n",
                  a.data.c_str(), data.scene_name().c_str(), data.particle_count(),
                  data.train().size(), data.test().size(), data.has_mu() ? " (with mu)" : "");
+    const std::optional<TrainSection> recipe = scene_recipe(data);
+    if (recipe && a.no_scene_recipe) {
+      std::fprintf(stderr, "  the scene's \"train\" recipe is ignored (--no-scene-recipe)\n");
+    } else if (recipe) {
+      const std::string set = apply_recipe(*recipe, a, c);
+      if (!set.empty())
+        std::fprintf(stderr,
+                     "  the scene's \"train\" recipe:%s (flags on the command line take "
+                     "precedence; --no-scene-recipe for the defaults)\n",
+                     set.c_str());
+    }
   }
   if (a.r > 0) c.net.latent_dim = a.r;
   if (a.depth > 0) c.net.depth = a.depth;
@@ -135,6 +190,9 @@ void add_nn_commands(CLI::App& app) {
                   "Width of the encoder's hidden Linear layer (default: 32, App. E)")
       ->check(CLI::Range(1, 4096));
   cmd->add_flag("--no-mu", a->no_mu, "Do not condition the stress field h on mu");
+  cmd->add_flag("--no-scene-recipe", a->no_scene_recipe,
+                "Ignore the scene's \"train\" section (steps, widths, encoder length) and use "
+                "the defaults: Table 1's widths, the documented steps");
   cmd->add_option("--seed", c.seed, "Random seed (initialisation and batches)")
       ->capture_default_str();
   cmd->add_option("--threads,-j", c.threads, "Threads (0 = all cores)")->capture_default_str();

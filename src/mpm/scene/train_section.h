@@ -1,6 +1,7 @@
 #pragma once
-// The optional "train" section of a scene: the training recipe that `nsf report` and `nsf demo`
-// use for it where their command lines do not give one (docs/SCENES.md, "Training recipe").
+// The optional "train" section of a scene: the training recipe that `nsf train`, `nsf report` and
+// `nsf demo` use for it where their command lines do not give one (docs/SCENES.md, "Training
+// recipe").
 // A scene whose fields need more than the commands' common recipe carries its own here: the
 // jelly's encoder, for one (docs/TRAINING.md).
 #include <array>
