@@ -355,10 +355,9 @@ TEST_F(NnTraining, TrainCommandFollowsTheScenesRecipe) {
       R"({"name": "synthetic", "train": {"steps": [12, 7, 5], "widths": [16, 24, 32]}})");
   auto train = [&](const std::string& name, const std::string& flags, std::string& out) {
     const std::string model = (root_ / (name + ".nsf")).string();
-    const int code = nsf::testing::run_cli(
+    return nsf::testing::run_cli(
         "train '" + data.string() + "' --out '" + model + "' -j 1 -q --refine-latents 1 " + flags,
         out);
-    return code;
   };
   auto stage_steps = [&](const std::string& name) {
     const LossCurve c = read_losses((root_ / (name + ".loss.csv")).string());
