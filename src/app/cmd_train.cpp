@@ -11,7 +11,6 @@
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/progress.h"
-#include "io/run_reader.h"
 #include "mpm/scene/train_section.h"
 #include "nn/config.h"
 #include "nn/dataset.h"
@@ -46,8 +45,7 @@ void per_stage(const std::vector<T>& in, U& out, const char* flag) {
 // The "train" section of the scene the dataset was simulated from, as its first run stored it
 // (docs/SCENES.md, "Training recipe"); none for a scene without one.
 std::optional<TrainSection> scene_recipe(const Dataset& data) {
-  const RunReader run(data.train().front().path);
-  const nlohmann::json scene = nlohmann::json::parse(run.scene_json(), nullptr, false);
+  const nlohmann::json scene = nlohmann::json::parse(data.scene_json(), nullptr, false);
   if (scene.is_discarded() || !scene.is_object() || !scene.contains("train")) return std::nullopt;
   try {
     return parse_train_section(scene.at("train"));

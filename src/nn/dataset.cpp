@@ -137,6 +137,10 @@ Dataset::~Dataset() = default;
 Dataset::Dataset(Dataset&&) noexcept = default;
 Dataset& Dataset::operator=(Dataset&&) noexcept = default;
 
+const std::string& Dataset::scene_json() const {
+  return readers_.front()->scene_json();
+}
+
 const RunReader& Dataset::reader(const SimulationFile& sim) const {
   for (const auto& r : readers_)
     if (r->path() == sim.path) return *r;

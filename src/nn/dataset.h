@@ -45,6 +45,8 @@ class Dataset {
   const std::vector<uint16_t>& objects() const { return object_; }
   double grid_dx() const { return dx_; }
   const Vec3& domain_lo() const { return domain_lo_; }
+  // The scene JSON the first training run stored (empty for runs written without one).
+  const std::string& scene_json() const;
   const std::vector<SimulationFile>& train() const { return train_; }
   const std::vector<SimulationFile>& test() const { return test_; }
 
