@@ -125,18 +125,12 @@ void refine_frames(benchmark::State& state) {
         model.deform(Xt.to(torch::kFloat32), z) + 0.01 * torch::randn({particles, 3});
     f.assign(g.data_ptr<float>(), g.data_ptr<float>() + 3 * particles);
   }
-  const int batch = std::max(1, nsf::blas_thread_count());
+  std::vector<const float*> xs;
+  for (const auto& f : x) xs.push_back(f.data());
   for (auto _ : state) {
     std::vector<Eigen::VectorXd> z(frames, Eigen::VectorXd::Zero(c.latent_dim));
     if (many) {
-      for (int64_t first = 0; first < frames; first += batch) {
-        std::vector<const float*> xs;
-        std::vector<Eigen::VectorXd> zs;
-        for (int64_t k = first; k < std::min<int64_t>(frames, first + batch); ++k)
-          xs.push_back(x[k].data()), zs.push_back(z[k]);
-        refiner.refine_many(xs, zs);
-        for (size_t k = 0; k < zs.size(); ++k) z[first + int64_t(k)] = zs[k];
-      }
+      refiner.refine_many(xs, z);
     } else {
       for (int64_t k = 0; k < frames; ++k) z[k] = refiner.refine(x[k].data(), z[k]);
     }

@@ -179,7 +179,7 @@ TEST_F(NnTraining, LatentsRefinedInParallelEqualThoseRefinedOneByOne) {
   }
   for (const nsf::FrameData& f : frames) x.push_back(f.x.data());
   parallel = start;
-  refiner.refine_many(x, parallel);  // five frames on at most five threads
+  refiner.refine_many(x, parallel);  // five frames shared by the BLAS threads (2 in ctest)
   const nsf::ScopedBlasThreads one_blas_thread(1);
   auto same = [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
     return bit_identical({a.data(), a.data() + a.size()}, {b.data(), b.data() + b.size()});

@@ -197,7 +197,7 @@ void Trainer::refine_latents() {
   // directions g barely sees but h and l (trained on encoder latents only) answer wildly:
   // measured with `nsf eval --refine`. Training h and l on refined latents removes the mismatch.
   const FrameLatentRefiner refiner(model_, data_.rest_positions(), cfg_.refine_latents);
-  // As many frames at a time as the GEMMs have threads (refine_many: one frame per thread).
+  // As many frames at a time as refine_many runs in parallel: streamed frames must be copied out.
   const size_t batch = size_t(std::max(1, blas_thread_count()));
   const int64_t frames = int64_t(store_.size());
   std::vector<std::vector<float>> x(batch);

@@ -138,10 +138,13 @@ Eigen::VectorXd FrameLatentRefiner::refine(const float* x, const Eigen::VectorXd
 void FrameLatentRefiner::refine_many(const std::vector<const float*>& x,
                                      std::vector<Eigen::VectorXd>& z) const {
   if (x.size() != z.size()) fail("refine_many: ", x.size(), " frames but ", z.size(), " starts");
+  // As many frames at a time as the GEMMs had threads; each of those threads gets one frame.
+  const int threads = int(
+      std::min<size_t>(std::max<size_t>(1, x.size()), size_t(std::max(1, blas_thread_count()))));
   const ScopedBlasThreads one_blas_thread(1);
   std::vector<std::exception_ptr> errors(x.size());
   // Inside an OpenMP region torch and Eigen run each frame's operations serially.
-#pragma omp parallel for num_threads(int(std::max <size_t>(1, x.size()))) schedule(static, 1)
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
   for (size_t k = 0; k < x.size(); ++k) {
     try {
       z[k] = refine(x[k], z[k]);

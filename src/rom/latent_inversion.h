@@ -42,11 +42,11 @@ class FrameLatentRefiner {
   FrameLatentRefiner(NeuralModel& model, const std::vector<Vec3>& rest, int iterations);
   // x: the frame's positions, 3|P| floats (particle-major, as datasets store them).
   Eigen::VectorXd refine(const float* x, const Eigen::VectorXd& start) const;
-  // Several frames at once, one per thread, each thread's GEMMs on one BLAS thread: a frame's
-  // GEMMs are too small to split, so whole frames in parallel finish sooner (2 threads: 1.25×
-  // over frame by frame on 2 BLAS threads, bench/nn_throughput refine_frames). z holds the starts
-  // on entry and the refined latents on return; the result is the same as refine() frame by frame
-  // on one BLAS thread.
+  // Several frames, one per thread on as many threads as the GEMMs have, each thread's GEMMs on
+  // one BLAS thread: a frame's GEMMs are too small to split, so whole frames in parallel finish
+  // sooner (2 threads: 1.25-1.85× over frame by frame on 2 BLAS threads, bench/nn_throughput
+  // refine_frames). z holds the starts on entry and the refined latents on return; the result
+  // is the same as refine() frame by frame on one BLAS thread.
   void refine_many(const std::vector<const float*>& x, std::vector<Eigen::VectorXd>& z) const;
 
   static constexpr size_t kMaxParticles = 1024;
