@@ -38,7 +38,7 @@ nsf::TrainOptions tiny_options() {
   c.net.encoder_hidden = 16;
   c.steps = {300, 200, 200};
   c.frames_per_batch = {4, 8, 8};
-  c.particles_per_frame = 64;
+  c.particles_per_frame = {64, 64, 64};
   c.checkpoint_every = 50;
   c.seed = 3;
   c.quiet = true;
@@ -352,7 +352,8 @@ TEST_F(NnTraining, TrainCommandFollowsTheScenesRecipe) {
   const fs::path data = root_ / "recipe_data";
   nsf::test::write_synthetic_dataset(
       data, 64, /*seed=*/7, /*frames=*/4, {0.5, 1.0},
-      R"({"name": "synthetic", "train": {"steps": [12, 7, 5], "widths": [16, 24, 32]}})");
+      R"({"name": "synthetic", "train": {"steps": [12, 7, 5], "widths": [16, 24, 32],
+          "frames_per_batch": [2, 4, 8], "particles_per_frame": [16, 16, 16]}})");
   auto train = [&](const std::string& name, const std::string& flags, std::string& out) {
     const std::string model = (root_ / (name + ".nsf")).string();
     return nsf::testing::run_cli(
@@ -367,6 +368,19 @@ TEST_F(NnTraining, TrainCommandFollowsTheScenesRecipe) {
   ASSERT_EQ(train("recipe", "", out), 0) << out;
   EXPECT_NE(out.find("widths g 16, h 24, l 32"), std::string::npos) << out;
   EXPECT_EQ(stage_steps("recipe"), (std::vector<size_t>{12, 7, 5}));
+
+  // The recipe's batches: with --epochs, steps = points / (frames × particles per batch), so
+  // stage 1 takes twice the steps of stage 2, and that four times those of stage 3.
+  ASSERT_EQ(train("recipe_batch", "--epochs 1", out), 0) << out;
+  std::vector<size_t> n = stage_steps("recipe_batch");
+  EXPECT_GE(n[2], 2u);
+  EXPECT_EQ(n, (std::vector<size_t>{4 * n[2], 2 * n[2], n[2]})) << out;
+  ASSERT_EQ(
+      train("recipe_batch_flags", "--epochs 1 --frames-per-batch 8 --particles-per-frame 32", out),
+      0)
+      << out;
+  const size_t half = (n[2] + 1) / 2;  // twice stage 3's batch, steps rounded up
+  EXPECT_EQ(stage_steps("recipe_batch_flags"), (std::vector<size_t>{half, half, half}));
 
   ASSERT_EQ(train("recipe_flags", "--steps 6 --width-h 8", out), 0) << out;
   EXPECT_NE(out.find("widths g 16, h 8, l 32"), std::string::npos) << out;

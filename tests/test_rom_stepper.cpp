@@ -297,7 +297,7 @@ class RomEndToEnd : public ::testing::Test {
     c.net.width_h = c.net.width_l = 64;
     c.steps = {1500, 600, 600};
     c.frames_per_batch = {4, 8, 8};
-    c.particles_per_frame = 256;
+    c.particles_per_frame = {256, 256, 256};
     c.seed = 2;
     c.quiet = true;
     nsf::train_model((root_ / "data").string(), model(), o);

@@ -239,12 +239,15 @@ TEST(SceneValidation, RejectsUnknownKeysWrongTypesAndOutOfRangeValues) {
 TEST(SceneValidation, TrainSectionSetsWhatTheCommandLineLeavesOpen) {
   const TrainSection t =
       parse_train_section(json::parse(R"({"steps": [34000, 1500, 1500], "widths": [192, 128, 128],
-                      "encoder_max_length": 1024})"));
+                      "encoder_max_length": 1024, "frames_per_batch": [16, 4, 4],
+                      "particles_per_frame": [128, 512, 512]})"));
   const TrainPlan cli{{6000, 4000, 4000}, {0, 128, 128}};
   const TrainPlan scene = with_train_section(cli, t, false, false);
   EXPECT_EQ(scene.steps, (std::array<long, 3>{34000, 1500, 1500}));
   EXPECT_EQ(scene.widths, (std::array<int, 3>{192, 128, 128}));
   EXPECT_EQ(scene.encoder_max_length, 1024);
+  EXPECT_EQ(scene.frames_per_batch, (std::array<int, 3>{16, 4, 4}));
+  EXPECT_EQ(scene.particles_per_frame, (std::array<int, 3>{128, 512, 512}));
   const TrainPlan given = with_train_section(cli, t, true, true);  // --steps and --widths win
   EXPECT_EQ(given.steps, cli.steps);
   EXPECT_EQ(given.widths, cli.widths);
@@ -255,12 +258,15 @@ TEST(SceneValidation, TrainSectionSetsWhatTheCommandLineLeavesOpen) {
   EXPECT_EQ(partial.steps, (std::array<long, 3>{1, 2, 3}));
   EXPECT_EQ(partial.widths, cli.widths);
   EXPECT_EQ(partial.encoder_max_length, 0);
+  EXPECT_EQ(partial.frames_per_batch, (std::array<int, 3>{0, 0, 0}));
 
   json j = small_scene();
   j["train"] = {{"steps", {100, 0, 100}}};
   expect_rejected(j, {"train.steps[1]", "0"});
   j["train"] = {{"widths", {64, 64}}};
   expect_rejected(j, {"train.widths", "three"});
+  j["train"] = {{"particles_per_frame", {128, -1, 512}}};
+  expect_rejected(j, {"train.particles_per_frame[1]", "-1"});
   j["train"] = {{"encoder_max_length", 3}};
   expect_rejected(j, {"train.encoder_max_length", "3"});
   j["train"] = {{"epochs", 5}};

@@ -27,7 +27,7 @@ struct TrainArgs {
   std::string data, out;
   std::vector<long> steps;
   std::vector<double> epochs;
-  std::vector<int> frames;
+  std::vector<int> frames, particles;
   int r = 0, depth = 0, width_g = 0, width_h = 0, width_l = 0, encoder_channels = 0,
       encoder_hidden = 0, encoder_max_length = 0;
   bool no_mu = false, no_scene_recipe = false;
@@ -75,6 +75,18 @@ std::string apply_recipe(const TrainSection& t, const TrainArgs& a, TrainConfig&
     c.net.encoder_max_length = t.encoder_max_length;
     set << " encoder_max_length " << t.encoder_max_length << ";";
   }
+  const struct {
+    const std::optional<std::array<int, 3>>& recipe;
+    const std::vector<int>& given;
+    std::array<int, kStageCount>& out;
+    const char* name;
+  } batch[] = {{t.frames_per_batch, a.frames, c.frames_per_batch, "frames_per_batch"},
+               {t.particles_per_frame, a.particles, c.particles_per_frame, "particles_per_frame"}};
+  for (const auto& b : batch) {
+    if (!b.recipe || !b.given.empty()) continue;
+    b.out = *b.recipe;
+    set << " " << b.name << " " << b.out[0] << "," << b.out[1] << "," << b.out[2] << ";";
+  }
   std::string out = set.str();
   if (!out.empty()) out.pop_back();
   return out;
@@ -116,6 +128,7 @@ void run_train(TrainArgs& a) {
   per_stage(a.steps, c.steps, "--steps");
   per_stage(a.epochs, a.opt.epochs, "--epochs");
   per_stage(a.frames, c.frames_per_batch, "--frames-per-batch");
+  per_stage(a.particles, c.particles_per_frame, "--particles-per-frame");
   std::fprintf(stderr, "  networks (Table 1 row '%s'): r = %d, depth %d, widths g %d, h %d, l %d\n",
                row.c_str(), c.net.latent_dim, c.net.depth, c.net.width_g, c.net.width_h,
                c.net.width_l);
@@ -153,11 +166,14 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("--epochs", a->epochs,
                   "Epochs per stage instead of --steps (epoch = every training point once)")
       ->delimiter(',');
-  cmd->add_option("--frames-per-batch", a->frames, "Frames per batch: one value or g,h,l")
-      ->delimiter(',');
-  cmd->add_option("--particles-per-frame", c.particles_per_frame,
-                  "Particles sampled per batch frame")
-      ->capture_default_str();
+  cmd->add_option("--frames-per-batch", a->frames,
+                  "Frames per batch: one value or g,h,l (default 4)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--particles-per-frame", a->particles,
+                  "Particles sampled per batch frame: one value or g,h,l (default 512)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--refine-latents", c.refine_latents,
                   "Gauss-Newton iterations refining each frame's latent before stages 2, 3 (0 = "
                   "the encoder's latents, as in the paper)")
@@ -189,8 +205,8 @@ void add_nn_commands(CLI::App& app) {
       ->check(CLI::Range(1, 4096));
   cmd->add_flag("--no-mu", a->no_mu, "Do not condition the stress field h on mu");
   cmd->add_flag("--no-scene-recipe", a->no_scene_recipe,
-                "Ignore the scene's \"train\" section (steps, widths, encoder length) and use "
-                "the defaults: Table 1's widths, the documented steps");
+                "Ignore the scene's \"train\" section (steps, widths, encoder length, batches) and "
+                "use the defaults: Table 1's widths, the documented steps");
   cmd->add_option("--seed", c.seed, "Random seed (initialisation and batches)")
       ->capture_default_str();
   cmd->add_option("--threads,-j", c.threads, "Threads (0 = all cores)")->capture_default_str();

@@ -50,6 +50,11 @@ bool ensure_model(const std::string& data, const std::string& model, const Train
   for (int s = 0; s < 3; ++s)
     if (plan.widths[s] > 0) *widths[s] = plan.widths[s];
   if (plan.encoder_max_length > 0) to.config.net.encoder_max_length = plan.encoder_max_length;
+  for (int s = 0; s < kStageCount; ++s) {
+    if (plan.frames_per_batch[s] > 0) to.config.frames_per_batch[s] = plan.frames_per_batch[s];
+    if (plan.particles_per_frame[s] > 0)
+      to.config.particles_per_frame[s] = plan.particles_per_frame[s];
+  }
   to.config.threads = threads;
   to.resume = true;  // an interrupted demo or report continues where it stopped
   train_model(data, model, to);

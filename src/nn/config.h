@@ -40,7 +40,7 @@ struct TrainConfig {
   // A batch is `frames_per_batch` frames, then `particles_per_frame` particles in each, so memory
   // per step is bounded whatever the dataset size. Stage 1 also encodes each batch frame in full.
   std::array<int, kStageCount> frames_per_batch = {4, 4, 4};
-  int particles_per_frame = 512;
+  std::array<int, kStageCount> particles_per_frame = {512, 512, 512};
   // Stages 2 and 3 train h and l on the latents the reduced-order model will feed them: each
   // frame's encoder latent refined by this many Gauss–Newton iterations on positions, as the
   // ROM's inversion does (0 = the encoder's latents, as in the paper). docs/TRAINING.md.

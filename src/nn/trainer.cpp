@@ -69,7 +69,7 @@ class Trainer {
       const double points = double(store_.size()) * double(data_.particle_count());
       const double per_step =
           double(cfg_.frames_per_batch[s]) *
-          double(std::min<size_t>(data_.particle_count(), cfg_.particles_per_frame));
+          double(std::min<size_t>(data_.particle_count(), cfg_.particles_per_frame[s]));
       cfg_.steps[s] = std::max(1L, long(std::ceil(o.epochs[s] * points / per_step)));
     }
   }
@@ -118,7 +118,11 @@ std::string Trainer::config_key() const {
      << " enc=" << n.encoder_hidden << " mu=" << n.stress_uses_mu << " steps=" << cfg_.steps[0]
      << "," << cfg_.steps[1] << "," << cfg_.steps[2] << " batch=" << cfg_.frames_per_batch[0] << ","
      << cfg_.frames_per_batch[1] << "," << cfg_.frames_per_batch[2] << "x"
-     << cfg_.particles_per_frame << " seed=" << cfg_.seed << " runs=" << data_.train().size()
+     << cfg_.particles_per_frame[0];
+  // One figure when the stages agree: the form checkpoints had before it could differ by stage.
+  const std::array<int, kStageCount>& ppf = cfg_.particles_per_frame;
+  if (ppf[1] != ppf[0] || ppf[2] != ppf[0]) os << "," << ppf[1] << "," << ppf[2];
+  os << " seed=" << cfg_.seed << " runs=" << data_.train().size()
      << " refine=" << cfg_.refine_latents << " latent_noise=" << cfg_.latent_noise;
   // Appended only when set, so checkpoints written before the option existed still resume.
   if (n.encoder_channels != EncoderImpl::kChannels)
@@ -248,7 +252,7 @@ torch::Tensor Trainer::noisy(const torch::Tensor& z) {
 double Trainer::train_step() {
   const int64_t P = static_cast<int64_t>(data_.particle_count());
   const int64_t B = cfg_.frames_per_batch[stage_];
-  const int64_t n = std::min<int64_t>(P, cfg_.particles_per_frame);
+  const int64_t n = std::min<int64_t>(P, cfg_.particles_per_frame[stage_]);
   const int d = kTargetDim[stage_];
 
   // Frames first, then particles within each frame (App. D's batches of whole frames do not fit
@@ -464,7 +468,7 @@ TrainReport Trainer::run() {
     const long total = cfg_.steps[stage_];
     const int64_t points_per_step =
         cfg_.frames_per_batch[stage_] *
-        std::min<int64_t>(int64_t(data_.particle_count()), cfg_.particles_per_frame);
+        std::min<int64_t>(int64_t(data_.particle_count()), cfg_.particles_per_frame[stage_]);
     std::unique_ptr<Progress> bar;
     if (!cfg_.quiet)
       bar = std::make_unique<Progress>(

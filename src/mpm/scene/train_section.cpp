@@ -26,12 +26,18 @@ std::array<T, 3> positive_triple(const nlohmann::json& j, const std::string& pat
 
 TrainSection parse_train_section(const nlohmann::json& train, const std::string& path) {
   json::require_object(train, path);
-  json::check_keys(train, path, {"steps", "widths", "encoder_max_length"});
+  json::check_keys(
+      train, path,
+      {"steps", "widths", "encoder_max_length", "frames_per_batch", "particles_per_frame"});
   TrainSection t;
   if (train.contains("steps"))
     t.steps = positive_triple<long>(train.at("steps"), json::child(path, "steps"), 100000000);
   if (train.contains("widths"))
     t.widths = positive_triple<int>(train.at("widths"), json::child(path, "widths"), 4096);
+  for (auto [key, out] : {std::pair{"frames_per_batch", &t.frames_per_batch},
+                          std::pair{"particles_per_frame", &t.particles_per_frame}})
+    if (train.contains(key))
+      *out = positive_triple<int>(train.at(key), json::child(path, key), 1 << 20);
   t.encoder_max_length = json::get_int(train, path, "encoder_max_length", 0, 0, 1 << 20);
   if (t.encoder_max_length > 0 && t.encoder_max_length < 5)
     fail("scene: '", json::child(path, "encoder_max_length"),
@@ -45,6 +51,8 @@ TrainPlan with_train_section(TrainPlan plan, const TrainSection& section, bool s
   if (section.steps && !steps_given) plan.steps = *section.steps;
   if (section.widths && !widths_given) plan.widths = *section.widths;
   if (section.encoder_max_length > 0) plan.encoder_max_length = section.encoder_max_length;
+  if (section.frames_per_batch) plan.frames_per_batch = *section.frames_per_batch;
+  if (section.particles_per_frame) plan.particles_per_frame = *section.particles_per_frame;
   return plan;
 }
 

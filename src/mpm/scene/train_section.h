@@ -15,6 +15,8 @@ struct TrainSection {
   std::optional<std::array<long, 3>> steps;  // optimiser steps of stages 1, 2, 3
   std::optional<std::array<int, 3>> widths;  // hidden widths of g, h, l
   int encoder_max_length = 0;                // 0: App. E's (the encoder's default)
+  // A stage's batch: frames, then particles within each frame.
+  std::optional<std::array<int, 3>> frames_per_batch, particles_per_frame;
 };
 
 TrainSection parse_train_section(const nlohmann::json& train, const std::string& path = "train");
@@ -24,7 +26,9 @@ TrainSection parse_train_section(const nlohmann::json& train, const std::string&
 struct TrainPlan {
   std::array<long, 3> steps = {2000, 1500, 1500};
   std::array<int, 3> widths = {0, 0, 0};
-  int encoder_max_length = 0;  // 0: App. E's
+  int encoder_max_length = 0;                          // 0: App. E's
+  std::array<int, 3> frames_per_batch = {0, 0, 0};     // per stage; 0: the trainer's default
+  std::array<int, 3> particles_per_frame = {0, 0, 0};  // likewise
 };
 
 // `plan` with the section's values in place of those the command line did not give.
