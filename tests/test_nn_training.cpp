@@ -370,7 +370,7 @@ TEST_F(NnTraining, TrainCommandFollowsTheScenesRecipe) {
   EXPECT_EQ(stage_steps("recipe"), (std::vector<size_t>{12, 7, 5}));
 
   // The recipe's batches: with --epochs, steps = points / (frames × particles per batch), so
-  // stage 1 takes twice the steps of stage 2, and that four times those of stage 3.
+  // stage 1 takes twice the steps of stage 2 and four times those of stage 3.
   ASSERT_EQ(train("recipe_batch", "--epochs 1", out), 0) << out;
   std::vector<size_t> n = stage_steps("recipe_batch");
   EXPECT_GE(n[2], 2u);
