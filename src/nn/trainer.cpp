@@ -67,16 +67,21 @@ class Trainer {
     for (int s = 0; s < kStageCount; ++s) {
       if (o.epochs[s] <= 0) continue;
       const double points = double(store_.size()) * double(data_.particle_count());
-      const double per_step =
-          double(cfg_.frames_per_batch[s]) *
-          double(std::min<size_t>(data_.particle_count(), cfg_.particles_per_frame[s]));
-      cfg_.steps[s] = std::max(1L, long(std::ceil(o.epochs[s] * points / per_step)));
+      cfg_.steps[s] =
+          std::max(1L, long(std::ceil(o.epochs[s] * points / double(points_per_step(s)))));
     }
   }
 
   TrainReport run();
 
  private:
+  // Particles drawn per batch frame (at most all of them), and points per optimiser step.
+  int64_t particles_per_batch_frame(int s) const {
+    return std::min<int64_t>(int64_t(data_.particle_count()), cfg_.particles_per_frame[s]);
+  }
+  int64_t points_per_step(int s) const {
+    return cfg_.frames_per_batch[s] * particles_per_batch_frame(s);
+  }
   void say(const std::string& s) const {
     if (!cfg_.quiet) std::fprintf(stderr, "%s\n", s.c_str());
   }
@@ -252,7 +257,7 @@ torch::Tensor Trainer::noisy(const torch::Tensor& z) {
 double Trainer::train_step() {
   const int64_t P = static_cast<int64_t>(data_.particle_count());
   const int64_t B = cfg_.frames_per_batch[stage_];
-  const int64_t n = std::min<int64_t>(P, cfg_.particles_per_frame[stage_]);
+  const int64_t n = particles_per_batch_frame(stage_);
   const int d = kTargetDim[stage_];
 
   // Frames first, then particles within each frame (App. D's batches of whole frames do not fit
@@ -466,9 +471,7 @@ TrainReport Trainer::run() {
   for (; stage_ < kStageCount; ++stage_, step_ = 0) {
     if (stage_ > 0 && !latents_.defined()) compute_latents();
     const long total = cfg_.steps[stage_];
-    const int64_t points_per_step =
-        cfg_.frames_per_batch[stage_] *
-        std::min<int64_t>(int64_t(data_.particle_count()), cfg_.particles_per_frame[stage_]);
+    const int64_t points_per_step = this->points_per_step(stage_);
     std::unique_ptr<Progress> bar;
     if (!cfg_.quiet)
       bar = std::make_unique<Progress>(
