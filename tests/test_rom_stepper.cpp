@@ -443,6 +443,24 @@ TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {
               100 * velocity.delta);
 }
 
+// The FLIP-style correction gives back what the grid round trip smooths away (the engine's
+// side is tested in test_transfer_round_trip.cpp); here it must change the run and keep it
+// close to ground truth, and a share outside [0, 1] is refused.
+TEST_F(RomEndToEnd, FlipCorrectionChangesTheRunAndStaysClose) {
+  const nsf::RomReport plain = nsf::run_rom(options());
+  nsf::RomRunOptions o = options();
+  o.rom.flip = 0.5;
+  const nsf::RomReport flip = nsf::run_rom(o);
+  EXPECT_NE(flip.delta, plain.delta);
+  EXPECT_LT(flip.delta, 0.05);
+  EXPECT_GT(flip.energy_kept, 0.5);
+  EXPECT_LE(flip.energy_kept, 1.0 + 1e-3);
+  std::printf("tiny scene: ROM delta %.3f%% with --flip 0.5, %.3f%% without\n", 100 * flip.delta,
+              100 * plain.delta);
+  o.rom.flip = 1.5;
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "--flip");
+}
+
 // The tangent cache along a whole run: a small radius reproduces the network-every-step run
 // closely; it does not combine with the variants that differentiate g in X.
 TEST_F(RomEndToEnd, TangentCacheFollowsTheNetworkRun) {

@@ -30,6 +30,7 @@ struct ReportArgs {
   std::string docs = "docs", out = "out/report";
   double sand_extrapolation = 44;
   int quadrature = 0;  // > 0: the ROM's thinned quadrature, rows labelled with it
+  double flip = 0;     // > 0: the ROM's FLIP-style correction, rows labelled with it
   bool page_only = false;
 };
 
@@ -42,8 +43,15 @@ void report_run(const ReportArgs& a, const std::string& scene, const std::string
     label = label.empty() ? q : label + ", " + q;
     tag += "_q" + std::to_string(a.quadrature);
   }
+  if (a.flip > 0) {
+    char f[32];
+    std::snprintf(f, sizeof f, "%g", a.flip);
+    label = label.empty() ? std::string("FLIP ") + f : label + ", FLIP " + f;
+    tag += std::string("_flip") + f;
+  }
   RomRunOptions ro;
   ro.rom.quadrature_per_cell = a.quadrature;
+  ro.rom.flip = a.flip;
   ro.model_path = model;
   ro.scene_path = scene;
   ro.mu = mu;
@@ -129,6 +137,11 @@ void add_report_command(CLI::App& app) {
                   "others")
       ->capture_default_str()
       ->check(CLI::Range(0, 1000));
+  cmd->add_option("--flip", a->flip,
+                  "ROM with this share of the transfer's smoothing given back (nsf rom --flip); "
+                  "rows are labelled with it and kept beside the others")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_flag("--page-only", a->page_only,
                 "Run nothing: rebuild RESULTS.md from the rows stored in docs/results/");
   cmd->add_option("--sand-extrapolation", a->sand_extrapolation,

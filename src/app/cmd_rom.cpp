@@ -58,6 +58,10 @@ void add_rom_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--taylor", a->opt.rom.inversion.taylor,
                 "First-order Taylor inversion: one linearised step per time step");
+  cmd->add_option("--flip", a->opt.rom.flip,
+                  "Share of the grid transfer's smoothing given back to the samples each step "
+                  "(FLIP-style, 0-1)")
+      ->capture_default_str();
   cmd->add_flag("--crom", a->opt.rom.crom,
                 "CROM-style baseline: stress from dg/dX through the material, no affine field");
   cmd->add_option("--affine", a->opt.rom.affine,

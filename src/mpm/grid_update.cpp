@@ -1,4 +1,5 @@
-// Grid update (§3.3 step 2): momentum → velocity, gravity, then colliders and domain walls.
+// Grid update (§3.3 step 2): momentum → velocity, gravity, then colliders and domain walls
+// (without the last three for Simulation::transfer_velocity).
 // The stress force already arrived with the momentum in P2G.
 #include <cmath>
 
@@ -7,7 +8,7 @@
 
 namespace nsf {
 
-void Simulation::grid_update(double dt) {
+void Simulation::grid_update(double dt, bool external_forces) {
   ScopedTimer timer(times_.grid_update);
   const SimSettings& s = scene_.settings;
   const Vec3i n = grid_.dims();
@@ -22,12 +23,14 @@ void Simulation::grid_update(double dt) {
       if (node.m <= 0) return;
       const double inv_m = 1.0 / node.m;
       Vec3 v(node.mv[0] * inv_m, node.mv[1] * inv_m, node.mv[2] * inv_m);
-      v += gdt;
-      if (!colliders.empty()) {
-        const Vec3 x = grid_.node_position(i, j, k);
-        for (const auto& c : colliders) c->apply(x, v);
+      if (external_forces) {
+        v += gdt;
+        if (!colliders.empty()) {
+          const Vec3 x = grid_.node_position(i, j, k);
+          for (const auto& c : colliders) c->apply(x, v);
+        }
+        apply_domain_walls(s, i, j, k, n, v);
       }
-      apply_domain_walls(s, i, j, k, n, v);
       node.mv[0] = v[0], node.mv[1] = v[1], node.mv[2] = v[2];
     });
 }

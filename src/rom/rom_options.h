@@ -27,6 +27,10 @@ struct RomOptions {
   // scenes run at about 2/3 of the bound already, and on metal_small 1.5 gave δ 3.3 %, 1.0 gave
   // 1.5 % and 0.75 gave 1.3 % (docs/ROM.md, levers).
   double dt_ratio = 1.0;
+  // Share of the transfer's smoothing loss given back to the sample particles each step
+  // (FLIP-style: x_S += Δt · flip · (v_S − the velocity P2G then G2P alone hands back)).
+  // 0: the engine's APIC step as it stands (the paper).
+  double flip = 0.0;
   SamplingSpec sampling;
   GaussNewtonOptions inversion;
   // CROM-style baseline (Figs. 5, 12, 13): τ from F = ∂g/∂X through the constitutive model,
