@@ -73,10 +73,9 @@ void Simulation::transfer(double dt, double t, const std::vector<uint32_t>* gath
 
 void Simulation::transfer_velocity(const std::vector<uint32_t>& gather, std::vector<Vec3>& v) {
   Particles& P = scene_.particles;
-  std::vector<Mat3> C(gather.size());
-  for (size_t k = 0; k < gather.size(); ++k) C[k] = P.C[gather[k]];
   std::vector<Vec3> v_in(gather.size());
-  for (size_t k = 0; k < gather.size(); ++k) v_in[k] = P.v[gather[k]];
+  std::vector<Mat3> C_in(gather.size());
+  for (size_t k = 0; k < gather.size(); ++k) v_in[k] = P.v[gather[k]], C_in[k] = P.C[gather[k]];
   sort_particles();
   p2g(0.0);  // Δt = 0: the stress term of the fused momentum vanishes
   grid_update(0.0, false);
@@ -85,7 +84,7 @@ void Simulation::transfer_velocity(const std::vector<uint32_t>& gather, std::vec
   for (size_t k = 0; k < gather.size(); ++k) {
     v[k] = P.v[gather[k]];
     P.v[gather[k]] = v_in[k];
-    P.C[gather[k]] = C[k];
+    P.C[gather[k]] = C_in[k];
   }
 }
 
