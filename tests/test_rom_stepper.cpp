@@ -407,7 +407,7 @@ TEST_F(RomEndToEnd, ThinnedQuadratureKeepsNExactAmongTheQuadraturePoints) {
       100 * b.delta, b.mean_N, 100 * a.delta, a.mean_N);
 }
 
-TEST_F(RomEndToEnd, TimeStepRatioIsCappedAtTheCflBound) {
+TEST_F(RomEndToEnd, TimeStepRatioIsTakenAsAskedEvenBeyondTheCflBound) {
   nsf::NeuralFields f = nsf::NeuralFields::load(model());
   const nsf::Scene scene = nsf::load_scene(kTinyScene);
   const double bound = nsf::cfl_time_step_bound(scene);
@@ -417,12 +417,30 @@ TEST_F(RomEndToEnd, TimeStepRatioIsCappedAtTheCflBound) {
   o.dt_ratio = 1.0;
   const nsf::LatentStepper plain(f, nsf::load_scene(kTinyScene), test_mu(), o);
   EXPECT_EQ(plain.steps_per_frame(), scene.settings.substeps);
-  // Fifty times the scene's Δt would be far beyond the bound: the stepper takes the bound.
-  o.dt_ratio = 50;
-  const nsf::LatentStepper capped(f, nsf::load_scene(kTinyScene), test_mu(), o);
-  EXPECT_LE(capped.dt(), bound * (1 + 1e-12));
-  EXPECT_GT(capped.dt(), bound * double(capped.steps_per_frame() - 1) / capped.steps_per_frame());
-  EXPECT_NEAR(capped.dt() * capped.steps_per_frame(), frame_time, 1e-12);
+  // One ROM step per frame: far past the full-order bound, and still what was asked for.
+  o.dt_ratio = scene.settings.substeps;
+  const nsf::LatentStepper coarse(f, nsf::load_scene(kTinyScene), test_mu(), o);
+  EXPECT_EQ(coarse.steps_per_frame(), 1);
+  EXPECT_NEAR(coarse.dt(), frame_time, 1e-12);
+  EXPECT_GT(coarse.dt(), 2 * bound);
+  o.dt_ratio = 0;
+  nsf::testing::expect_contains(nsf::testing::error_of([&] {
+                                  nsf::LatentStepper(f, nsf::load_scene(kTinyScene), test_mu(), o);
+                                }),
+                                "time-step ratio must be positive");
+}
+
+TEST_F(RomEndToEnd, SceneSetsTheTimeStepRatioAndTheCommandLineOverridesIt) {
+  nsf::RomRunOptions o = options();
+  o.overrides = {"rom.dt_ratio=3"};
+  const nsf::RomReport scene_ratio = nsf::run_rom(o);
+  EXPECT_EQ(scene_ratio.rom_steps_per_frame, 5);  // 15 substeps of Δt, 3Δt each
+  EXPECT_GE(scene_ratio.delta, 0);
+  o.dt_ratio = 5;
+  const nsf::RomReport given = nsf::run_rom(o);
+  EXPECT_EQ(given.rom_steps_per_frame, 3);
+  std::printf("tiny scene: ROM delta %.3f%% at 3 dt, %.3f%% at 5 dt\n", 100 * scene_ratio.delta,
+              100 * given.delta);
 }
 
 TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {

@@ -12,6 +12,7 @@
 #include "mpm/scene/scene.h"
 #include "mpm/scene/shape_json.h"
 #include "mpm/scene/train_section.h"
+#include "rom/rom_section.h"
 
 namespace nsf {
 namespace {
@@ -273,6 +274,22 @@ TEST(SceneValidation, TrainSectionSetsWhatTheCommandLineLeavesOpen) {
   expect_rejected(j, {"train.epochs"});
   j["train"] = 5;
   expect_rejected(j, {"'train'"});
+}
+
+TEST(SceneValidation, RomSectionTakesSamplesAndATimeStepRatio) {
+  const RomSection r = parse_rom_section(json::parse(R"({"samples": 200, "dt_ratio": 4})"));
+  EXPECT_EQ(r.sampling.count, 200);
+  ASSERT_TRUE(r.dt_ratio.has_value());
+  EXPECT_DOUBLE_EQ(*r.dt_ratio, 4.0);
+  EXPECT_FALSE(parse_rom_section(json::parse(R"({"samples": 200})")).dt_ratio.has_value());
+
+  json j = small_scene();
+  j["rom"] = {{"samples", 50}, {"dt_ratio", 0}};
+  expect_rejected(j, {"rom.dt_ratio", "positive"});
+  j["rom"] = {{"dt_ratio", "fast"}};
+  expect_rejected(j, {"rom.dt_ratio", "fast"});
+  j["rom"] = {{"samples", 50}, {"step", 2}};
+  expect_rejected(j, {"rom.step", "dt_ratio"});  // the unknown key, and the known ones
 }
 
 TEST(SceneValidation, RejectsMissingSectionsAndEmptyObjects) {

@@ -14,6 +14,7 @@ struct RomArgs {
   RomRunOptions opt;
   double mu = 0;
   int samples = 0;
+  double dt_ratio = 1;
   bool no_full_order = false;
 };
 
@@ -44,8 +45,9 @@ void add_rom_command(CLI::App& app) {
   cmd->add_option("--upsample", a->opt.upsample,
                   "Write k points per particle, queried from g (Fig. 6)")
       ->capture_default_str();
-  cmd->add_option("--dt-ratio", a->opt.rom.dt_ratio, "ROM time step over the scene's dt")
-      ->capture_default_str();
+  auto* dt_ratio = cmd->add_option("--dt-ratio", a->dt_ratio,
+                                   "ROM time step over the scene's dt (default: the scene's "
+                                   "rom.dt_ratio, or 1)");
   cmd->add_option("--gn-iterations", a->opt.rom.inversion.max_iterations,
                   "Gauss-Newton iteration cap")
       ->capture_default_str();
@@ -89,9 +91,10 @@ void add_rom_command(CLI::App& app) {
                 "Also find N by brute force every step and count misses (slow)");
   cmd->add_option("--threads,-j", a->opt.threads, "Threads for both engines (0 = all cores)")
       ->capture_default_str();
-  cmd->callback([a, mu, samples] {
+  cmd->callback([a, mu, samples, dt_ratio] {
     if (*mu) a->opt.mu = a->mu;
     if (*samples) a->opt.samples = a->samples;
+    if (*dt_ratio) a->opt.dt_ratio = a->dt_ratio;
     a->opt.full_order = !a->no_full_order;
     set_threads(a->opt.threads);
     const RomReport r = run_rom(a->opt);

@@ -22,10 +22,10 @@ enum class AffineSource {
 };
 
 struct RomOptions {
-  // ROM step over the scene's Δt; rounded so that a frame is a whole number of ROM steps, and
-  // capped at the scene's CFL bound (the MPM step on N is explicit). The paper uses 1.5; our
-  // scenes run at about 2/3 of the bound already, and on metal_small 1.5 gave δ 3.3 %, 1.0 gave
-  // 1.5 % and 0.75 gave 1.3 % (docs/ROM.md, levers).
+  // ROM step over the scene's Δt, rounded so that a frame is a whole number of ROM steps; a
+  // scene's "rom" section may set its own (rom/rom_section.h). The paper uses 1.5. What suits a
+  // scene is measured, not derived: on metal_small 1.5 gave δ 3.3 %, 1.0 gave 1.5 %; on the
+  // paper-size sand 4 gives 3.6 % against 5.2 % at 1.0 (docs/ROM.md, "Larger ROM steps").
   double dt_ratio = 1.0;
   // Share of the transfer's smoothing loss given back to the sample particles each step
   // (FLIP-style: x_S += Δt · flip · (v_S − the velocity P2G then G2P alone hands back)).

@@ -18,6 +18,7 @@
 #include "mpm/scene/sweep_spec.h"
 #include "mpm/simulation.h"
 #include "nn/runtime.h"
+#include "rom/rom_section.h"
 
 namespace nsf {
 
@@ -106,7 +107,9 @@ RomReport run_rom(const RomRunOptions& o) {
   fields.check_scene(scene.name, scene.particles.X, "scene " + o.scene_path);
 
   RomOptions ro = o.rom;
-  ro.sampling = parse_sampling(js.contains("rom") ? js["rom"] : nlohmann::json());
+  const RomSection section = parse_rom_section(js.contains("rom") ? js["rom"] : nlohmann::json());
+  ro.sampling = section.sampling;
+  ro.dt_ratio = o.dt_ratio.value_or(section.dt_ratio.value_or(ro.dt_ratio));
   if (o.samples) ro.sampling.count = *o.samples;
   ro.sampling.seed = o.rom.sampling.seed;
 

@@ -16,6 +16,7 @@ struct RomRunOptions {
   std::vector<std::string> overrides;  // --set, applied before μ
   std::optional<double> mu;            // applied through the scene's "sweep" templates
   std::optional<int> samples;          // |S| at t = 0; default: the scene's "rom" section
+  std::optional<double> dt_ratio;      // ROM step over Δt; default: the scene's, else rom's
   RomOptions rom;
   std::string out_path;    // ROM run file; empty: none
   std::string truth_path;  // existing ground truth; empty: the full-order run made here

@@ -8,7 +8,7 @@
 #include "mpm/scene/settings_json.h"
 #include "mpm/scene/sweep_spec.h"
 #include "mpm/scene/train_section.h"
-#include "rom/sampling.h"
+#include "rom/rom_section.h"
 
 namespace nsf {
 
@@ -41,7 +41,7 @@ Scene build_scene(const nlohmann::json& j, const std::string& base_dir) {
   }
   // Checked here so that every scene load catches a broken sweep, not only `nsf sweep`.
   if (j.contains("sweep")) parse_sweep(j.at("sweep"), j);
-  if (j.contains("rom")) parse_sampling(j.at("rom"));
+  if (j.contains("rom")) parse_rom_section(j.at("rom"));
   if (j.contains("train")) parse_train_section(j.at("train"));
   scene.camera = parse_camera(j);
   return scene;

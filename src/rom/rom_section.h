@@ -1,0 +1,20 @@
+#pragma once
+// A scene's optional "rom" section: the sample particles (rom/sampling.h) and the ROM's own time
+// step. The command line overrides each of them.
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "rom/sampling.h"
+
+namespace nsf {
+
+struct RomSection {
+  SamplingSpec sampling;
+  std::optional<double> dt_ratio;  // ROM step over the scene's Δt (RomOptions::dt_ratio)
+};
+
+// Reads the whole section; missing keys keep their defaults, a null section gives all defaults.
+// Throws nsf::Error naming the key for a malformed value.
+RomSection parse_rom_section(const nlohmann::json& rom);
+
+}  // namespace nsf
