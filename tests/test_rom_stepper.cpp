@@ -443,6 +443,26 @@ TEST_F(RomEndToEnd, SceneSetsTheTimeStepRatioAndTheCommandLineOverridesIt) {
               100 * given.delta);
 }
 
+// A bar thrown at 6 m/s, four times the training range, runs into the wall; the samples trail
+// its leading end by two cells, so particles of N leave the grid first. The stepper must stop
+// with an error naming them before the engine's transfer indexes the grid outside its nodes.
+TEST_F(RomEndToEnd, IntegrationParticlesLeavingTheGridAreAClearError) {
+  nsf::NeuralFields f = nsf::NeuralFields::load(model());
+  nsf::RomOptions o;
+  o.sampling.count = 8;
+  o.sampling.mode = "cluster";
+  o.sampling.center = Vec3(0.6, 0.26, 0.5);
+  o.sampling.sigma = 0.02;
+  nsf::Scene scene = nsf::load_scene(kTinyScene, {"objects[0].velocity=[6.0,-1.0,0]"});
+  const int frames = scene.settings.frames;
+  const std::string msg = nsf::testing::error_of([&] {
+    nsf::LatentStepper rom(f, std::move(scene), 1.5, o);
+    for (int k = 0; k < frames; ++k) rom.advance_frame();
+  });
+  nsf::testing::expect_contains(msg, "integration particle");
+  nsf::testing::expect_contains(msg, "outside the grid");
+}
+
 TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {
   nsf::RomRunOptions o = options();
   o.rom.crom = true;

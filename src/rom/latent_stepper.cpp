@@ -293,15 +293,22 @@ struct LatentStepper::Impl {
     refreshed_at = n;
   }
 
-  void check_finite_inside(const std::vector<Vec3>& xs, const char* what) const {
+  // Positions xs of the particles ids must lie where the engine's stencils fit (its sort and
+  // transfers index the grid unchecked), as the full-order engine's own guard requires.
+  void check_finite_inside(const std::vector<Vec3>& xs, const std::vector<uint32_t>& ids,
+                           const char* what) const {
     const SimSettings& s = sim->settings();
     for (size_t k = 0; k < xs.size(); ++k) {
       const Vec3& x = xs[k];
       const bool inside = x.allFinite() && (x - s.domain_lo).minCoeff() > 1.5 * dx &&
                           (s.domain_hi - x).minCoeff() > 1.5 * dx;
       if (!inside)
-        fail("rom: ", what, " particle ", S[k], " is at (", x[0], ", ", x[1], ", ", x[2],
-             "), outside the grid, at step ", n, " (t = ", t,
+        fail("rom: ", what, " ",
+             ids[k] < np ? "particle " + std::to_string(ids[k])
+                         : "quadrature point " + std::to_string(ids[k] - np) +
+                               " (merged particles of one cell)",
+             " is at (", x[0], ", ", x[1], ", ", x[2], "), outside the grid, at step ", n,
+             " (t = ", t,
              " s): the latent dynamics diverged. Try more sample particles (--samples), a smaller "
              "--dt-ratio, or a model trained longer.");
     }
@@ -332,12 +339,17 @@ struct LatentStepper::Impl {
         xs[k] = xK[slot[S[k]]];
       }
       for (uint32_t p : ids) slot[p] = -1;
-      check_finite_inside(xs, "sample");
+      check_finite_inside(xs, S, "sample");
       marks.clear();
       marks.mark_stencils(xs, 0);
       N.clear();
       for (size_t k = 0; k < ids.size(); ++k)
         if (marks.touches(xK[k])) n_in_K.push_back(k), N.push_back(ids[k]);
+      // A diverging latent can carry a particle of N off the grid while its clamped stencil
+      // still touches I's boundary nodes.
+      std::vector<Vec3> xN(N.size());
+      for (size_t k = 0; k < N.size(); ++k) xN[k] = xK[n_in_K[k]];
+      check_finite_inside(xN, N, "integration");
     }
     if (opt.verify_integration_set) verify_integration_set();
     sum_N += double(N.size());
@@ -427,7 +439,7 @@ struct LatentStepper::Impl {
       }
       sim->transfer(dt, t, &gather);
       for (size_t k = 0; k < S.size(); ++k) xs_new[k] = P.x[gather[k]] + dt * smoothing[k];
-      check_finite_inside(xs_new, "sample");
+      check_finite_inside(xs_new, S, "sample");
     }
 
     // (3) Inversion for ẑ_{n+1}, warm-started from ẑ_n.
