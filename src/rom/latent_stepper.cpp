@@ -339,14 +339,14 @@ struct LatentStepper::Impl {
         xs[k] = xK[slot[S[k]]];
       }
       for (uint32_t p : ids) slot[p] = -1;
-      check_finite_inside(xs, S, "sample");
       marks.clear();
       marks.mark_stencils(xs, 0);
       N.clear();
       for (size_t k = 0; k < ids.size(); ++k)
         if (marks.touches(xK[k])) n_in_K.push_back(k), N.push_back(ids[k]);
       // A diverging latent can carry a particle of N off the grid while its clamped stencil
-      // still touches I's boundary nodes.
+      // still touches I's boundary nodes. S ⊆ N (a sample touches its own nodes), so this
+      // checks the samples too.
       std::vector<Vec3> xN(N.size());
       for (size_t k = 0; k < N.size(); ++k) xN[k] = xK[n_in_K[k]];
       check_finite_inside(xN, N, "integration");
