@@ -499,6 +499,36 @@ TEST_F(RomEndToEnd, FlipCorrectionChangesTheRunAndStaysClose) {
   nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "--flip");
 }
 
+// The ablation of h and l: each particle carries its own F^E, plastic state and C through the
+// scene's material, as in full order. It needs every particle a sample, must change the run, and
+// stays close to ground truth on the tiny elastic scene.
+TEST_F(RomEndToEnd, TrackedStressAndAffineReplaceTheNetworksWhenEveryParticleIsASample) {
+  nsf::RomRunOptions o = options();
+  o.samples = 864;  // |P| of the tiny scene
+  const nsf::RomReport networks = nsf::run_rom(o);
+  o.rom.stress = nsf::StressSource::tracked;
+  o.rom.affine = nsf::AffineSource::tracked;
+  const nsf::RomReport tracked = nsf::run_rom(o);
+  EXPECT_NE(tracked.delta, networks.delta);
+  EXPECT_LT(tracked.delta, 0.05);
+  std::printf(
+      "tiny scene, every particle a sample: ROM delta %.3f%% with tracked stress and C, "
+      "%.3f%% with h and l\n",
+      100 * tracked.delta, 100 * networks.delta);
+  o.rom.affine = nsf::AffineSource::network;
+  const nsf::RomReport stress_only = nsf::run_rom(o);
+  EXPECT_NE(stress_only.delta, tracked.delta);
+  o.samples = 100;
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+                                "every particle must be a sample");
+  o.samples = 864;
+  o.rom.quadrature_per_cell = 1;
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "--quadrature");
+  o.rom.quadrature_per_cell = 0;
+  o.dt_ratio = 5;  // one ROM step per frame: the tracked stress is explicit and would blow up
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "CFL bound");
+}
+
 // The tangent cache along a whole run: a small radius reproduces the network-every-step run
 // closely; it does not combine with the variants that differentiate g in X.
 TEST_F(RomEndToEnd, TangentCacheFollowsTheNetworkRun) {

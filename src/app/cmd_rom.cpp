@@ -68,11 +68,21 @@ void add_rom_command(CLI::App& app) {
                 "CROM-style baseline: stress from dg/dX through the material, no affine field");
   cmd->add_option("--affine", a->opt.rom.affine,
                   "APIC affine matrices C from: network (l, the paper), velocity (the gradient of "
-                  "the ROM's own velocity field, from dg/dX), none (C = 0; --crom's default)")
+                  "the ROM's own velocity field, from dg/dX), none (C = 0; --crom's default), "
+                  "tracked (each particle's own G2P C; needs --samples |P|)")
       ->transform(CLI::CheckedTransformer(
           std::map<std::string, AffineSource>{{"network", AffineSource::network},
                                               {"velocity", AffineSource::velocity},
-                                              {"none", AffineSource::none}},
+                                              {"none", AffineSource::none},
+                                              {"tracked", AffineSource::tracked}},
+          CLI::ignore_case));
+  cmd->add_option("--stress", a->opt.rom.stress,
+                  "Kirchhoff stress from: network (h, the paper), tracked (each particle's own "
+                  "F and plastic state through the material, as in full order; needs --samples "
+                  "|P|: an ablation of h)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, StressSource>{{"network", StressSource::network},
+                                              {"tracked", StressSource::tracked}},
           CLI::ignore_case));
   cmd->add_option("--linearize", a->opt.rom.linearize,
                   "Tangent cache: g, h, l by per-particle first-order expansions in z, re-anchored "

@@ -95,6 +95,13 @@ struct LatentStepper::Impl {
   // The tangent cache (opt.linearize > 0): g on K, h and l on N through first-order expansions.
   std::unique_ptr<LinearizedField> lin_g, lin_h, lin_l;
 
+  // --stress tracked / --affine tracked: every particle's own state, as the full-order engine
+  // keeps it (F^E and plastic state updated from its G2P velocity gradient; APIC's C).
+  struct Tracked {
+    std::vector<Mat3> F, tau, C;
+    std::vector<MaterialPoint> mp;
+  } tracked;
+
   double sum_N = 0, sum_K = 0, last_residual = 0;
   double energy_after_mpm = 0, energy_after_inversion = 0;  // summed over steps, on S
   long refreshes = 0, misses = 0;
@@ -113,6 +120,8 @@ struct LatentStepper::Impl {
     X = P.X, mass = P.mass, vol0 = P.vol0, material = P.material, mat0 = P.mat;
     np = X.size();
     const std::vector<Vec3> v0 = P.v;
+    const std::vector<Mat3> F0 = P.F;
+    const double cfl_bound = cfl_time_step_bound(scene);
     const SimSettings& s = scene.settings;
     // The baseline has no affine network: network means its default, none.
     if (opt.crom && opt.affine == AffineSource::network) opt.affine = AffineSource::none;
@@ -145,6 +154,7 @@ struct LatentStepper::Impl {
     sim = std::make_unique<Simulation>(std::move(scene));
     sim->particles() = Particles{};
     set_samples(sample_count_at(opt.sampling, 0, T));
+    if (tracking()) start_tracking(F0, cfl_bound);
 
     // ẑ_0: the encoder's latent of the rest state, refined on S so that step 1 starts from the
     // latent the inversion itself would pick; ẑ_{-1}: fitted to X − Δt·v⁰.
@@ -155,6 +165,47 @@ struct LatentStepper::Impl {
     z = invert_deformation(model, Xn_S, target, z, fit).z;
     for (size_t k = 0; k < S.size(); ++k) target[k] = X[S[k]] - dt * v0[S[k]];
     z_prev = invert_deformation(model, Xn_S, target, z, fit).z;
+  }
+
+  bool tracking() const {
+    return opt.stress == StressSource::tracked || opt.affine == AffineSource::tracked;
+  }
+
+  // A tracked state is every particle's, so every particle must be a sample at every step
+  // (then N = S = P and each one gets its G2P).
+  void start_tracking(const std::vector<Mat3>& F0, double cfl_bound) {
+    const char* what =
+        opt.stress == StressSource::tracked ? "--stress tracked" : "--affine tracked";
+    if (opt.sampling.count != int(np) || !opt.sampling.schedule.empty())
+      fail("rom: ", what, " keeps every particle's own state, so every particle must be a sample: ",
+           "use --samples ", np, " (|P|) and no sample schedule");
+    if (opt.quadrature_per_cell > 0 || opt.linearize > 0 ||
+        (opt.crom && opt.stress == StressSource::tracked))
+      fail("rom: ", what, " does not combine with --quadrature, --linearize or --crom");
+    // Unlike h's stress, the tracked one is the explicit engine's and shares its bound.
+    if (opt.stress == StressSource::tracked && dt > cfl_bound * (1 + 1e-9))
+      fail("rom: --stress tracked integrates the material explicitly, so the ROM step ", dt,
+           " s must stay within the full-order CFL bound ", cfl_bound, " s: use --dt-ratio ",
+           cfl_bound / sim->settings().dt, " or less");
+    tracked.F = F0;
+    tracked.mp = mat0;
+    tracked.C.assign(np, Mat3::Zero());
+    tracked.tau.resize(np);
+    for (size_t p = 0; p < np; ++p) tracked.tau[p] = material_update(p, tracked.F[p]);
+  }
+
+  Mat3 material_update(size_t p, Mat3& F) {
+    return sim->scene().materials[material[p]]->update(F, tracked.mp[p], dt);
+  }
+
+  // After G2P: P.F[k] holds I + Δt·∇v of this step (the ROM starts each particle at F = I).
+  void advance_tracked(const Particles& P, const std::vector<uint32_t>& gather) {
+    for (size_t k = 0; k < S.size(); ++k) {
+      const uint32_t p = S[k];
+      tracked.F[p] = P.F[gather[k]] * tracked.F[p];
+      tracked.tau[p] = material_update(p, tracked.F[p]);
+      tracked.C[p] = P.C[gather[k]];
+    }
   }
 
   void make_linearized_fields() {
@@ -366,7 +417,9 @@ struct LatentStepper::Impl {
       torch::Tensor F;  // ∂g/∂X at ẑ_n on N, when the stress or C needs it
       if (opt.crom || opt.affine == AffineSource::velocity)
         F = deformation_gradients(model, XnN, zN);
-      if (opt.crom) {
+      if (opt.stress == StressSource::tracked) {
+        for (int64_t k = 0; k < m; ++k) tau[k] = tracked.tau[N[k]];
+      } else if (opt.crom) {
         crom_stress(F, tau);
       } else if (lin_h) {
         std::vector<double> out;
@@ -392,6 +445,8 @@ struct LatentStepper::Impl {
         const double* lp = l.data_ptr<double>();
         for (int64_t k = 0; k < m; ++k)
           C[k] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(lp + 9 * k);
+      } else if (opt.affine == AffineSource::tracked) {
+        for (int64_t k = 0; k < m; ++k) C[k] = tracked.C[N[k]];
       } else if (opt.affine == AffineSource::velocity) {
         const torch::Tensor F_prev =
             deformation_gradients(model, XnN, latent_row(z_prev).expand({m, z_prev.size()}));
@@ -438,6 +493,7 @@ struct LatentStepper::Impl {
           smoothing[k] = opt.flip * (P.v[gather[k]] - v_round_trip[k]);
       }
       sim->transfer(dt, t, &gather);
+      if (tracking()) advance_tracked(P, gather);
       for (size_t k = 0; k < S.size(); ++k) xs_new[k] = P.x[gather[k]] + dt * smoothing[k];
       check_finite_inside(xs_new, S, "sample");
     }

@@ -18,7 +18,19 @@ enum class AffineSource {
   network,  // l(X, ẑ) (§4.4, the paper)
   velocity,  // the ROM's own velocity field: C = Ḟ F⁻¹ with F = ∂g/∂X at ẑ_n, Ḟ its difference
              // quotient from ẑ_{n−1}; APIC's C is the velocity gradient at the particle
-  none,  // C = 0 (the CROM baseline's default)
+  none,     // C = 0 (the CROM baseline's default)
+  tracked,  // each particle keeps the C its last G2P gave it, as the full-order engine does
+            // (needs every particle a sample; an ablation of l, docs/ROM.md)
+};
+
+// Where the ROM step takes the particles' Kirchhoff stress τ from.
+enum class StressSource {
+  network,  // h(X, ẑ[, μ]) (§4.3, the paper)
+  // Each particle carries F^E and its plastic state, updated through the scene's constitutive
+  // model from the velocity gradient of its own G2P, as in the full-order engine; the ROM's
+  // positions still come from g. Needs every particle a sample: an ablation of h that says
+  // how much of the ROM's error is h's (docs/ROM.md, "Where the ROM's error comes from").
+  tracked,
 };
 
 struct RomOptions {
@@ -38,6 +50,7 @@ struct RomOptions {
   bool crom = false;
   // Network by default, none when `crom` is set; the CROM baseline can also take `velocity`.
   AffineSource affine = AffineSource::network;
+  StressSource stress = StressSource::network;
   // > 0: the tangent cache (rom/linearized_field.h): g, h and l through per-particle first-order
   // expansions in ẑ, recomputed when ẑ moves further than this from their anchor (in units of
   // each latent component's training spread). 0: the networks at every step, as in the paper.

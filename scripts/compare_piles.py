@@ -1,0 +1,155 @@
+#!/usr/bin/env python3
+"""Frame-by-frame comparison of two runs of an axisymmetric pile (the sand column scenes).
+
+Reads the PLY frames that `nsf export RUN.h5 -f ply -o DIR` writes (standard library only: no
+h5py or numpy needed) and prints, per frame, for a run against its ground truth:
+  - delta of that frame alone (eq. 11 restricted to one frame),
+  - mean squared speed, mean height and top height of each run,
+  - radius of gyration about the vertical axis through --axis,
+  - the position error split into radial, tangential and vertical parts about that axis.
+With --regions FRAME it also prints where the particles of each part of the rest shape (bins of
+initial height and radius) end up in both runs at that frame.
+
+  nsf export out/report/sand_paper_q1_rom.h5 -f ply -o /tmp/rom
+  nsf export out/report/sand_paper_q1_full_order.h5 -f ply -o /tmp/truth
+  python3 scripts/compare_piles.py /tmp/rom /tmp/truth --floor 0.1 --regions 30
+"""
+import argparse
+import math
+import os
+import struct
+import sys
+
+TYPES = {"float": "f", "double": "d", "ushort": "H", "uchar": "B", "int": "i", "uint": "I"}
+
+
+def read_ply(path):
+    """Rows of (x, y, z, vx, vy, vz) from a binary little-endian PLY written by nsf export."""
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    count, props = 0, []
+    for line in data[:end].decode().split("\n"):
+        words = line.split()
+        if words[:2] == ["element", "vertex"]:
+            count = int(words[2])
+        elif words[:1] == ["property"]:
+            props.append((words[1], words[2]))
+    names = [name for _, name in props]
+    need = ["x", "y", "z", "vx", "vy", "vz"]
+    if any(n not in names for n in need):
+        sys.exit(f"{path}: expected the properties {need}, found {names}")
+    fmt = "<" + "".join(TYPES[t] for t, _ in props)
+    cols = [names.index(n) for n in need]
+    rows = struct.iter_unpack(fmt, data[end : end + count * struct.calcsize(fmt)])
+    return [tuple(r[c] for c in cols) for r in rows]
+
+
+def frame_files(directory):
+    files = sorted(f for f in os.listdir(directory) if f.endswith(".ply"))
+    if not files:
+        sys.exit(f"{directory}: no .ply frames (write them with `nsf export RUN -f ply -o DIR`)")
+    return files
+
+
+def summary(rows, ax, az):
+    n = len(rows)
+    speed2 = sum(r[3] ** 2 + r[4] ** 2 + r[5] ** 2 for r in rows) / n
+    height = sum(r[1] for r in rows) / n
+    top = max(r[1] for r in rows)
+    gyration = math.sqrt(sum((r[0] - ax) ** 2 + (r[2] - az) ** 2 for r in rows) / n)
+    return speed2, height, top, gyration
+
+
+def error_parts(run, truth, ax, az):
+    """Squared error sums: total, radial, tangential, vertical; and the truth's squared norm."""
+    tot = rad = tan = ver = norm = 0.0
+    for a, b in zip(run, truth):
+        ex, ey, ez = a[0] - b[0], a[1] - b[1], a[2] - b[2]
+        norm += b[0] ** 2 + b[1] ** 2 + b[2] ** 2
+        tot += ex * ex + ey * ey + ez * ez
+        ver += ey * ey
+        dx, dz = b[0] - ax, b[2] - az
+        r = math.hypot(dx, dz)
+        if r > 1e-9:
+            ux, uz = dx / r, dz / r
+            rad += (ex * ux + ez * uz) ** 2
+            tan += (ez * ux - ex * uz) ** 2
+    return tot, rad, tan, ver, norm
+
+
+def regions(rest, run, truth, ax, az, floor, h_bins, r_bins):
+    heights = [X[1] - floor for X in rest]
+    radii = [math.hypot(X[0] - ax, X[2] - az) for X in rest]
+    h_step = (max(heights) + 1e-9) / h_bins
+    r_step = (max(radii) + 1e-9) / r_bins
+    acc = {}
+    for h, r0, a, b in zip(heights, radii, run, truth):
+        key = (min(int(h / h_step), h_bins - 1), min(int(r0 / r_step), r_bins - 1))
+        e = acc.setdefault(key, [0, 0.0, 0.0, 0.0, 0.0])
+        e[0] += 1
+        e[1] += math.hypot(a[0] - ax, a[2] - az)
+        e[2] += math.hypot(b[0] - ax, b[2] - az)
+        e[3] += a[1] - floor
+        e[4] += b[1] - floor
+    print(f"\nwhere each part of the rest shape ends up (mm; run/truth): rows are initial height "
+          f"bins of {1000 * h_step:.0f} mm from the bottom, columns initial radius bins of "
+          f"{1000 * r_step:.0f} mm from the axis")
+    for hb in range(h_bins - 1, -1, -1):
+        cells = []
+        for rb in range(r_bins):
+            e = acc.get((hb, rb))
+            if not e:
+                cells.append(" " * 30)
+                continue
+            k = 1000.0 / e[0]
+            cells.append(f"r {e[1] * k:4.0f}/{e[2] * k:4.0f} height {e[3] * k:4.0f}/{e[4] * k:4.0f}")
+        print(f"h{hb}  " + " | ".join(cells))
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    p.add_argument("run", help="PLY frames of the run (e.g. the ROM's)")
+    p.add_argument("truth", help="PLY frames of the ground truth, same particles and frames")
+    p.add_argument("--axis", type=float, nargs=2, default=[0.5, 0.5], metavar=("X", "Z"),
+                   help="the pile's vertical axis (default 0.5 0.5, the sand scenes)")
+    p.add_argument("--floor", type=float, default=0.0, help="height of the floor (m)")
+    p.add_argument("--every", type=int, default=3, help="print every k-th frame (and the last)")
+    p.add_argument("--regions", type=int, metavar="FRAME", help="the region table at this frame")
+    a = p.parse_args()
+    ax, az = a.axis
+    files = frame_files(a.truth)
+    if frame_files(a.run) != files:
+        sys.exit(f"{a.run} and {a.truth} hold different frames")
+    print("frame  delta_k | speed^2 run/truth | height run/truth | top run/truth | "
+          "gyration run/truth | rms error mm: radial tangential vertical")
+    total = norm_total = 0.0
+    for k, name in enumerate(files):
+        run = read_ply(os.path.join(a.run, name))
+        truth = read_ply(os.path.join(a.truth, name))
+        if len(run) != len(truth):
+            sys.exit(f"{name}: {len(run)} particles in the run, {len(truth)} in the truth")
+        tot, rad, tan, ver, norm = error_parts(run, truth, ax, az)
+        if k > 0:  # eq. 11 sums over n = 1 … N: frame 0 is the initial state
+            total += tot
+            norm_total += norm
+        if k % a.every and k != len(files) - 1:
+            continue
+        s, t = summary(run, ax, az), summary(truth, ax, az)
+        n = len(run)
+        print(f"{k:5d}  {100 * math.sqrt(tot / norm):6.2f}% | {s[0]:.4f}/{t[0]:.4f} | "
+              f"{s[1] - a.floor:+.4f}/{t[1] - a.floor:+.4f} | {s[2] - a.floor:.4f}/{t[2] - a.floor:.4f}"
+              f" | {s[3]:.4f}/{t[3]:.4f} | {1000 * math.sqrt(rad / n):5.1f} "
+              f"{1000 * math.sqrt(tan / n):5.1f} {1000 * math.sqrt(ver / n):5.1f}")
+    print(f"delta over frames 1 to {len(files) - 1} (eq. 11): {100 * math.sqrt(total / norm_total):.2f}%")
+    if a.regions is not None:
+        name = f"frame_{a.regions:04d}.ply"
+        if name not in files:
+            sys.exit(f"--regions {a.regions}: no {name}")
+        rest = read_ply(os.path.join(a.truth, files[0]))
+        regions(rest, read_ply(os.path.join(a.run, name)), read_ply(os.path.join(a.truth, name)),
+                ax, az, a.floor, 5, 5)
+
+
+if __name__ == "__main__":
+    main()
