@@ -525,7 +525,7 @@ TEST_F(RomEndToEnd, TrackedStressAndAffineReplaceTheNetworksWhenEveryParticleIsA
   o.rom.quadrature_per_cell = 1;
   nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "--quadrature");
   o.rom.quadrature_per_cell = 0;
-  o.dt_ratio = 5;  // one ROM step per frame: the tracked stress is explicit and would blow up
+  o.dt_ratio = 5;  // past the CFL bound, where the explicit tracked stress would blow up
   nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "CFL bound");
 }
 
