@@ -121,7 +121,7 @@ struct LatentStepper::Impl {
     np = X.size();
     const std::vector<Vec3> v0 = P.v;
     const std::vector<Mat3> F0 = P.F;
-    const double cfl_bound = cfl_time_step_bound(scene);
+    const double cfl_bound = opt.stress == StressSource::tracked ? cfl_time_step_bound(scene) : 0.0;
     const SimSettings& s = scene.settings;
     // The baseline has no affine network: network means its default, none.
     if (opt.crom && opt.affine == AffineSource::network) opt.affine = AffineSource::none;
@@ -198,11 +198,11 @@ struct LatentStepper::Impl {
     return sim->scene().materials[material[p]]->update(F, tracked.mp[p], dt);
   }
 
-  // After G2P: P.F[k] holds I + Δt·∇v of this step (the ROM starts each particle at F = I).
+  // After G2P, which has advanced each particle's tracked F by its own velocity gradient.
   void advance_tracked(const Particles& P, const std::vector<uint32_t>& gather) {
     for (size_t k = 0; k < S.size(); ++k) {
       const uint32_t p = S[k];
-      tracked.F[p] = P.F[gather[k]] * tracked.F[p];
+      tracked.F[p] = P.F[gather[k]];
       tracked.tau[p] = material_update(p, tracked.F[p]);
       tracked.C[p] = P.C[gather[k]];
     }
@@ -470,7 +470,7 @@ struct LatentStepper::Impl {
         P.x[k] = xK[q];
         P.v[k] = (xK[q] - xK_prev[q]) / dt;
         P.C[k] = C[k];
-        P.F[k] = Mat3::Identity();
+        P.F[k] = tracking() ? tracked.F[p] : Mat3::Identity();
         P.tau[k] = tau[k];
         P.mass[k] = quad.mass[p];
         P.vol0[k] = quad.vol0[p];
