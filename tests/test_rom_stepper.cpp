@@ -575,6 +575,62 @@ TEST_F(RomEndToEnd, MuOutsideTheTrainingRangeWarns) {
   EXPECT_THAT(r.warnings[0], HasSubstr("outside the training range"));
 }
 
+// The latents a ROM run wrote beside its frames (/rom/latent, frames × r).
+std::vector<nsf::Latent> written_latents(const std::string& path) {
+  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t d = H5Dopen2(f, "/rom/latent", H5P_DEFAULT);
+  hid_t space = H5Dget_space(d);
+  hsize_t dims[2] = {0, 0};
+  H5Sget_simple_extent_dims(space, dims, nullptr);
+  std::vector<double> rows(dims[0] * dims[1]);
+  H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data());
+  H5Sclose(space);
+  H5Dclose(d);
+  H5Fclose(f);
+  std::vector<nsf::Latent> z(dims[0]);
+  for (size_t k = 0; k < z.size(); ++k)
+    z[k] = Eigen::Map<const nsf::Latent>(&rows[k * dims[1]], Eigen::Index(dims[1]));
+  return z;
+}
+
+// The output holds what the step used at each frame: τ = h(X, ẑ, μ) and C = l(X, ẑ) (paper
+// Fig. 9 shows the ROM's stress), and the printed stress and affine errors are those of the
+// written fields against the ground truth's.
+TEST_F(RomEndToEnd, OutputHoldsTheStressAndAffineFieldsOfEachFramesLatent) {
+  nsf::RomRunOptions o = options();
+  o.out_path = (root_ / "rom_fields.h5").string();
+  const nsf::RomReport r = nsf::run_rom(o);
+  const nsf::RunReader rom(o.out_path), gt(truth());
+  const std::vector<nsf::Latent> z = written_latents(o.out_path);
+  ASSERT_EQ(z.size(), rom.frame_count());
+  nsf::NeuralFields f = nsf::NeuralFields::load(model());
+  const nsf::NeuralFields::Points pts = f.prepare(rom.rest_positions());
+  std::vector<Mat3> tau, C;
+  double stress_num = 0, stress_den = 0, affine_num = 0, affine_den = 0, largest = 0;
+  for (size_t k = 1; k < rom.frame_count(); ++k) {
+    const nsf::RunFrame fr = rom.read_frame(k), truth_frame = gt.read_frame(k);
+    f.stress(pts, z[k], test_mu(), tau);
+    f.affine(pts, z[k], C);
+    for (size_t p = 0; p < tau.size(); ++p) {
+      EXPECT_LT((fr.tau[p] - tau[p]).norm(), 1e-4 * (1 + tau[p].norm())) << "frame " << k;
+      EXPECT_LT((fr.C[p] - C[p]).norm(), 1e-4 * (1 + C[p].norm())) << "frame " << k;
+      largest = std::max(largest, fr.tau[p].norm());
+      stress_num += (fr.tau[p] - truth_frame.tau[p]).squaredNorm();
+      stress_den += truth_frame.tau[p].squaredNorm();
+      affine_num += (fr.C[p] - truth_frame.C[p]).squaredNorm();
+      affine_den += truth_frame.C[p].squaredNorm();
+    }
+  }
+  EXPECT_GT(largest, 0) << "the run wrote no stress";
+  EXPECT_NEAR(r.stress_error, std::sqrt(stress_num / stress_den), 1e-6);
+  EXPECT_NEAR(r.affine_error, std::sqrt(affine_num / affine_den), 1e-6);
+  EXPECT_GT(r.stress_error, 0);
+  EXPECT_LT(r.stress_error, 1.5);
+  EXPECT_EQ(r.field_sources, "tau from h, C from l");
+  std::printf("tiny scene: ROM stress error %.1f%%, affine error %.1f%%\n", 100 * r.stress_error,
+              100 * r.affine_error);
+}
+
 TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
   const std::string out = (root_ / "rom.h5").string();
   const auto r = nsf::testing::run_cli("rom '" + model() + "' '" + kTinyScene +
@@ -583,6 +639,8 @@ TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
   EXPECT_THAT(r.output, HasSubstr("speed-up"));
   EXPECT_THAT(r.output, HasSubstr("delta (eq. 11)"));
   EXPECT_THAT(r.output, HasSubstr("gamma"));
+  EXPECT_THAT(r.output, HasSubstr("tau from h, C from l"));
+  EXPECT_THAT(r.output, HasSubstr("stress error"));
   const nsf::RunReader run(out);
   EXPECT_EQ(run.frame_count(), 13u);
   EXPECT_EQ(run.attribute_int("rom"), 1);

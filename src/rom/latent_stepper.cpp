@@ -406,52 +406,10 @@ struct LatentStepper::Impl {
     sum_N += double(N.size());
     sum_K += double(K.ids().size());
 
-    std::vector<Mat3> tau(N.size()), C(N.size(), Mat3::Zero());
+    std::vector<Mat3> tau, C;
     {
       ScopedTimer timer(times.inference);
-      const int64_t m = int64_t(N.size());
-      // With the tangent cache every field on N comes from it (--linearize excludes CROM and
-      // the velocity C), so the network inputs are not needed.
-      const torch::Tensor XnN = lin_h ? torch::Tensor() : Xn_all.index_select(0, index_tensor(N));
-      const torch::Tensor zN = lin_h ? torch::Tensor() : latent_row(z).expand({m, z.size()});
-      torch::Tensor F;  // ∂g/∂X at ẑ_n on N, when the stress or C needs it
-      if (opt.crom || opt.affine == AffineSource::velocity)
-        F = deformation_gradients(model, XnN, zN);
-      if (opt.stress == StressSource::tracked) {
-        for (int64_t k = 0; k < m; ++k) tau[k] = tracked.tau[N[k]];
-      } else if (opt.crom) {
-        crom_stress(F, tau);
-      } else if (lin_h) {
-        std::vector<double> out;
-        lin_h->prepare(N, z);
-        lin_h->evaluate(N, z, out);
-        for (int64_t k = 0; k < m; ++k) tau[k] = symmetric_from6(&out[6 * k]);
-      } else {
-        torch::NoGradGuard no_grad;
-        const torch::Tensor muN = torch::full({m, 1}, float(mu));
-        const torch::Tensor h = model.stress(XnN, zN, muN).to(torch::kFloat64).contiguous();
-        const double* hp = h.data_ptr<double>();
-        for (int64_t k = 0; k < m; ++k) tau[k] = symmetric_from6(hp + 6 * k);
-      }
-      if (lin_l) {
-        std::vector<double> out;
-        lin_l->prepare(N, z);
-        lin_l->evaluate(N, z, out);
-        for (int64_t k = 0; k < m; ++k)
-          C[k] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&out[9 * k]);
-      } else if (opt.affine == AffineSource::network) {
-        torch::NoGradGuard no_grad;
-        const torch::Tensor l = model.affine(XnN, zN).to(torch::kFloat64).contiguous();
-        const double* lp = l.data_ptr<double>();
-        for (int64_t k = 0; k < m; ++k)
-          C[k] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(lp + 9 * k);
-      } else if (opt.affine == AffineSource::tracked) {
-        for (int64_t k = 0; k < m; ++k) C[k] = tracked.C[N[k]];
-      } else if (opt.affine == AffineSource::velocity) {
-        const torch::Tensor F_prev =
-            deformation_gradients(model, XnN, latent_row(z_prev).expand({m, z_prev.size()}));
-        velocity_gradients(F, F_prev, dt, C);
-      }
+      stress_and_affine(N, true, tau, C);
     }
 
     // (2) One MPM step on N with the engine's own transfers; G2P for S only.
@@ -515,6 +473,59 @@ struct LatentStepper::Impl {
     ++n;
   }
 
+  // τ and C on the rows `ids` at ẑ_n, from the sources the options name: h (or CROM's τ(∂g/∂X),
+  // or the tracked state) and l (or the velocity field's gradient, the tracked C, or none).
+  // `tangent_cache`: through --linearize's expansions when they exist, else the networks.
+  void stress_and_affine(const std::vector<uint32_t>& ids, bool tangent_cache,
+                         std::vector<Mat3>& tau, std::vector<Mat3>& C) {
+    const int64_t m = int64_t(ids.size());
+    tau.assign(ids.size(), Mat3::Zero());
+    C.assign(ids.size(), Mat3::Zero());
+    const bool cached_h = tangent_cache && lin_h, cached_l = tangent_cache && lin_l;
+    // With the tangent cache every field comes from it (--linearize excludes CROM and the
+    // velocity C), so the network inputs are not needed.
+    const bool networks = !(cached_h && (cached_l || opt.affine != AffineSource::network));
+    const torch::Tensor Xn = networks ? Xn_all.index_select(0, index_tensor(ids)) : torch::Tensor();
+    const torch::Tensor zz = networks ? latent_row(z).expand({m, z.size()}) : torch::Tensor();
+    torch::Tensor F;  // ∂g/∂X at ẑ_n, when the stress or C needs it
+    if (opt.crom || opt.affine == AffineSource::velocity) F = deformation_gradients(model, Xn, zz);
+    if (opt.stress == StressSource::tracked) {
+      for (int64_t k = 0; k < m; ++k) tau[k] = tracked.tau[ids[k]];
+    } else if (opt.crom) {
+      crom_stress(F, ids, tau);
+    } else if (cached_h) {
+      std::vector<double> out;
+      lin_h->prepare(ids, z);
+      lin_h->evaluate(ids, z, out);
+      for (int64_t k = 0; k < m; ++k) tau[k] = symmetric_from6(&out[6 * k]);
+    } else {
+      torch::NoGradGuard no_grad;
+      const torch::Tensor mus = torch::full({m, 1}, float(mu));
+      const torch::Tensor h = model.stress(Xn, zz, mus).to(torch::kFloat64).contiguous();
+      const double* hp = h.data_ptr<double>();
+      for (int64_t k = 0; k < m; ++k) tau[k] = symmetric_from6(hp + 6 * k);
+    }
+    if (cached_l) {
+      std::vector<double> out;
+      lin_l->prepare(ids, z);
+      lin_l->evaluate(ids, z, out);
+      for (int64_t k = 0; k < m; ++k)
+        C[k] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&out[9 * k]);
+    } else if (opt.affine == AffineSource::network) {
+      torch::NoGradGuard no_grad;
+      const torch::Tensor l = model.affine(Xn, zz).to(torch::kFloat64).contiguous();
+      const double* lp = l.data_ptr<double>();
+      for (int64_t k = 0; k < m; ++k)
+        C[k] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(lp + 9 * k);
+    } else if (opt.affine == AffineSource::tracked) {
+      for (int64_t k = 0; k < m; ++k) C[k] = tracked.C[ids[k]];
+    } else if (opt.affine == AffineSource::velocity) {
+      const torch::Tensor F_prev =
+          deformation_gradients(model, Xn, latent_row(z_prev).expand({m, z_prev.size()}));
+      velocity_gradients(F, F_prev, dt, C);
+    }
+  }
+
   // The samples' kinetic energy after the MPM step, (x_S^{n+1} − x_S^n)/Δt, against what the
   // inversion keeps of it, (g(X_S, ẑ_{n+1}) − x_S^n)/Δt: velocity outside g's tangent is lost
   // at every step, and the loss compounds over a run's thousands of steps.
@@ -536,14 +547,15 @@ struct LatentStepper::Impl {
 
   // CROM: τ = τ(F) with F = ∂g/∂X, through the scene's own constitutive models (each particle's
   // initial plastic state: the baseline has no plastic history).
-  void crom_stress(const torch::Tensor& F, std::vector<Mat3>& tau) {
+  void crom_stress(const torch::Tensor& F, const std::vector<uint32_t>& ids,
+                   std::vector<Mat3>& tau) {
     const int64_t m = F.size(0);
     const double* f = F.data_ptr<double>();
     const auto& materials = sim->scene().materials;
     for (int64_t k = 0; k < m; ++k) {
       Mat3 Fk = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(f + 9 * k);
-      MaterialPoint mp = mat0[N[k]];
-      tau[k] = materials[material[N[k]]]->update(Fk, mp, dt);
+      MaterialPoint mp = mat0[ids[k]];
+      tau[k] = materials[material[ids[k]]]->update(Fk, mp, dt);
     }
   }
 
@@ -601,6 +613,12 @@ void LatentStepper::particle_state(std::vector<Vec3>& x, std::vector<Vec3>* v) {
   if (!v) return;
   impl_->fields.deform(impl_->all_points, impl_->z_prev, *v);
   for (size_t k = 0; k < x.size(); ++k) (*v)[k] = (x[k] - (*v)[k]) / impl_->dt;
+}
+
+void LatentStepper::particle_fields(std::vector<Mat3>& tau, std::vector<Mat3>& C) {
+  std::vector<uint32_t> ids(impl_->np);
+  for (size_t p = 0; p < ids.size(); ++p) ids[p] = uint32_t(p);
+  impl_->stress_and_affine(ids, false, tau, C);
 }
 
 size_t LatentStepper::particle_count() const {

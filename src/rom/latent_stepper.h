@@ -47,6 +47,9 @@ class LatentStepper {
   void state(const NeuralFields::Points& X, std::vector<Vec3>& x, std::vector<Vec3>* v) const;
   // The same for all particles of the scene; also refreshes the candidate set for free.
   void particle_state(std::vector<Vec3>& x, std::vector<Vec3>* v);
+  // τ and C of every particle at ẑ_n, from the sources the step itself uses (h or its
+  // replacements, l or its), for output: the networks themselves, not --linearize's expansions.
+  void particle_fields(std::vector<Mat3>& tau, std::vector<Mat3>& C);
 
   size_t particle_count() const;
   size_t sample_count() const;  // |S| now

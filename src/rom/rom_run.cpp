@@ -48,6 +48,27 @@ Particles upsampled_points(const Particles& P, int k) {
   return out;
 }
 
+// Where the run's τ and C come from, for its summary and its output file.
+std::string field_sources(const RomOptions& o) {
+  std::string tau = o.stress == StressSource::tracked ? "tau tracked per particle"
+                    : o.crom                          ? "tau from dg/dX through the material (CROM)"
+                                                      : "tau from h";
+  const AffineSource a =
+      o.crom && o.affine == AffineSource::network ? AffineSource::none : o.affine;
+  const char* C = a == AffineSource::network    ? "C from l"
+                  : a == AffineSource::velocity ? "C from the gradient of g's velocity"
+                  : a == AffineSource::tracked  ? "C tracked per particle"
+                                                : "C = 0";
+  return tau + ", " + C;
+}
+
+// Sums of a relative error over frames: sqrt(Σ‖a − b‖² / Σ‖b‖²), as `nsf eval` reports it.
+struct RelativeError {
+  double num = 0, den = 0;
+  void add(const Mat3& a, const Mat3& b) { num += (a - b).squaredNorm(), den += b.squaredNorm(); }
+  double value() const { return den > 0 ? std::sqrt(num / den) : -1.0; }
+};
+
 // Makes the scene JSON of the run: overrides, then μ through the scene's sweep templates.
 nlohmann::json scene_at_mu(const RomRunOptions& o, const NeuralFields& fields, RomReport& rep) {
   nlohmann::json js = read_scene_json(o.scene_path, o.overrides);
@@ -183,24 +204,37 @@ RomReport run_rom(const RomRunOptions& o) {
   std::unique_ptr<RunWriter> writer;
   Particles frame = out_points;
   std::vector<Vec3> x, v;
+  std::vector<Mat3> tau, C;
   std::vector<double> latents;          // ẑ of every written frame, row by row
   double delta_num = 0, delta_den = 0;  // the sums of eq. (11) over frames 1…N
+  RelativeError stress_error, affine_error;
+  rep.field_sources = field_sources(ro);
   auto output = [&](int f) {
     const double t1 = now_seconds();
     rom.particle_state(x, &v);
-    if (truth && f > 0) {
-      const std::vector<Vec3> phi = truth->read_positions(size_t(f));
+    const bool compare = truth && f > 0;
+    if (compare || writer) rom.particle_fields(tau, C);
+    if (compare) {
+      const RunFrame truth_frame = truth->read_frame(size_t(f));
+      const std::vector<Vec3>& phi = truth_frame.x;
       double num = 0, den = 0;
-      for (size_t p = 0; p < phi.size(); ++p)
+      for (size_t p = 0; p < phi.size(); ++p) {
         num += (x[p] - phi[p]).squaredNorm(), den += phi[p].squaredNorm();
+        stress_error.add(tau[p], truth_frame.tau[p]);
+        affine_error.add(C[p], truth_frame.C[p]);
+      }
       rep.delta_per_frame.push_back(std::sqrt(num / den));
       delta_num += num, delta_den += den;
       rep.delta = std::sqrt(delta_num / delta_den);
+      rep.stress_error = stress_error.value(), rep.affine_error = affine_error.value();
     }
     if (writer) {
       if (o.upsample > 1) rom.state(boost, x, &v);
       frame.x = x;
       frame.v = v;
+      // Upsampled points carry their particle's τ and C (point i comes from particle i / k).
+      for (size_t i = 0; i < frame.size(); ++i)
+        frame.tau[i] = tau[i / size_t(o.upsample)], frame.C[i] = C[i / size_t(o.upsample)];
       writer->write_frame(frame, rom.time());
       latents.insert(latents.end(), rom.latent().data(), rom.latent().data() + rom.latent().size());
     }
@@ -211,9 +245,10 @@ RomReport run_rom(const RomRunOptions& o) {
     writer->set_attribute("rom", 1);
     writer->set_attribute("rom_model", o.model_path);
     writer->set_attribute("rom_fields",
-                          "x and v from the neural deformation field; C, F and tau are not "
-                          "computed by the reduced-order run (identity F, zero C and tau); "
-                          "/rom/latent: the latent of each frame (frames x r)");
+                          "x and v from the neural deformation field, " + rep.field_sources +
+                              " (what the ROM step uses, at each frame's latent); F is not "
+                              "computed (identity); /rom/latent: the latent of each frame "
+                              "(frames x r)");
     if (rep.has_mu) writer->set_attribute("mu", rep.mu);
   }
   output(0);
@@ -273,7 +308,19 @@ std::string format_rom_report(const RomReport& r) {
   if (r.linearization_anchors > 0)
     put("  tangent cache: %ld anchors over %.0f steps", r.linearization_anchors,
         double(r.frames) * r.rom_steps_per_frame);
-  if (r.delta >= 0) put("  delta (eq. 11) vs %s: %.3f%%", r.truth_file.c_str(), 100 * r.delta);
+  s << "  " << r.field_sources << "\n";
+  if (r.delta >= 0) {
+    put("  delta (eq. 11) vs %s: %.3f%%", r.truth_file.c_str(), 100 * r.delta);
+    // At the ROM's own state, not the truth's: what `nsf eval` gives on the truth's frames bounds
+    // these from below.
+    auto percent = [](double e) {
+      char b[32];
+      std::snprintf(b, sizeof b, "%.1f%%", 100 * e);
+      return e >= 0 ? std::string(b) : std::string("n/a");
+    };
+    put("  stress error %s, affine error %s (relative, all particles and frames, vs the same file)",
+        percent(r.stress_error).c_str(), percent(r.affine_error).c_str());
+  }
   const double steps = double(r.frames) * r.rom_steps_per_frame;
   put("  reduced order: %.3f s for %d frames (%.2f ms/frame, %d steps/frame of %.3g x dt)",
       r.rom_seconds, r.frames, 1e3 * r.rom_seconds / r.frames, r.rom_steps_per_frame,

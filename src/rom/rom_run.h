@@ -43,7 +43,11 @@ struct RomReport {
   long linearization_anchors = 0;  // with --linearize
   double delta = -1;               // eq. (11) against the ground truth; < 0 when there is none
   std::vector<double> delta_per_frame;
-  double rom_seconds = 0;  // the latent steps only
+  // Relative errors of the run's τ and C against the ground truth's, √(Σ‖·−·*‖²/Σ‖·*‖²) over
+  // all particles and frames 1…N; < 0 without a truth (or when the truth's field is zero).
+  double stress_error = -1, affine_error = -1;
+  std::string field_sources;  // where τ and C come from (h and l, or what replaces them)
+  double rom_seconds = 0;     // the latent steps only
   double rom_setup_seconds = 0, rom_output_seconds = 0;
   RomTimes rom_times;
   double fom_seconds = -1;  // the full-order steps only; < 0 when not run
