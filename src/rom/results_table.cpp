@@ -44,6 +44,12 @@ std::string fmt(const char* f, double v) {
   return b;
 }
 
+// A stored fraction as a percentage; — when absent (older rows) or not measured (< 0).
+std::string percent_or_dash(const nlohmann::json& j, const char* key, const char* format) {
+  if (!j.contains(key) || j[key].get<double>() < 0) return "—";
+  return fmt(format, 100 * j[key].get<double>());
+}
+
 }  // namespace
 
 nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
@@ -65,6 +71,8 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   j["quadrature_points"] = r.quadrature_points;
   j["threads"] = r.threads;
   j["delta"] = r.delta;
+  j["stress_error"] = r.stress_error;
+  j["affine_error"] = r.affine_error;
   j["frames"] = r.frames;
   j["rom_seconds"] = r.rom_seconds;
   j["fom_seconds"] = r.fom_seconds;
@@ -100,14 +108,17 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
        "`nsf report`'s default of 2). "
        "δ is eq. 11 over all particles and frames; speed-up is full-order step time over "
        "ROM step time (output excluded from both); memory is each phase's peak resident "
-       "size (the process baseline, mostly LibTorch and the model, is in both). Rows "
+       "size (the process baseline, mostly LibTorch and the model, is in both). τ error is the "
+       "relative error of the ROM's stress (h at its own latents) against the ground truth's "
+       "over all particles and frames (— for rows stored before it was measured). Rows "
        "labelled *quadrature k/cell* (`nsf report --quadrature k`) integrate the ROM's MPM step "
        "with k points per grid cell of the rest shape, each merging a group of particles (their "
        "mass, volume and centre of mass; docs/ROM.md, \"Thinned quadrature\"), and their mean "
        "|N| counts those points; the others use every particle, as the paper does.\n\n";
-  s << "| scene | μ | \\|P\\| | r | γ | \\|S\\| | mean \\|N\\| | δ | speed-up | ROM ms/frame | "
-       "full ms/frame | memory full / ROM (MiB) | paper: \\|P\\|, δ, \\|S\\|, speed-up, memory |\n"
-    << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  s << "| scene | μ | \\|P\\| | r | γ | \\|S\\| | mean \\|N\\| | δ | τ error | speed-up | "
+       "ROM ms/frame | full ms/frame | memory full / ROM (MiB) | paper: \\|P\\|, δ, \\|S\\|, "
+       "speed-up, memory |\n"
+    << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& j : rows) {
     const std::string base = base_scene(j["scene"]);
     const auto it = paper_figures().find(base);
@@ -125,10 +136,9 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
     s << "| " << j["scene"].get<std::string>() << (label.empty() ? "" : " (" + label + ")") << " | "
       << fmt("%g", j["mu"]) << " | " << j["particles"].get<size_t>() << " | " << j["r"].get<int>()
       << " | " << fmt("%.3g", j["gamma"]) << " | " << samples << " | " << fmt("%.0f", j["mean_N"])
-      << " | "
-      << (j["delta"].get<double>() >= 0 ? fmt("%.2f%%", 100 * j["delta"].get<double>()) : "—")
-      << " | " << fmt("%.2f×", j["speedup"]) << " | "
-      << fmt("%.1f", 1e3 * j["rom_seconds"].get<double>() / frames) << " | "
+      << " | " << percent_or_dash(j, "delta", "%.2f%%") << " | "
+      << percent_or_dash(j, "stress_error", "%.0f%%") << " | " << fmt("%.2f×", j["speedup"])
+      << " | " << fmt("%.1f", 1e3 * j["rom_seconds"].get<double>() / frames) << " | "
       << fmt("%.1f", 1e3 * j["fom_seconds"].get<double>() / frames) << " | "
       << fmt("%.0f", j["fom_peak_mib"]) << " / " << fmt("%.0f", j["rom_peak_mib"]) << " | " << paper
       << " |\n";
