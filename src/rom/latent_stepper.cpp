@@ -482,11 +482,8 @@ struct LatentStepper::Impl {
     tau.assign(ids.size(), Mat3::Zero());
     C.assign(ids.size(), Mat3::Zero());
     const bool cached_h = tangent_cache && lin_h, cached_l = tangent_cache && lin_l;
-    // With the tangent cache every field comes from it (--linearize excludes CROM and the
-    // velocity C), so the network inputs are not needed.
-    const bool networks = !(cached_h && (cached_l || opt.affine != AffineSource::network));
-    const torch::Tensor Xn = networks ? Xn_all.index_select(0, index_tensor(ids)) : torch::Tensor();
-    const torch::Tensor zz = networks ? latent_row(z).expand({m, z.size()}) : torch::Tensor();
+    const torch::Tensor Xn = Xn_all.index_select(0, index_tensor(ids));
+    const torch::Tensor zz = latent_row(z).expand({m, z.size()});
     torch::Tensor F;  // ∂g/∂X at ẑ_n, when the stress or C needs it
     if (opt.crom || opt.affine == AffineSource::velocity) F = deformation_gradients(model, Xn, zz);
     if (opt.stress == StressSource::tracked) {
