@@ -123,8 +123,7 @@ struct LatentStepper::Impl {
     const std::vector<Mat3> F0 = P.F;
     const double cfl_bound = opt.stress == StressSource::tracked ? cfl_time_step_bound(scene) : 0.0;
     const SimSettings& s = scene.settings;
-    // The baseline has no affine network: network means its default, none.
-    if (opt.crom && opt.affine == AffineSource::network) opt.affine = AffineSource::none;
+    opt.affine = opt.resolved_affine();
     if (!(opt.dt_ratio > 0)) fail("rom: the time-step ratio must be positive, got ", opt.dt_ratio);
     if (!(opt.flip >= 0 && opt.flip <= 1)) fail("rom: --flip must lie in [0, 1], got ", opt.flip);
     // Not capped at the full-order CFL bound: the stress on N comes from h at ẑ, not from F

@@ -51,6 +51,11 @@ struct RomOptions {
   // Network by default, none when `crom` is set; the CROM baseline can also take `velocity`.
   AffineSource affine = AffineSource::network;
   StressSource stress = StressSource::network;
+  // The affine source a run uses: `affine`, except that the baseline has no affine network, so
+  // there `network` means its default, none.
+  AffineSource resolved_affine() const {
+    return crom && affine == AffineSource::network ? AffineSource::none : affine;
+  }
   // > 0: the tangent cache (rom/linearized_field.h): g, h and l through per-particle first-order
   // expansions in ẑ, recomputed when ẑ moves further than this from their anchor (in units of
   // each latent component's training spread). 0: the networks at every step, as in the paper.

@@ -53,8 +53,7 @@ std::string field_sources(const RomOptions& o) {
   std::string tau = o.stress == StressSource::tracked ? "tau tracked per particle"
                     : o.crom                          ? "tau from dg/dX through the material (CROM)"
                                                       : "tau from h";
-  const AffineSource a =
-      o.crom && o.affine == AffineSource::network ? AffineSource::none : o.affine;
+  const AffineSource a = o.resolved_affine();
   const char* C = a == AffineSource::network    ? "C from l"
                   : a == AffineSource::velocity ? "C from the gradient of g's velocity"
                   : a == AffineSource::tracked  ? "C tracked per particle"
