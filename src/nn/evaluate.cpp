@@ -53,8 +53,8 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
     EvalRow row;
     row.run = std::filesystem::path(run.path).filename().string();
     row.mu = run.mu, row.has_mu = run.has_mu, row.particles = n;
-    double ex = 0, nx = 0, et = 0, nt = 0, ec = 0, nc = 0;
-    ErrorSum force, stress_poly_fit, affine_poly_fit;
+    double ex = 0, nx = 0;
+    ErrorSum stress, affine, force, stress_poly_fit, affine_poly_fit;
     // Eq. (11) sums over n = 1…N: frame 0 is the initial state, not a prediction.
     for (size_t k = std::min<size_t>(1, run.frames - 1); k < run.frames;
          k += std::max<size_t>(1, o.frame_stride)) {
@@ -72,10 +72,10 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
         const float* s = &f.tau[6 * p];
         Mat3 t;
         t << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
-        et += (tau[i] - t).squaredNorm(), nt += t.squaredNorm();
+        stress.add(tau[i], t);
         const Mat3 c = Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(&f.C[9 * p])
                            .cast<double>();
-        ec += (C[i] - c).squaredNorm(), nc += c.squaredNorm();
+        affine.add(C[i], c);
         x_true[i] = full[p], tau_true[i] = t, C_true[i] = c;
       }
       add_grid_force_error(x_true, volume, tau, tau_true, data.domain_lo(), data.grid_dx(), force);
@@ -85,8 +85,8 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
     }
     // A field that is zero throughout (no stress in a rigid drop) has no relative error: NaN.
     row.delta = nx > 0 ? std::sqrt(ex / nx) : NAN;
-    row.stress_error = nt > 0 ? std::sqrt(et / nt) : NAN;
-    row.affine_error = nc > 0 ? std::sqrt(ec / nc) : NAN;
+    row.stress_error = stress.relative();
+    row.affine_error = affine.relative();
     row.force_error = force.relative();
     row.stress_poly_fit = stress_poly_fit.relative(),
     row.affine_poly_fit = affine_poly_fit.relative();

@@ -14,6 +14,7 @@ namespace nsf {
 // Accumulates Σ‖a − b‖² and Σ‖b‖² over many frames; relative() = √(err / ref), NaN when ref = 0.
 struct ErrorSum {
   double err = 0, ref = 0;
+  void add(const Mat3& a, const Mat3& b) { err += (a - b).squaredNorm(), ref += b.squaredNorm(); }
   double relative() const;
 };
 

@@ -17,6 +17,7 @@
 #include "io/run_writer.h"
 #include "mpm/scene/sweep_spec.h"
 #include "mpm/simulation.h"
+#include "nn/field_checks.h"
 #include "nn/runtime.h"
 #include "rom/rom_section.h"
 
@@ -60,13 +61,6 @@ std::string field_sources(const RomOptions& o) {
                                                 : "C = 0";
   return tau + ", " + C;
 }
-
-// Sums of a relative error over frames: sqrt(Σ‖a − b‖² / Σ‖b‖²), as `nsf eval` reports it.
-struct RelativeError {
-  double num = 0, den = 0;
-  void add(const Mat3& a, const Mat3& b) { num += (a - b).squaredNorm(), den += b.squaredNorm(); }
-  double value() const { return den > 0 ? std::sqrt(num / den) : -1.0; }
-};
 
 // Makes the scene JSON of the run: overrides, then μ through the scene's sweep templates.
 nlohmann::json scene_at_mu(const RomRunOptions& o, const NeuralFields& fields, RomReport& rep) {
@@ -206,7 +200,7 @@ RomReport run_rom(const RomRunOptions& o) {
   std::vector<Mat3> tau, C;
   std::vector<double> latents;          // ẑ of every written frame, row by row
   double delta_num = 0, delta_den = 0;  // the sums of eq. (11) over frames 1…N
-  RelativeError stress_error, affine_error;
+  ErrorSum stress_error, affine_error;  // τ and C against the truth's
   rep.field_sources = field_sources(ro);
   auto output = [&](int f) {
     const double t1 = now_seconds();
@@ -225,7 +219,9 @@ RomReport run_rom(const RomRunOptions& o) {
       rep.delta_per_frame.push_back(std::sqrt(num / den));
       delta_num += num, delta_den += den;
       rep.delta = std::sqrt(delta_num / delta_den);
-      rep.stress_error = stress_error.value(), rep.affine_error = affine_error.value();
+      // < 0 for "not measured": a truth without stress (a rigid drop) has no relative error.
+      rep.stress_error = stress_error.ref > 0 ? stress_error.relative() : -1.0;
+      rep.affine_error = affine_error.ref > 0 ? affine_error.relative() : -1.0;
     }
     if (writer) {
       if (o.upsample > 1) rom.state(boost, x, &v);
