@@ -10,6 +10,7 @@
 
 #include "cli_runner.h"
 #include "core/error.h"
+#include "error_matchers.h"
 #include "nn/config.h"
 #include "nn/dataset.h"
 #include "nn/evaluate.h"
@@ -402,4 +403,24 @@ TEST_F(NnTraining, TrainCommandFollowsTheScenesRecipe) {
       nsf::testing::run_cli("train '" + bad.string() + "' --out '" + model + "' -j 1 -q", out), 0);
   EXPECT_NE(out.find("train.steps[0]"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(model));
+}
+
+// `--base-model` keeps a model's encoder and g: a model of another scene, a shape flag beside it,
+// or ROM latents without it stop training with a message naming the problem, and write nothing.
+TEST_F(NnTraining, BaseModelOfAnotherSceneOrWithShapeFlagsIsAClearError) {
+  const fs::path other = root_ / "base_other_scene";
+  nsf::test::write_synthetic_dataset(other, kParticles, /*seed=*/8, /*frames=*/3);
+  const std::string out = file("base/synthetic.nsf");
+  nsf::TrainOptions o = tiny_options();
+  o.base_model = model();
+  nsf::testing::expect_contains(
+      nsf::testing::error_of([&] { nsf::train_model(other.string(), out, o); }),
+      "trained for scene 'synthetic'");
+  std::string log;
+  const std::string cmd = "train '" + data() + "' --out '" + out + "' -j 1 -q ";
+  EXPECT_NE(nsf::testing::run_cli(cmd + "--base-model '" + model() + "' --width-h 8", log), 0);
+  EXPECT_NE(log.find("fixes the networks' shapes"), std::string::npos) << log;
+  EXPECT_NE(nsf::testing::run_cli(cmd + "--rom-latents '" + root_.string() + "'", log), 0);
+  EXPECT_NE(log.find("--base-model"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(out));
 }

@@ -129,9 +129,18 @@ void run_train(TrainArgs& a) {
   per_stage(a.epochs, a.opt.epochs, "--epochs");
   per_stage(a.frames, c.frames_per_batch, "--frames-per-batch");
   per_stage(a.particles, c.particles_per_frame, "--particles-per-frame");
-  std::fprintf(stderr, "  networks (Table 1 row '%s'): r = %d, depth %d, widths g %d, h %d, l %d\n",
-               row.c_str(), c.net.latent_dim, c.net.depth, c.net.width_g, c.net.width_h,
-               c.net.width_l);
+  if (!a.opt.base_model.empty()) {
+    // The base model fixes every shape; a shape flag beside it would be silently ignored.
+    if (a.r > 0 || a.depth > 0 || a.width_g > 0 || a.width_h > 0 || a.width_l > 0 ||
+        a.encoder_channels > 0 || a.encoder_hidden > 0 || a.encoder_max_length > 0 || a.no_mu)
+      fail("--base-model ", a.opt.base_model,
+           " fixes the networks' shapes: drop -r, --depth, --width-*, --encoder-* and --no-mu");
+    std::fprintf(stderr, "  networks: those of %s\n", a.opt.base_model.c_str());
+  } else {
+    std::fprintf(
+        stderr, "  networks (Table 1 row '%s'): r = %d, depth %d, widths g %d, h %d, l %d\n",
+        row.c_str(), c.net.latent_dim, c.net.depth, c.net.width_g, c.net.width_h, c.net.width_l);
+  }
   std::fprintf(stderr, "  %d threads, BLAS: %s\n", threads, blas_info().c_str());
 
   const TrainReport r = train_model(a.data, a.out, a.opt);
@@ -216,6 +225,14 @@ void add_nn_commands(CLI::App& app) {
                   "GiB of training frames kept in RAM; larger datasets are streamed from disk "
                   "(0 = half the available memory, at least 2)")
       ->capture_default_str();
+  cmd->add_option("--base-model", a->opt.base_model,
+                  "Keep this model's encoder and g (no stage 1); train h and l afresh")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--rom-latents", a->opt.rom_latents,
+                  "Directory of `nsf rom --out` files named like the training runs: their latents "
+                  "join the training latents of h and l (needs --base-model; repeatable)")
+      ->check(CLI::ExistingDirectory)
+      ->needs("--base-model");
   cmd->add_flag("--resume", a->opt.resume, "Continue from <out>.ckpt if it exists");
   cmd->add_option("--stop-after", a->opt.stop_after,
                   "Stop after this many steps (then continue with --resume)");

@@ -260,6 +260,17 @@ RunFrame RunReader::read_frame(size_t k) const {
   return out;
 }
 
+std::vector<double> RunReader::read_table(const std::string& name, size_t& rows,
+                                          size_t& cols) const {
+  h5::QuietErrors quiet;
+  const hid_t f = impl_->file.get();
+  const std::vector<hsize_t> dims = h5::dataset_shape(f, name, impl_->path);
+  if (dims.size() != 2)
+    nsf::fail(impl_->path, ": ", name, " has shape ", shape_text(dims), ", expected a table");
+  rows = size_t(dims[0]), cols = size_t(dims[1]);
+  return read_whole<double>(f, name, dims, H5T_FLOAT, H5T_NATIVE_DOUBLE, impl_->path);
+}
+
 std::vector<Vec3> RunReader::read_positions(size_t k) const {
   const Impl& r = *impl_;
   if (k >= r.frames) nsf::fail(r.path, ": no frame ", k, " (the file has ", r.frames, ")");

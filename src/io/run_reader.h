@@ -59,6 +59,10 @@ class RunReader {
   // Only x: the cheap read for rendering and for comparing trajectories (δ).
   std::vector<Vec3> read_positions(size_t k) const;
 
+  // A two-dimensional table beside the frames (RunWriter::write_table, e.g. "/rom/latent"):
+  // rows × cols doubles, row-major. Fails naming the file when it is missing or not 2-D.
+  std::vector<double> read_table(const std::string& name, size_t& rows, size_t& cols) const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -15,6 +15,7 @@
 #include "core/memory.h"
 #include "core/progress.h"
 #include "core/timer.h"
+#include "io/run_reader.h"
 #include "nn/dataset.h"
 #include "nn/model.h"
 #include "nn/runtime.h"
@@ -89,6 +90,9 @@ class Trainer {
   void compute_statistics();
   void compute_latents();
   void refine_latents();
+  void add_rom_latents();
+  torch::Tensor rom_latents_of(const SimulationFile& run, const std::string& path) const;
+  void start_from_base_model();
   torch::Tensor noisy(const torch::Tensor& z);
   void start_stage();
   std::vector<torch::Tensor> stage_parameters();
@@ -104,8 +108,9 @@ class Trainer {
   FrameStore store_;
   NeuralModel model_;
   torch::Tensor Xn_;       // |P| × 3 normalised rest positions
-  torch::Tensor latents_;  // frames × r, ẑ_n = e(xⁿ) once stage 1 is done
-  torch::Tensor mu_;       // frames × 1 (physical μ of each training frame's run)
+  torch::Tensor latents_;  // rows × r: ẑ_n = e(xⁿ) per frame once stage 1 is done, then ROM's
+  std::vector<int64_t> latent_frame_;  // the training frame of each row of latents_
+  torch::Tensor mu_;                   // frames × 1 (physical μ of each training frame's run)
   // For --mix-frames: per training frame, the frames it may be blended with.
   std::vector<std::vector<size_t>> mix_partners_;
   std::mt19937_64 rng_;
@@ -135,6 +140,8 @@ std::string Trainer::config_key() const {
   if (n.encoder_max_length != EncoderImpl::kMaxLength)
     os << " encoder_max_length=" << n.encoder_max_length;
   if (cfg_.mix_frames > 0) os << " mix_frames=" << cfg_.mix_frames;
+  if (!opt_.base_model.empty()) os << " base=" << opt_.base_model;
+  for (const std::string& dir : opt_.rom_latents) os << " rom_latents=" << dir;
   return os.str();
 }
 
@@ -199,6 +206,61 @@ void Trainer::compute_latents() {
     for (int64_t j = 0; j < model_.latent_dim(); ++j)
       s[j] += acc[i][j], q[j] += acc[i][j] * acc[i][j];
   model_.norm_z = Normalizer::from_moments(s, q, double(n));
+  latent_frame_.resize(size_t(n));
+  for (int64_t i = 0; i < n; ++i) latent_frame_[size_t(i)] = i;
+  if (!opt_.rom_latents.empty()) add_rom_latents();
+}
+
+void Trainer::add_rom_latents() {
+  std::vector<torch::Tensor> rows{latents_};
+  for (const std::string& dir : opt_.rom_latents) {
+    int64_t first_frame = 0;
+    for (const SimulationFile& run : data_.train()) {
+      rows.push_back(rom_latents_of(run, (fs::path(dir) / fs::path(run.path).filename()).string()));
+      for (int64_t k = 0; k < rows.back().size(0); ++k) latent_frame_.push_back(first_frame + k);
+      first_frame += int64_t(run.frames);
+    }
+  }
+  latents_ = torch::cat(rows);
+  say("stages 2, 3 train on " + std::to_string(latents_.size(0)) +
+      " latents: " + std::to_string(store_.size()) + " frames' refined encoder latents and " +
+      std::to_string(opt_.rom_latents.size()) + " ROM run(s) per training run");
+}
+
+torch::Tensor Trainer::rom_latents_of(const SimulationFile& run, const std::string& path) const {
+  const RunReader rom(path);
+  if (rom.rest_positions() != data_.rest_positions())
+    fail(path, ": another scene than the dataset's run ", run.path);
+  if (run.has_mu && (!rom.has_attribute("mu") ||
+                     std::abs(rom.attribute_double("mu") - run.mu) > 1e-9 * (1 + std::abs(run.mu))))
+    fail(path, ": not a ROM run at the mu of ", run.path, " (", run.mu, ")");
+  size_t count = 0, r = 0;
+  const std::vector<double> z = rom.read_table("/rom/latent", count, r);
+  if (int64_t(r) != model_.latent_dim())
+    fail(path, ": latents of dimension ", r, ", the model has r = ", model_.latent_dim());
+  const RunReader truth(run.path);
+  if (count != truth.frame_count())
+    fail(path, ": ", count, " frames, the run ", run.path, " has ", truth.frame_count());
+  for (size_t k = 0; k < count; ++k)
+    if (std::abs(rom.times()[k] - truth.times()[k]) > 1e-6 * (1 + std::abs(truth.times()[k])))
+      fail(path, ": frame ", k, " is at t = ", rom.times()[k], ", the run's at ", truth.times()[k]);
+  return torch::from_blob(const_cast<double*>(z.data()), {int64_t(count), int64_t(r)},
+                          torch::kFloat64)
+      .to(torch::kFloat32);
+}
+
+void Trainer::start_from_base_model() {
+  NeuralModel base = NeuralModel::load(opt_.base_model);
+  base.check_scene(model_.scene, data_.dir());
+  if (base.has_mu != model_.has_mu)
+    fail(opt_.base_model, ": ", base.has_mu ? "conditioned" : "not conditioned",
+         " on mu, the dataset ", base.has_mu ? "has none" : "has mu");
+  // Fresh h and l of the base model's shape, from this run's seed.
+  const NeuralModel fresh(base.config, base.scene, base.has_mu);
+  base.h = fresh.h;
+  base.l = fresh.l;
+  model_ = std::move(base);
+  stage_ = 1;
 }
 
 void Trainer::refine_latents() {
@@ -262,7 +324,10 @@ double Trainer::train_step() {
 
   // Frames first, then particles within each frame (App. D's batches of whole frames do not fit
   // a CPU budget; this keeps a step's memory independent of the dataset size).
-  std::uniform_int_distribution<size_t> pick_frame(0, store_.size() - 1);
+  // Stages 2 and 3 draw latent rows (a frame may have several: the encoder's and the ROM's).
+  const size_t choices = stage_ == 0 ? store_.size() : latent_frame_.size();
+  std::uniform_int_distribution<size_t> pick_frame(0, choices - 1);
+  std::vector<int64_t> rows(B);
   std::uniform_int_distribution<int64_t> pick_particle(0, P - 1);
   std::vector<int64_t> frames(B), particles(B * n);
   torch::Tensor target = torch::empty({B * n, d});
@@ -270,7 +335,8 @@ double Trainer::train_step() {
   float* t = target.data_ptr<float>();
   std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
   for (int64_t b = 0; b < B; ++b) {
-    frames[b] = static_cast<int64_t>(pick_frame(rng_));
+    rows[b] = static_cast<int64_t>(pick_frame(rng_));
+    frames[b] = stage_ == 0 ? rows[b] : latent_frame_[size_t(rows[b])];
     const FrameData& f = store_.get(frames[b]);
     const std::vector<float>& src = stage_ == 0 ? f.x : stage_ == 1 ? f.tau : f.C;
     if (stage_ == 0) std::copy(f.x.begin(), f.x.end(), full_x[b].data_ptr<float>());
@@ -298,6 +364,7 @@ double Trainer::train_step() {
   }
   const torch::Tensor pidx = torch::tensor(particles, torch::kInt64);
   const torch::Tensor fidx = torch::tensor(frames, torch::kInt64).repeat_interleave(n);
+  const torch::Tensor ridx = torch::tensor(rows, torch::kInt64).repeat_interleave(n);
   const torch::Tensor Xn = Xn_.index_select(0, pidx);
 
   torch::Tensor pred, goal;
@@ -307,11 +374,11 @@ double Trainer::train_step() {
     goal = model_.displacement ? model_.norm_u.apply(target - model_.norm_X.invert(Xn))
                                : model_.norm_x.apply(target);
   } else if (stage_ == 1) {
-    const torch::Tensor z = noisy(latents_.index_select(0, fidx));
+    const torch::Tensor z = noisy(latents_.index_select(0, ridx));
     pred = model_.h->forward(model_.h_input(Xn, z, mu_.index_select(0, fidx)));
     goal = model_.norm_tau.apply(target);
   } else {
-    const torch::Tensor z = noisy(latents_.index_select(0, fidx));
+    const torch::Tensor z = noisy(latents_.index_select(0, ridx));
     pred = model_.l->forward(model_.l_input(Xn, z));
     goal = model_.norm_C.apply(target);
   }
@@ -336,7 +403,10 @@ void Trainer::save_checkpoint() const {
     adam_->save(o);
     a.write("optimizer", o);
   }
-  if (latents_.defined()) a.write("latents", latents_, true);
+  if (latents_.defined()) {
+    a.write("latents", latents_, true);
+    a.write("latent_frames", torch::tensor(latent_frame_, torch::kInt64), true);
+  }
   torch::Tensor h = torch::empty({int64_t(history_.size()), 4}, torch::kFloat64);
   for (size_t i = 0; i < history_.size(); ++i) {
     const LossRow& r = history_[i];
@@ -370,7 +440,14 @@ void Trainer::load_checkpoint() {
   std::istringstream rng(v.toStringRef());
   rng >> rng_;
   torch::Tensor lat;
-  if (a.try_read("latents", lat, true)) latents_ = lat;
+  if (a.try_read("latents", lat, true)) {
+    latents_ = lat;
+    torch::Tensor frames;
+    if (a.try_read("latent_frames", frames, true))  // older checkpoints: one latent per frame
+      latent_frame_.assign(frames.data_ptr<int64_t>(), frames.data_ptr<int64_t>() + frames.numel());
+    else
+      for (int64_t i = 0; i < latents_.size(0); ++i) latent_frame_.push_back(i);
+  }
   torch::Tensor h;
   a.read("history", h, true);
   history_.clear();
@@ -454,6 +531,10 @@ TrainReport Trainer::run() {
     load_checkpoint();
     say("resuming from " + ckpt_ + ": stage " + std::to_string(stage_ + 1) + ", step " +
         std::to_string(step_));
+  } else if (!opt_.base_model.empty()) {
+    start_from_base_model();
+    start_stage();
+    say("stage 1 skipped: encoder and g from " + opt_.base_model);
   } else {
     compute_statistics();
     start_stage();

@@ -4,6 +4,7 @@
 // Torch-free interface; the loop lives in trainer.cpp.
 #include <array>
 #include <string>
+#include <vector>
 
 #include "nn/config.h"
 
@@ -18,6 +19,15 @@ struct TrainOptions {
   // Epochs per stage (one epoch = every particle of every training frame once); a stage with a
   // value > 0 gets ceil(epochs · frames · |P| / points per step) steps instead of config.steps.
   std::array<double, kStageCount> epochs = {-1, -1, -1};
+  // Start from this model: keep its encoder, g and normalisation, skip stage 1 and train h and l
+  // afresh (empty = train all three stages).
+  std::string base_model;
+  // Directories of `nsf rom --out` files, one per training run under the run's file name, made
+  // at the run's μ with a model of base_model's encoder and g: each frame's ROM latent, paired
+  // with the run's τ and C of that frame, joins the training latents of stages 2 and 3. The ROM's
+  // latents drift from the encoder's along directions g barely sees; h and l learn what those
+  // latents mean (docs/ROM.md).
+  std::vector<std::string> rom_latents;
 };
 
 struct StageReport {
