@@ -151,12 +151,16 @@ void run_train(TrainArgs& a) {
   }
   std::printf("model: %s\nloss curves: %s%s%s\n", r.model_path.c_str(), r.loss_csv.c_str(),
               r.loss_png.empty() ? "" : ", ", r.loss_png.c_str());
+  // "-" for a stage this process did not run (resumed past it, or skipped by --base-model).
+  auto rate = [&](int s, double value) {
+    return r.stages[s].steps > 0 ? Progress::format_rate(value) : std::string("-");
+  };
   std::printf(
       "throughput (points/s): g %s, h %s, l %s; encoder %s frames/s; peak memory %.0f MiB\n",
-      Progress::format_rate(r.stages[0].points_per_second).c_str(),
-      Progress::format_rate(r.stages[1].points_per_second).c_str(),
-      Progress::format_rate(r.stages[2].points_per_second).c_str(),
-      Progress::format_rate(r.stages[0].frames_per_second).c_str(), peak_rss_mib());
+      rate(0, r.stages[0].points_per_second).c_str(),
+      rate(1, r.stages[1].points_per_second).c_str(),
+      rate(2, r.stages[2].points_per_second).c_str(),
+      rate(0, r.stages[0].frames_per_second).c_str(), peak_rss_mib());
 }
 
 }  // namespace
