@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <regex>
@@ -170,14 +169,21 @@ std::vector<Vec3> Dataset::read_positions(const SimulationFile& sim, size_t k) c
 }
 
 FrameStore::FrameStore(const Dataset& data, double budget_gib) : data_(data) {
-  for (size_t s = 0; s < data.train().size(); ++s)
+  for (size_t s = 0; s < data.train().size(); ++s) {
+    run_start_.push_back(index_.size());
     for (size_t k = 0; k < data.train()[s].frames; ++k) index_.emplace_back(s, k);
+  }
   const double bytes = double(index_.size()) * data.particle_count() * 18 * sizeof(float);
   cached_ = bytes <= budget_gib * 1024.0 * 1024.0 * 1024.0;
   if (cached_) {
     frames_.reserve(index_.size());
     for (const auto& [s, k] : index_) frames_.push_back(data.read_frame(data.train()[s], k));
   }
+}
+
+size_t FrameStore::index_of(size_t sim, size_t k) const {
+  if (sim >= run_start_.size() || k >= data_.train()[sim].frames) return kNone;
+  return run_start_[sim] + k;
 }
 
 const FrameData& FrameStore::get(size_t i) const {
@@ -188,8 +194,6 @@ const FrameData& FrameStore::get(size_t i) const {
 
 std::vector<std::vector<size_t>> FrameStore::neighbour_frames() const {
   const std::vector<SimulationFile>& runs = data_.train();
-  std::map<std::pair<size_t, size_t>, size_t> index;  // (run, frame) → training frame
-  for (size_t i = 0; i < size(); ++i) index[{sim_of(i), frame_of(i)}] = i;
   // Runs in order of μ; each run's neighbours in that order share its frames' times.
   std::vector<size_t> order(runs.size());
   std::iota(order.begin(), order.end(), size_t(0));
@@ -208,10 +212,8 @@ std::vector<std::vector<size_t>> FrameStore::neighbour_frames() const {
       for (size_t other : neighbours[sim]) candidates.push_back({other, frame});
     else
       candidates = {{sim, frame - 1}, {sim, frame + 1}};  // frame 0 − 1 wraps: not found
-    for (const auto& c : candidates) {
-      auto it = index.find(c);
-      if (it != index.end()) partners[i].push_back(it->second);
-    }
+    for (const auto& [other, k] : candidates)
+      if (const size_t j = index_of(other, k); j != kNone) partners[i].push_back(j);
   }
   return partners;
 }

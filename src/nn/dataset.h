@@ -76,6 +76,9 @@ class FrameStore {
   size_t size() const { return index_.size(); }  // frames over all training runs
   size_t sim_of(size_t i) const { return index_[i].first; }
   size_t frame_of(size_t i) const { return index_[i].second; }
+  // The training frame of frame k of training run `sim`; kNone when there is no such frame.
+  static constexpr size_t kNone = size_t(-1);
+  size_t index_of(size_t sim, size_t k) const;
   // Frame i; valid until the next call when streaming.
   const FrameData& get(size_t i) const;
   bool cached() const { return cached_; }
@@ -86,6 +89,7 @@ class FrameStore {
  private:
   const Dataset& data_;
   std::vector<std::pair<size_t, size_t>> index_;
+  std::vector<size_t> run_start_;  // per training run, the index of its frame 0
   bool cached_ = false;
   mutable std::vector<FrameData> frames_;
   mutable FrameData scratch_;

@@ -214,11 +214,11 @@ void Trainer::compute_latents() {
 void Trainer::add_rom_latents() {
   std::vector<torch::Tensor> rows{latents_};
   for (const std::string& dir : opt_.rom_latents) {
-    int64_t first_frame = 0;
-    for (const SimulationFile& run : data_.train()) {
+    for (size_t s = 0; s < data_.train().size(); ++s) {
+      const SimulationFile& run = data_.train()[s];
       rows.push_back(rom_latents_of(run, (fs::path(dir) / fs::path(run.path).filename()).string()));
-      for (int64_t k = 0; k < rows.back().size(0); ++k) latent_frame_.push_back(first_frame + k);
-      first_frame += int64_t(run.frames);
+      for (int64_t k = 0; k < rows.back().size(0); ++k)
+        latent_frame_.push_back(int64_t(store_.index_of(s, size_t(k))));
     }
   }
   latents_ = torch::cat(rows);
