@@ -196,11 +196,6 @@ void add_nn_commands(CLI::App& app) {
                   "Noise on the latents of stages 2, 3, in units of each component's spread")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 10.0));
-  cmd->add_option("--stiffness-noise", c.stiffness_noise,
-                  "Latent noise (in spreads) on half of stage 2's frames, with the material's "
-                  "stress at the noisy latent's deformation as h's target (0 = off)")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 10.0));
   cmd->add_option("--mix-frames", c.mix_frames,
                   "Probability that a stage-1 batch frame blends two runs with neighbouring mu at "
                   "the same time (0 = off)")

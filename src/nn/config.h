@@ -48,10 +48,6 @@ struct TrainConfig {
   // Gaussian noise of this standard deviation (in units of each latent component's spread) on
   // the latents of stages 2 and 3, so h and l stay tame near the training latents.
   double latent_noise = 0.1;
-  // Half of stage 2's batch frames move their latent by Gaussian noise of this size (in spreads)
-  // and take as h's target the material's stress after the deformation change g makes there
-  // (nn/stress_response.h), instead of the recorded stress. 0 = off. docs/TRAINING.md.
-  double stiffness_noise = 0;
   // Probability that a stage-1 batch frame is a blend (1 − α)·xᵃ + α·xᵇ, α ~ U(0, 1), of a
   // training frame and the same frame of a run with a neighbouring μ (without μ: the frame before
   // or after it in its own run). e and g form an autoencoder of positions, so a blend is its own

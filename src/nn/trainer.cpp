@@ -19,8 +19,6 @@
 #include "nn/dataset.h"
 #include "nn/model.h"
 #include "nn/runtime.h"
-#include "nn/stress_response.h"
-#include "rom/field_gradients.h"
 #include "rom/latent_inversion.h"
 
 #include <torch/optim/adam.h>
@@ -96,9 +94,6 @@ class Trainer {
   torch::Tensor rom_latents_of(const SimulationFile& run, const std::string& path) const;
   void start_from_base_model();
   torch::Tensor noisy(const torch::Tensor& z);
-  torch::Tensor stiffened(const torch::Tensor& z, const torch::Tensor& Xn,
-                          const std::vector<int64_t>& frames, const std::vector<int64_t>& particles,
-                          int64_t n, torch::Tensor& target);
   void start_stage();
   std::vector<torch::Tensor> stage_parameters();
   double train_step();
@@ -118,7 +113,6 @@ class Trainer {
   torch::Tensor mu_;                   // frames × 1 (physical μ of each training frame's run)
   // For --mix-frames: per training frame, the frames it may be blended with.
   std::vector<std::vector<size_t>> mix_partners_;
-  std::unique_ptr<StressResponse> response_;  // --stiffness-noise
   std::mt19937_64 rng_;
   int stage_ = 0;
   long step_ = 0;
@@ -139,8 +133,7 @@ std::string Trainer::config_key() const {
   const std::array<int, kStageCount>& ppf = cfg_.particles_per_frame;
   if (ppf[1] != ppf[0] || ppf[2] != ppf[0]) os << "," << ppf[1] << "," << ppf[2];
   os << " seed=" << cfg_.seed << " runs=" << data_.train().size()
-     << " refine=" << cfg_.refine_latents << " latent_noise=" << cfg_.latent_noise
-     << " stiffness_noise=" << cfg_.stiffness_noise;
+     << " refine=" << cfg_.refine_latents << " latent_noise=" << cfg_.latent_noise;
   // Appended only when set, so checkpoints written before the option existed still resume.
   if (n.encoder_channels != EncoderImpl::kChannels)
     os << " encoder_channels=" << n.encoder_channels;
@@ -323,53 +316,6 @@ torch::Tensor Trainer::noisy(const torch::Tensor& z) {
   return z + e * model_.norm_z.std;
 }
 
-torch::Tensor Trainer::stiffened(const torch::Tensor& z, const torch::Tensor& Xn,
-                                 const std::vector<int64_t>& frames,
-                                 const std::vector<int64_t>& particles, int64_t n,
-                                 torch::Tensor& target) {
-  if (!response_) response_ = std::make_unique<StressResponse>(data_);
-  const int64_t B = int64_t(frames.size()), r = z.size(1);
-  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
-  std::normal_distribution<float> normal(0.0f, float(cfg_.stiffness_noise));
-  std::vector<int64_t> rows;
-  torch::Tensor e = torch::zeros({B * n, r});
-  for (int64_t b = 0; b < B; ++b) {
-    if (uniform(rng_) >= 0.5f) continue;
-    // One shift per frame: the whole frame deforms coherently, as a latent step moves it.
-    std::vector<float> shift(static_cast<size_t>(r));
-    for (float& v : shift) v = normal(rng_);
-    for (int64_t j = 0; j < n; ++j) {
-      rows.push_back(b * n + j);
-      std::copy(shift.begin(), shift.end(), e[b * n + j].data_ptr<float>());
-    }
-  }
-  torch::Tensor out = noisy(z);
-  if (rows.empty()) return out;
-  const torch::Tensor idx = torch::tensor(rows, torch::kInt64);
-  const torch::Tensor Xr = Xn.index_select(0, idx), zr = z.index_select(0, idx);
-  const torch::Tensor zs = zr + e.index_select(0, idx) * model_.norm_z.std;
-  const torch::Tensor G = deformation_gradients(model_, Xr, zr);
-  const torch::Tensor Gs = deformation_gradients(model_, Xr, zs);
-  out.index_copy_(0, idx, zs);
-  using RowMat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
-  const double* g = G.data_ptr<double>();
-  const double* gs = Gs.data_ptr<double>();
-  float* t = target.data_ptr<float>();
-  for (size_t k = 0; k < rows.size(); ++k) {
-    const int64_t row = rows[k];
-    const size_t run = store_.sim_of(size_t(frames[size_t(row / n)]));
-    const Mat3 dF = Mat3(Eigen::Map<const RowMat3>(gs + 9 * k)) *
-                    Mat3(Eigen::Map<const RowMat3>(g + 9 * k)).inverse();
-    float* tp = t + row * 6;  // xx yy zz xy yz xz
-    Mat3 tau;
-    tau << tp[0], tp[3], tp[5], tp[3], tp[1], tp[4], tp[5], tp[4], tp[2];
-    const Mat3 s = response_->respond(run, size_t(particles[size_t(row)]), tau, dF);
-    tp[0] = float(s(0, 0)), tp[1] = float(s(1, 1)), tp[2] = float(s(2, 2));
-    tp[3] = float(s(0, 1)), tp[4] = float(s(1, 2)), tp[5] = float(s(0, 2));
-  }
-  return out;
-}
-
 double Trainer::train_step() {
   const int64_t P = static_cast<int64_t>(data_.particle_count());
   const int64_t B = cfg_.frames_per_batch[stage_];
@@ -428,9 +374,7 @@ double Trainer::train_step() {
     goal = model_.displacement ? model_.norm_u.apply(target - model_.norm_X.invert(Xn))
                                : model_.norm_x.apply(target);
   } else if (stage_ == 1) {
-    const torch::Tensor z = cfg_.stiffness_noise > 0 ? stiffened(latents_.index_select(0, ridx), Xn,
-                                                                 frames, particles, n, target)
-                                                     : noisy(latents_.index_select(0, ridx));
+    const torch::Tensor z = noisy(latents_.index_select(0, ridx));
     pred = model_.h->forward(model_.h_input(Xn, z, mu_.index_select(0, fidx)));
     goal = model_.norm_tau.apply(target);
   } else {
