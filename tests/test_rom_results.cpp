@@ -16,6 +16,7 @@ TEST(RomResults, TablePrintsMeasuredAndPaperFiguresPerScene) {
   r.samples = r.samples_end = 50;
   r.mean_N = 3456;
   r.delta = 0.0123;
+  r.latent_prior = 0.002;
   r.stress_error = 0.712;
   r.frames = 10;
   r.rom_seconds = 2.0;
@@ -27,14 +28,15 @@ TEST(RomResults, TablePrintsMeasuredAndPaperFiguresPerScene) {
                                     "results/sand_small.png", "");
   const std::string md = nsf::results_markdown({row}, "nsf report --size small");
   for (const char* part : {"`nsf report --size small`", "| sand_small | 31.25 | 12000 | 6 |",
-                           "| 50 | 3456 | 1.23% | 71% | 2.50× | 200.0 | 500.0 | 400 / 300 |",
+                           "| 50 | 3456 | 2 mm | 1.23% | 71% | 2.50× | 200.0 | 500.0 | 400 / 300 |",
                            "| 20 | 30 | 1 |", "71,363, 0.4%", "results/sand_small.png"})
     EXPECT_NE(md.find(part), std::string::npos) << "missing '" << part << "' in\n" << md;
   // Rows stored before the stress error was measured show a dash, not a made-up figure.
   nlohmann::json old = row;
   old.erase("stress_error");
+  old.erase("latent_prior");
   const std::string md_old = nsf::results_markdown({old}, "nsf report");
-  EXPECT_NE(md_old.find("| 1.23% | — | 2.50× |"), std::string::npos) << md_old;
+  EXPECT_NE(md_old.find("| 3456 | — | 1.23% | — | 2.50× |"), std::string::npos) << md_old;
 }
 
 }  // namespace

@@ -24,6 +24,7 @@
 #include "rom/field_gradients.h"
 #include "rom/integration_set.h"
 #include "rom/latent_inversion.h"
+#include "rom/latent_prior.h"
 #include "rom/latent_stepper.h"
 #include "rom/linearized_field.h"
 #include "rom/rom_run.h"
@@ -109,6 +110,52 @@ TEST(RomInversion, RecoversAKnownLatentFromTheNetworksOwnOutput) {
   opt.taylor = true;
   const nsf::InversionResult t = nsf::invert_deformation(m.model, m.Xn, target, z0, opt);
   EXPECT_EQ(t.iterations, 1);
+}
+
+// The latent prior adds nothing where the latent lies on the training runs' surface, and pulls a
+// latent that lies off it toward it, the more the larger ε.
+TEST(RomInversion, LatentPriorKeepsALatentOnTheTrainingSurfaceAndPullsOneOffItTowardIt) {
+  RandomModel m(40);
+  Eigen::VectorXd base(4), along_t(4), along_mu(4), normal(4);
+  base << 0.1, -0.5, 0.3, 0.0;
+  along_t << 0.2, 0.0, 0.1, 0.0;
+  along_mu << 0.0, 0.15, 0.0, -0.1;
+  normal << 0.0, 0.0, 0.0, 1.0;
+  normal -= normal.dot(along_mu) / along_mu.squaredNorm() * along_mu;
+  normal.normalize();
+  std::vector<std::vector<Eigen::VectorXd>> runs(3);
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 4; ++i) runs[size_t(j)].push_back(base + i * along_t + j * along_mu);
+  const nsf::LatentPrior prior(runs);
+  nsf::GaussNewtonOptions opt;
+  opt.max_iterations = 30;
+  opt.tolerance = 1e-8;
+  opt.prior = &prior;
+  opt.prior_length = 0.05;
+
+  const Eigen::VectorXd on = base + 1.5 * along_t + 0.5 * along_mu;
+  ASSERT_LT(prior.distance2(on), 1e-20);
+  const nsf::InversionResult r = nsf::invert_deformation(
+      m.model, m.Xn, m.deform(on), on + Eigen::VectorXd::Constant(4, 0.2), opt);
+  EXPECT_LT((r.z - on).norm(), 1e-3) << r.z.transpose();
+
+  const Eigen::VectorXd off = on + 0.3 * normal;
+  const std::vector<Vec3> target = m.deform(off);
+  const double d_off = std::sqrt(prior.distance2(off));
+  ASSERT_GT(d_off, 0.5);
+  double last = d_off;
+  for (double eps : {0.001, 0.01, 0.1}) {
+    opt.prior_length = eps;
+    const nsf::InversionResult p = nsf::invert_deformation(m.model, m.Xn, target, off, opt);
+    const double d = std::sqrt(prior.distance2(p.z));
+    EXPECT_LT(d, last) << "epsilon " << eps;
+    last = d;
+  }
+  EXPECT_LT(last, 0.2 * d_off);
+  // Without it (or ε = 0), the fit is the paper's: back to the latent that made the positions.
+  opt.prior_length = 0;
+  const nsf::InversionResult plain = nsf::invert_deformation(m.model, m.Xn, target, on, opt);
+  EXPECT_LT((plain.z - off).norm(), 1e-3) << plain.z.transpose();
 }
 
 TEST(RomInversion, JacobianMatchesFiniteDifferences) {
@@ -574,6 +621,59 @@ TEST_F(RomEndToEnd, MuOutsideTheTrainingRangeWarns) {
   EXPECT_THAT(r.warnings[0], HasSubstr("outside the training range"));
 }
 
+// The model keeps its training runs' latents; with the latent prior the ROM's latent stays near
+// them, without it the run reports how far it strays. A model without them, or a negative ε, is
+// a clear error.
+TEST_F(RomEndToEnd, LatentPriorHoldsTheLatentNearTheTrainingRunsLatents) {
+  const nsf::NeuralModel stored = nsf::NeuralModel::load(model());
+  ASSERT_TRUE(stored.trajectory_latents.defined());
+  EXPECT_EQ(stored.trajectory_latents.sizes(), (std::vector<int64_t>{4, 13, 4}));
+  EXPECT_EQ(stored.trajectory_mu.size(0), 4);
+  EXPECT_NEAR(stored.trajectory_mu.min().item<double>(), stored.mu_min, 1e-6);
+  EXPECT_NEAR(stored.trajectory_mu.max().item<double>(), stored.mu_max, 1e-6);
+
+  nsf::RomRunOptions o = options();
+  const nsf::RomReport free_run = nsf::run_rom(o);
+  EXPECT_GT(free_run.training_distance_max, 0);
+  o.latent_prior = 0.001;
+  const nsf::RomReport held = nsf::run_rom(o);
+  EXPECT_DOUBLE_EQ(held.latent_prior, 0.001);
+  EXPECT_LT(held.training_distance_mean, 0.5 * free_run.training_distance_mean);
+  EXPECT_LT(held.training_distance_max, 0.6 * free_run.training_distance_max);
+  ASSERT_GE(held.delta, 0);
+  EXPECT_LT(held.delta, 0.05);
+  EXPECT_NE(held.delta, free_run.delta);
+  std::printf(
+      "tiny scene: ROM delta %.3f%% with the latent prior (latent %.3f spreads off the training "
+      "runs' at most), %.3f%% without (%.3f)\n",
+      100 * held.delta, held.training_distance_max, 100 * free_run.delta,
+      free_run.training_distance_max);
+  // The scene's rom.latent_prior sets it as well; the command line's value wins.
+  o.latent_prior.reset();
+  o.overrides = {"rom.latent_prior=0.001"};
+  EXPECT_DOUBLE_EQ(nsf::run_rom(o).delta, held.delta);
+  o.latent_prior = 0;
+  EXPECT_DOUBLE_EQ(nsf::run_rom(o).delta, free_run.delta);
+  o.overrides = {"rom.latent_prior=-1"};
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+                                "rom.latent_prior");
+
+  // A model file from before the training latents were stored.
+  nsf::NeuralModel old = nsf::NeuralModel::load(model());
+  old.trajectory_latents = torch::Tensor();
+  old.trajectory_mu = torch::Tensor();
+  const std::string old_path = (root_ / "no_trajectories.nsf").string();
+  old.save(old_path);
+  o = options();
+  o.model_path = old_path;
+  const nsf::RomReport unknown = nsf::run_rom(o);
+  EXPECT_LT(unknown.training_distance_max, 0);
+  EXPECT_DOUBLE_EQ(unknown.delta, free_run.delta);
+  o.latent_prior = 0.001;
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+                                "needs the training runs' latents");
+}
+
 // The latents a ROM run wrote beside its frames (/rom/latent, frames × r).
 std::vector<nsf::Latent> written_latents(const std::string& path) {
   size_t rows = 0, cols = 0;
@@ -632,6 +732,8 @@ TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
   EXPECT_THAT(r.output, HasSubstr("gamma"));
   EXPECT_THAT(r.output, HasSubstr("tau from h, C from l"));
   EXPECT_THAT(r.output, HasSubstr("stress error"));
+  EXPECT_THAT(r.output, HasSubstr("from the training runs' latents on average"));
+  EXPECT_THAT(r.output, HasSubstr("(no latent prior)"));
   const nsf::RunReader run(out);
   EXPECT_EQ(run.frame_count(), 13u);
   EXPECT_EQ(run.attribute_int("rom"), 1);
@@ -640,6 +742,15 @@ TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
   const std::vector<nsf::Latent> z = written_latents(out);
   ASSERT_EQ(z.size(), 13u);
   for (const nsf::Latent& row : z) EXPECT_EQ(row.size(), 4);
+  const auto held = nsf::testing::run_cli("rom '" + model() + "' '" + kTinyScene +
+                                          "' --mu 1.0 --threads 2 --no-full-order --truth '" +
+                                          truth() + "' --latent-prior 0.002");
+  ASSERT_EQ(held.exit_code, 0) << held.output;
+  EXPECT_THAT(held.output, HasSubstr("(latent prior, epsilon = 2 mm)"));
+  const auto bad = nsf::testing::run_cli("rom '" + model() + "' '" + kTinyScene +
+                                         "' --mu 1.0 --no-full-order --latent-prior -1");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_THAT(bad.output, HasSubstr("--latent-prior"));
 }
 
 // Relative error of h's stress at the latents ROM runs wrote against the truth's τ of the same

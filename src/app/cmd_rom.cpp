@@ -15,6 +15,7 @@ struct RomArgs {
   double mu = 0;
   int samples = 0;
   double dt_ratio = 1;
+  double latent_prior = 0;
   bool no_full_order = false;
 };
 
@@ -48,6 +49,12 @@ void add_rom_command(CLI::App& app) {
   auto* dt_ratio = cmd->add_option("--dt-ratio", a->dt_ratio,
                                    "ROM time step over the scene's dt (default: the scene's "
                                    "rom.dt_ratio, or 1)");
+  auto* latent_prior =
+      cmd->add_option("--latent-prior", a->latent_prior,
+                      "Hold the inversion near the training runs' latents: a latent one training "
+                      "spread off them costs as much as every sample this far out of place, in "
+                      "metres (default: the scene's rom.latent_prior, or 0 = none, the paper)")
+          ->check(CLI::Range(0.0, 1e3));
   cmd->add_option("--gn-iterations", a->opt.rom.inversion.max_iterations,
                   "Gauss-Newton iteration cap")
       ->capture_default_str();
@@ -101,10 +108,11 @@ void add_rom_command(CLI::App& app) {
                 "Also find N by brute force every step and count misses (slow)");
   cmd->add_option("--threads,-j", a->opt.threads, "Threads for both engines (0 = all cores)")
       ->capture_default_str();
-  cmd->callback([a, mu, samples, dt_ratio] {
+  cmd->callback([a, mu, samples, dt_ratio, latent_prior] {
     if (*mu) a->opt.mu = a->mu;
     if (*samples) a->opt.samples = a->samples;
     if (*dt_ratio) a->opt.dt_ratio = a->dt_ratio;
+    if (*latent_prior) a->opt.latent_prior = a->latent_prior;
     a->opt.full_order = !a->no_full_order;
     set_threads(a->opt.threads);
     const RomReport r = run_rom(a->opt);

@@ -131,6 +131,10 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   a.write("displacement", c10::IValue(displacement));
   write_normalizer(a, "u", norm_u);
   if (displacement) a.write("rest", rest, /*is_buffer=*/true);
+  if (trajectory_latents.defined()) {
+    a.write("trajectory_latents", trajectory_latents, /*is_buffer=*/true);
+    a.write("trajectory_mu", trajectory_mu, /*is_buffer=*/true);
+  }
   const std::pair<const char*, const torch::nn::Module*> nets[] = {
       {"encoder", encoder.get()}, {"g", g.get()}, {"h", h.get()}, {"l", l.get()}};
   for (const auto& [name, net] : nets) {
@@ -184,6 +188,17 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   if (m.displacement) {
     m.norm_u = read_normalizer(a, "u");
     a.read("rest", m.rest, /*is_buffer=*/true);
+  }
+  // Absent from models written before the latent prior existed (format version 3 all the same:
+  // an older nsf reads these files and ignores the entries).
+  torch::Tensor trajectories, trajectory_mu;
+  if (a.try_read("trajectory_latents", trajectories, /*is_buffer=*/true) &&
+      a.try_read("trajectory_mu", trajectory_mu, /*is_buffer=*/true)) {
+    if (trajectories.dim() != 3 || trajectories.size(2) != c.latent_dim ||
+        trajectory_mu.dim() != 1 || trajectory_mu.size(0) != trajectories.size(0))
+      fail("model file ", path, ": damaged training latents (shape ", trajectories.sizes(), ")");
+    m.trajectory_latents = trajectories;
+    m.trajectory_mu = trajectory_mu;
   }
   const std::pair<const char*, torch::nn::Module*> nets[] = {
       {"encoder", m.encoder.get()}, {"g", m.g.get()}, {"h", m.h.get()}, {"l", m.l.get()}};

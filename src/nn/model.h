@@ -91,6 +91,10 @@ class NeuralModel {
   bool displacement = true;
   Normalizer norm_u;
   torch::Tensor rest;  // |P| × 3 physical rest positions X (float32), set with displacement
+  // The latents h and l were trained on, one row per frame of each training run (runs × frames ×
+  // r, float32), and each run's μ (runs; zeros without μ): the region of latent space the ROM's
+  // latent prior holds the inversion to (rom/latent_prior.h). Undefined in older model files.
+  torch::Tensor trajectory_latents, trajectory_mu;
 };
 
 }  // namespace nsf

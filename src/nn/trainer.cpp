@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <random>
 #include <sstream>
@@ -91,6 +92,7 @@ class Trainer {
   void compute_latents();
   void refine_latents();
   void add_rom_latents();
+  void store_trajectories();
   torch::Tensor rom_latents_of(const SimulationFile& run, const std::string& path) const;
   void start_from_base_model();
   torch::Tensor noisy(const torch::Tensor& z);
@@ -225,6 +227,25 @@ void Trainer::add_rom_latents() {
   say("stages 2, 3 train on " + std::to_string(latents_.size(0)) +
       " latents: " + std::to_string(store_.size()) + " frames' refined encoder latents and " +
       std::to_string(opt_.rom_latents.size()) + " ROM run(s) per training run");
+}
+
+void Trainer::store_trajectories() {
+  // The model keeps the latents h and l learnt from, run by run, for the ROM's latent prior; the
+  // ROM runs' latents of --rom-latents are not a training run's trajectory and stay out.
+  size_t frames = std::numeric_limits<size_t>::max();
+  for (size_t s = 0; s < data_.train().size(); ++s) {
+    size_t k = 0;
+    while (store_.index_of(s, k) != FrameStore::kNone) ++k;
+    frames = std::min(frames, k);
+  }
+  const int64_t runs = int64_t(data_.train().size()), r = model_.latent_dim();
+  model_.trajectory_latents = torch::empty({runs, int64_t(frames), r});
+  model_.trajectory_mu = torch::empty({runs});
+  for (int64_t s = 0; s < runs; ++s) {
+    model_.trajectory_mu[s] = data_.train()[size_t(s)].mu;
+    for (size_t k = 0; k < frames; ++k)
+      model_.trajectory_latents[s][int64_t(k)] = latents_[int64_t(store_.index_of(size_t(s), k))];
+  }
 }
 
 torch::Tensor Trainer::rom_latents_of(const SimulationFile& run, const std::string& path) const {
@@ -623,6 +644,7 @@ TrainReport Trainer::run() {
       stage_ = next - 1;
     }
   }
+  if (latents_.defined()) store_trajectories();
   model_.save(out_);
   write_loss_curves(report);
   fs::remove(ckpt_);

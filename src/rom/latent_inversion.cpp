@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "nn/model.h"
 #include "nn/runtime.h"
+#include "rom/latent_prior.h"
 
 namespace nsf {
 
@@ -77,17 +78,32 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
   Eigen::MatrixXd J;
   std::vector<Vec3> g, trial;
   const int iterations = options.taylor ? 1 : std::max(1, options.max_iterations);
+  // The latent prior's weight: |S| ε², so that its term and the samples' misfit share units (m²).
+  const double lambda = options.prior && options.prior_length > 0
+                            ? double(n) * options.prior_length * options.prior_length
+                            : 0.0;
+  const auto prior_cost = [&](const Eigen::VectorXd& z) {
+    return lambda > 0 ? lambda * options.prior->distance2(z) : 0.0;
+  };
   for (int it = 0; it < iterations; ++it) {
     deformation_jacobian(model, Xn, res.z, J, g);
     Eigen::VectorXd residual(3 * n);
     for (int64_t p = 0; p < n; ++p) residual.segment<3>(3 * p) = g[p] - target[p];
-    const double r0 = residual.squaredNorm();
-    res.rms_residual = std::sqrt(r0 / double(n));
+    // The prior's Gauss–Newton terms come from the closest point of its surface to ẑ.
+    const LatentPrior::Nearest near =
+        lambda > 0 ? options.prior->nearest(res.z) : LatentPrior::Nearest{};
+    const double r0 = residual.squaredNorm() + lambda * near.distance2;
+    res.rms_residual = std::sqrt(residual.squaredNorm() / double(n));
     // Normal equations are r × r; a tiny Levenberg term keeps them solvable when some latent
     // direction does not move the samples at all.
     Eigen::MatrixXd JtJ = J.transpose() * J;
     JtJ.diagonal().array() += 1e-10 * (1.0 + JtJ.diagonal().maxCoeff());
-    Eigen::VectorXd dz = JtJ.ldlt().solve(-(J.transpose() * residual));
+    Eigen::VectorXd rhs = -(J.transpose() * residual);
+    if (lambda > 0) {
+      JtJ += lambda * near.hessian;
+      rhs -= lambda * near.gradient;
+    }
+    Eigen::VectorXd dz = JtJ.ldlt().solve(rhs);
     if (!dz.allFinite())
       fail("inversion: the Gauss–Newton step is not finite (iteration ", it + 1, ")");
     res.iterations = it + 1;
@@ -98,14 +114,15 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
       break;
     }
     // Backtracking: a full Gauss–Newton step can overshoot where g is strongly nonlinear in ẑ;
-    // the latent must never fit the samples worse than the one it started from.
+    // the latent must never fit the samples (plus the prior's term) worse than where it started.
     bool accepted = false;
     for (int halvings = 0; halvings < 6; ++halvings) {
-      const double r1 = squared_residual(model, Xn, res.z + dz, target, trial);
+      const double d1 = squared_residual(model, Xn, res.z + dz, target, trial);
+      const double r1 = d1 + prior_cost(res.z + dz);
       if (r1 < r0) {
         res.z += dz;
         res.fitted.swap(trial);
-        res.rms_residual = std::sqrt(r1 / double(n));
+        res.rms_residual = std::sqrt(d1 / double(n));
         accepted = true;
         break;
       }

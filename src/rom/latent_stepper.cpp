@@ -13,6 +13,7 @@
 #include "rom/field_gradients.h"
 #include "rom/integration_set.h"
 #include "rom/latent_inversion.h"
+#include "rom/latent_prior.h"
 #include "rom/linearized_field.h"
 #include "rom/quadrature.h"
 
@@ -58,7 +59,8 @@ struct LatentStepper::Impl {
   NeuralModel& model;
   RomOptions opt;
   double mu;
-  std::unique_ptr<Simulation> sim;  // its particles() hold N only, rebuilt every step
+  std::unique_ptr<Simulation> sim;     // its particles() hold N only, rebuilt every step
+  std::unique_ptr<LatentPrior> prior;  // when the model stores its training latents
   // Per particle of the scene, then per merged quadrature point (rom/quadrature.h): what the ROM
   // needs of the full particle set. mass and vol0 are the particles' own.
   size_t np = 0;  // |P|
@@ -155,15 +157,51 @@ struct LatentStepper::Impl {
     set_samples(sample_count_at(opt.sampling, 0, T));
     if (tracking()) start_tracking(F0, cfl_bound);
 
+    if (!(opt.latent_prior >= 0 && std::isfinite(opt.latent_prior)))
+      fail("rom: the latent prior's length must be a number of metres, 0 or more, got ",
+           opt.latent_prior);
+    if (model.trajectory_latents.defined()) make_latent_prior();
+    if (opt.latent_prior > 0) {
+      if (!prior)
+        fail(
+            "rom: the latent prior (--latent-prior, rom.latent_prior) needs the training runs' "
+            "latents, and this model file has none (it was trained before nsf stored them): "
+            "retrain it with nsf train, or run without the prior (--latent-prior 0)");
+      opt.inversion.prior = prior.get();
+      opt.inversion.prior_length = opt.latent_prior;
+    }
     // ẑ_0: the encoder's latent of the rest state, refined on S so that step 1 starts from the
     // latent the inversion itself would pick; ẑ_{-1}: fitted to X − Δt·v⁰.
     GaussNewtonOptions fit{8, 1e-7, false};
+    fit.prior = opt.inversion.prior;
+    fit.prior_length = opt.inversion.prior_length;
     z = fields.encode(std::vector<Vec3>(X.begin(), X.begin() + np));
     std::vector<Vec3> target(S.size());
     for (size_t k = 0; k < S.size(); ++k) target[k] = X[S[k]];
     z = invert_deformation(model, Xn_S, target, z, fit).z;
     for (size_t k = 0; k < S.size(); ++k) target[k] = X[S[k]] - dt * v0[S[k]];
     z_prev = invert_deformation(model, Xn_S, target, z, fit).z;
+  }
+
+  // The training runs' latents, in order of μ: the surface the latent prior holds the inversion
+  // near, and what training_distance() measures from.
+  void make_latent_prior() {
+    const torch::Tensor t = model.trajectory_latents.to(torch::kFloat64).contiguous();
+    const torch::Tensor m = model.trajectory_mu.to(torch::kFloat64).contiguous();
+    std::vector<int64_t> order(size_t(t.size(0)));
+    for (size_t j = 0; j < order.size(); ++j) order[j] = int64_t(j);
+    std::stable_sort(order.begin(), order.end(), [&](int64_t a, int64_t b) {
+      return m[a].item<double>() < m[b].item<double>();
+    });
+    std::vector<std::vector<Eigen::VectorXd>> runs;
+    for (int64_t j : order) {
+      runs.emplace_back();
+      for (int64_t i = 0; i < t.size(1); ++i) {
+        const torch::Tensor row = t[j][i].contiguous();
+        runs.back().push_back(Eigen::Map<const Eigen::VectorXd>(row.data_ptr<double>(), t.size(2)));
+      }
+    }
+    prior = std::make_unique<LatentPrior>(runs);
   }
 
   bool tracking() const {
@@ -650,6 +688,9 @@ long LatentStepper::integration_misses() const {
 double LatentStepper::inversion_energy_kept() const {
   return impl_->energy_after_mpm > 0 ? impl_->energy_after_inversion / impl_->energy_after_mpm
                                      : 1.0;
+}
+double LatentStepper::training_distance() const {
+  return impl_->prior ? std::sqrt(impl_->prior->distance2(impl_->z)) : -1.0;
 }
 double LatentStepper::last_inversion_residual() const {
   return impl_->last_residual;

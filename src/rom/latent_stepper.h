@@ -63,6 +63,10 @@ class LatentStepper {
   long linearization_anchors() const;      // with RomOptions::linearize: re-anchorings of g so far
   long integration_misses() const;         // with verify_integration_set: particles of N not found
   double last_inversion_residual() const;  // rms ‖g − x‖ on S after the last inversion (m)
+  // How far ẑ_n is from the latents the model was trained on (the surface its training runs span
+  // over μ and time; rom/latent_prior.h), in training spreads; −1 for a model that does not store
+  // them. Far from it, h and l answer for states they never saw.
+  double training_distance() const;
   // Σ over steps of the samples' kinetic energy the inversion keeps, over Σ of what the MPM step
   // gave them: below 1, the projection onto g's tangent bleeds velocity every step.
   double inversion_energy_kept() const;

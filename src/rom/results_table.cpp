@@ -71,6 +71,7 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   j["quadrature_points"] = r.quadrature_points;
   j["threads"] = r.threads;
   j["delta"] = r.delta;
+  j["latent_prior"] = r.latent_prior;
   j["stress_error"] = r.stress_error;
   j["affine_error"] = r.affine_error;
   j["frames"] = r.frames;
@@ -114,11 +115,14 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
        "labelled *quadrature k/cell* (`nsf report --quadrature k`) integrate the ROM's MPM step "
        "with k points per grid cell of the rest shape, each merging a group of particles (their "
        "mass, volume and centre of mass; docs/ROM.md, \"Thinned quadrature\"), and their mean "
-       "|N| counts those points; the others use every particle, as the paper does.\n\n";
-  s << "| scene | μ | \\|P\\| | r | γ | \\|S\\| | mean \\|N\\| | δ | τ error | speed-up | "
-       "ROM ms/frame | full ms/frame | memory full / ROM (MiB) | paper: \\|P\\|, δ, \\|S\\|, "
-       "speed-up, memory |\n"
-    << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+       "|N| counts those points; the others use every particle, as the paper does. The latent "
+       "prior column is the ε of the inversion's pull toward the training runs' latents "
+       "(`rom.latent_prior`, docs/ROM.md, \"Latent prior\"; — without one, as in the paper, or "
+       "for rows stored before it existed).\n\n";
+  s << "| scene | μ | \\|P\\| | r | γ | \\|S\\| | mean \\|N\\| | latent prior | δ | τ error | "
+       "speed-up | ROM ms/frame | full ms/frame | memory full / ROM (MiB) | paper: \\|P\\|, δ, "
+       "\\|S\\|, speed-up, memory |\n"
+    << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& j : rows) {
     const std::string base = base_scene(j["scene"]);
     const auto it = paper_figures().find(base);
@@ -133,10 +137,13 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
       samples += " → " + std::to_string(j["samples_end"].get<size_t>());
     const double frames = j["frames"].get<double>();
     const std::string label = j["label"].get<std::string>();
+    const std::string prior = j.contains("latent_prior") && j["latent_prior"].get<double>() > 0
+                                  ? fmt("%g mm", 1e3 * j["latent_prior"].get<double>())
+                                  : "—";
     s << "| " << j["scene"].get<std::string>() << (label.empty() ? "" : " (" + label + ")") << " | "
       << fmt("%g", j["mu"]) << " | " << j["particles"].get<size_t>() << " | " << j["r"].get<int>()
       << " | " << fmt("%.3g", j["gamma"]) << " | " << samples << " | " << fmt("%.0f", j["mean_N"])
-      << " | " << percent_or_dash(j, "delta", "%.2f%%") << " | "
+      << " | " << prior << " | " << percent_or_dash(j, "delta", "%.2f%%") << " | "
       << percent_or_dash(j, "stress_error", "%.0f%%") << " | " << fmt("%.2f×", j["speedup"])
       << " | " << fmt("%.1f", 1e3 * j["rom_seconds"].get<double>() / frames) << " | "
       << fmt("%.1f", 1e3 * j["fom_seconds"].get<double>() / frames) << " | "

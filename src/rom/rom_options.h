@@ -4,6 +4,8 @@
 
 namespace nsf {
 
+class LatentPrior;
+
 struct GaussNewtonOptions {
   int max_iterations = 3;   // the paper converges in 2–3
   double tolerance = 1e-5;  // stop when ‖Δẑ‖ ≤ tolerance · (1 + ‖ẑ‖)
@@ -11,6 +13,12 @@ struct GaussNewtonOptions {
   // BLAS threads of the fit (0 = those of the rest of the step). Its GEMMs are |S| points wide,
   // a few hundred, too small to split across threads (docs/ROM.md, "Threads of the inversion").
   int threads = 1;
+  // A pull toward the latents h and l were trained on (rom/latent_prior.h): the fit minimises
+  // Σ_S ‖g(X_p, ẑ) − x_p‖² + |S| ε² d(ẑ)², d the distance to the training runs' latent surface
+  // in training spreads, so one spread off it costs as much as every sample ε (m) out of place.
+  // No prior or ε = 0: the paper's fit.
+  const LatentPrior* prior = nullptr;
+  double prior_length = 0;  // ε
 };
 
 // Where the ROM step takes the particles' APIC affine matrices C from.
@@ -60,6 +68,9 @@ struct RomOptions {
   // expansions in ẑ, recomputed when ẑ moves further than this from their anchor (in units of
   // each latent component's training spread). 0: the networks at every step, as in the paper.
   double linearize = 0;
+  // > 0: the inversion's latent prior with this ε in metres (GaussNewtonOptions::prior_length),
+  // built from the latents the model stores of its training runs. 0: none (the paper).
+  double latent_prior = 0;
   int halo = 3;  // candidate margin in cells around I (rom/integration_set.h)
   // > 0: the MPM step on N integrates with this many points per grid cell of the rest shape, each
   // merging a group of particles (rom/quadrature.h); N, K and the inference on them shrink by

@@ -124,6 +124,7 @@ RomReport run_rom(const RomRunOptions& o) {
   const RomSection section = parse_rom_section(js.contains("rom") ? js["rom"] : nlohmann::json());
   ro.sampling = section.sampling;
   ro.dt_ratio = o.dt_ratio.value_or(section.dt_ratio.value_or(ro.dt_ratio));
+  ro.latent_prior = o.latent_prior.value_or(section.latent_prior.value_or(ro.latent_prior));
   if (o.samples) ro.sampling.count = *o.samples;
   ro.sampling.seed = o.rom.sampling.seed;
 
@@ -233,6 +234,10 @@ RomReport run_rom(const RomRunOptions& o) {
       writer->write_frame(frame, rom.time());
       latents.insert(latents.end(), rom.latent().data(), rom.latent().data() + rom.latent().size());
     }
+    if (const double d = rom.training_distance(); d >= 0 && f > 0) {
+      rep.training_distance_max = std::max(rep.training_distance_max, d);
+      rep.training_distance_mean += d / settings.frames;
+    }
     rep.rom_output_seconds += now_seconds() - t1;
   };
   if (!o.out_path.empty()) {
@@ -272,6 +277,8 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.mean_N = rom.mean_integration_count();
   rep.mean_K = rom.mean_candidate_count();
   rep.energy_kept = rom.inversion_energy_kept();
+  rep.latent_prior = ro.latent_prior;
+  if (rom.training_distance() < 0) rep.training_distance_mean = rep.training_distance_max = -1;
   rep.quadrature_points = rom.quadrature_count();
   rep.threads = o.threads;
   rep.refreshes = rom.refreshes();
@@ -297,6 +304,14 @@ std::string format_rom_report(const RomReport& r) {
       r.mean_K, r.refreshes);
   put("  inversion keeps %.2f%% of the samples' kinetic energy per step (energy-weighted mean)",
       100 * r.energy_kept);
+  if (r.training_distance_max >= 0) {
+    char prior[64] = "no latent prior";
+    if (r.latent_prior > 0)
+      std::snprintf(prior, sizeof prior, "latent prior, epsilon = %g mm", 1e3 * r.latent_prior);
+    put("  latent: %.2f training spreads from the training runs' latents on average, %.2f at most "
+        "(%s)",
+        r.training_distance_mean, r.training_distance_max, prior);
+  }
   if (r.quadrature_points > 0 && r.quadrature_points < r.particles)
     put("  thinned quadrature: N drawn from %zu points standing for the %zu particles",
         r.quadrature_points, r.particles);

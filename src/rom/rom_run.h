@@ -17,6 +17,7 @@ struct RomRunOptions {
   std::optional<double> mu;            // applied through the scene's "sweep" templates
   std::optional<int> samples;          // |S| at t = 0; default: the scene's "rom" section
   std::optional<double> dt_ratio;      // ROM step over Δt; default: the scene's, else rom's
+  std::optional<double> latent_prior;  // ε (m); default: the scene's, else rom's (0: none)
   RomOptions rom;
   std::string out_path;    // ROM run file; empty: none
   std::string truth_path;  // existing ground truth; empty: the full-order run made here
@@ -36,7 +37,10 @@ struct RomReport {
   double gamma = 0;  // 3|P|/r
   size_t samples = 0, samples_end = 0;
   double mean_N = 0, mean_K = 0;
-  double energy_kept = 1;        // LatentStepper::inversion_energy_kept
+  double energy_kept = 1;   // LatentStepper::inversion_energy_kept
+  double latent_prior = 0;  // ε of the inversion's latent prior (m); 0: none
+  // LatentStepper::training_distance over frames 1…N; −1 when the model has no training latents.
+  double training_distance_mean = 0, training_distance_max = 0;
   int threads = 0;               // as asked (0 = all cores)
   size_t quadrature_points = 0;  // particles that can join N: |P| unless the quadrature is thinned
   long refreshes = 0;

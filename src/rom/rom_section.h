@@ -1,6 +1,6 @@
 #pragma once
-// A scene's optional "rom" section: the sample particles (rom/sampling.h) and the ROM's own time
-// step. The command line overrides each of them.
+// A scene's optional "rom" section: the sample particles (rom/sampling.h), the ROM's own time
+// step and its latent prior. The command line overrides each of them.
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -10,7 +10,8 @@ namespace nsf {
 
 struct RomSection {
   SamplingSpec sampling;
-  std::optional<double> dt_ratio;  // ROM step over the scene's Δt (RomOptions::dt_ratio)
+  std::optional<double> dt_ratio;      // ROM step over the scene's Δt (RomOptions::dt_ratio)
+  std::optional<double> latent_prior;  // ε of the latent prior, m (RomOptions::latent_prior)
 };
 
 // Reads the whole section; missing keys keep their defaults, a null section gives all defaults.

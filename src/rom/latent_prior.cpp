@@ -1,0 +1,141 @@
+// GCC 12 reports false -Wmaybe-uninitialized warnings from inside Eigen's AVX-512 kernels for
+// dynamic-size products (in the intrinsics headers, not in this code).
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include "rom/latent_prior.h"
+
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+
+namespace nsf {
+
+LatentPrior::LatentPrior(const std::vector<std::vector<Eigen::VectorXd>>& runs) {
+  if (runs.empty() || runs[0].empty()) fail("latent prior: the model stores no training latents");
+  size_t frames = runs[0].size();
+  for (const auto& run : runs) frames = std::min(frames, run.size());
+  if (frames == 0) fail("latent prior: a training run without latents");
+  const Eigen::Index r = runs[0][0].size();
+  mean_ = Eigen::VectorXd::Zero(r);
+  for (const auto& run : runs)
+    for (size_t i = 0; i < frames; ++i) {
+      if (run[i].size() != r || !run[i].allFinite())
+        fail("latent prior: training latents of unequal dimension or not finite");
+      mean_ += run[i];
+    }
+  const double count = double(runs.size() * frames);
+  mean_ /= count;
+  spread_ = Eigen::VectorXd::Zero(r);
+  for (const auto& run : runs)
+    for (size_t i = 0; i < frames; ++i) spread_ += (run[i] - mean_).cwiseAbs2();
+  spread_ = (spread_ / count).cwiseSqrt();
+  // A component that never varies over the training runs (one run at rest, say) gets unit scale.
+  const double largest = spread_.maxCoeff();
+  for (Eigen::Index j = 0; j < r; ++j)
+    if (!(spread_[j] > 1e-12 * largest)) spread_[j] = largest > 0 ? largest : 1.0;
+  for (const auto& run : runs)
+    for (size_t i = 0; i < frames; ++i) w_.push_back(whiten(run[i]));
+
+  const auto add = [&](size_t a, size_t b, size_t c) {
+    Triangle t{int(a), int(b), int(c), w_[b] - w_[a], w_[c] - w_[a], 0, 0, 0, 0};
+    t.a11 = t.e1.squaredNorm(), t.a12 = t.e1.dot(t.e2), t.a22 = t.e2.squaredNorm();
+    t.det = t.a11 * t.a22 - t.a12 * t.a12;
+    tri_.push_back(std::move(t));
+  };
+  const auto id = [&](size_t j, size_t i) { return j * frames + i; };
+  if (frames == 1 && runs.size() == 1) add(0, 0, 0);
+  for (size_t i = 0; i + 1 < std::max<size_t>(frames, 2); ++i) {
+    if (runs.size() == 1) {  // one run: its curve, as degenerate triangles (edges only)
+      if (frames > 1) add(id(0, i), id(0, i + 1), id(0, i + 1));
+      continue;
+    }
+    for (size_t j = 0; j + 1 < runs.size(); ++j) {
+      if (frames == 1) {  // one frame per run: the polyline across μ
+        add(id(j, 0), id(j + 1, 0), id(j + 1, 0));
+        continue;
+      }
+      add(id(j, i), id(j + 1, i), id(j, i + 1));
+      add(id(j + 1, i), id(j + 1, i + 1), id(j, i + 1));
+    }
+  }
+}
+
+Eigen::VectorXd LatentPrior::whiten(const Eigen::VectorXd& z) const {
+  return (z - mean_).cwiseQuotient(spread_);
+}
+
+double LatentPrior::closest(const Eigen::VectorXd& w, Eigen::VectorXd* point,
+                            Eigen::MatrixXd* plane) const {
+  // The best feature: a triangle's interior (edge = -1) or one of its edges (0, 1, 2), with the
+  // parameters of the closest point on it.
+  double best = std::numeric_limits<double>::infinity();
+  const Triangle* best_tri = nullptr;
+  int best_edge = -1;
+  double best_s = 0, best_u = 0;
+  const int corner[3][2] = {{0, 1}, {1, 2}, {2, 0}};
+  for (const Triangle& t : tri_) {
+    const Eigen::VectorXd& a = w_[size_t(t.a)];
+    const Eigen::VectorXd d = w - a;
+    if (t.det > 1e-12 * t.a11 * t.a22) {
+      const double b1 = t.e1.dot(d), b2 = t.e2.dot(d);
+      const double s = (t.a22 * b1 - t.a12 * b2) / t.det, u = (t.a11 * b2 - t.a12 * b1) / t.det;
+      if (s >= 0 && u >= 0 && s + u <= 1) {
+        const double dist = (d - s * t.e1 - u * t.e2).squaredNorm();
+        if (dist < best) best = dist, best_tri = &t, best_edge = -1, best_s = s, best_u = u;
+        continue;  // inside: no edge of this triangle is closer
+      }
+    }
+    const Eigen::VectorXd* v[3] = {&w_[size_t(t.a)], &w_[size_t(t.b)], &w_[size_t(t.c)]};
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::VectorXd &p0 = *v[corner[k][0]], &p1 = *v[corner[k][1]];
+      const Eigen::VectorXd e = p1 - p0;
+      const double ee = e.squaredNorm();
+      const double s = ee > 0 ? std::clamp((w - p0).dot(e) / ee, 0.0, 1.0) : 0.0;
+      const double dist = (w - p0 - s * e).squaredNorm();
+      if (dist < best) best = dist, best_tri = &t, best_edge = k, best_s = s;
+    }
+  }
+  if (!point) return best;
+  const Triangle& t = *best_tri;
+  const Eigen::Index r = w.size();
+  if (best_edge < 0) {
+    *point = w_[size_t(t.a)] + best_s * t.e1 + best_u * t.e2;
+    Eigen::MatrixXd E(r, 2);
+    E << t.e1, t.e2;
+    *plane =
+        Eigen::HouseholderQR<Eigen::MatrixXd>(E).householderQ() * Eigen::MatrixXd::Identity(r, 2);
+    return best;
+  }
+  const int ids[3] = {t.a, t.b, t.c};
+  const Eigen::VectorXd &p0 = w_[size_t(ids[corner[best_edge][0]])],
+                        &p1 = w_[size_t(ids[corner[best_edge][1]])];
+  *point = p0 + best_s * (p1 - p0);
+  if (best_s > 0 && best_s < 1)
+    *plane = (p1 - p0).normalized();
+  else
+    plane->resize(r, 0);
+  return best;
+}
+
+double LatentPrior::distance2(const Eigen::VectorXd& z) const {
+  return closest(whiten(z), nullptr, nullptr);
+}
+
+LatentPrior::Nearest LatentPrior::nearest(const Eigen::VectorXd& z) const {
+  const Eigen::VectorXd w = whiten(z);
+  Eigen::VectorXd p;
+  Eigen::MatrixXd T;
+  Nearest n;
+  n.distance2 = closest(w, &p, &T);
+  // In whitened coordinates d² = ‖(I − TTᵀ)(w − p)‖² near the closest point; w = D⁻¹(ẑ − mean).
+  const Eigen::VectorXd inv = spread_.cwiseInverse();
+  n.gradient = inv.cwiseProduct(w - p);
+  const Eigen::MatrixXd normal = Eigen::MatrixXd::Identity(w.size(), w.size()) - T * T.transpose();
+  n.hessian = inv.asDiagonal() * normal * inv.asDiagonal();
+  return n;
+}
+
+}  // namespace nsf

@@ -1,0 +1,47 @@
+#pragma once
+// The region of latent space the training runs visited, as a prior for the ROM's inversion
+// (`nsf rom --latent-prior ε`, docs/ROM.md "Latent prior"). Each training run traces a curve
+// ẑ(t) through latent space; the runs, in order of μ, span a surface over (μ, t), here the
+// triangulated grid of their frames. The inversion may drift along latent directions that hardly
+// move the sample particles but move h and l a lot (docs/ROM.md, "What δ ≤ 0.8 % means here");
+// the distance to this surface, in units of each component's training spread, penalises that.
+// Torch-free: the stepper hands it the model's stored latents.
+#include <Eigen/Core>
+#include <vector>
+
+namespace nsf {
+
+class LatentPrior {
+ public:
+  // runs[j][i]: the latent of frame i of the run with the j-th smallest μ. Runs of unequal
+  // length are cut to the shortest (a sweep's runs all have the scene's frame count).
+  explicit LatentPrior(const std::vector<std::vector<Eigen::VectorXd>>& runs);
+
+  struct Nearest {
+    double distance2 = 0;      // squared distance to the surface, in training spreads
+    Eigen::VectorXd gradient;  // ½ ∂distance²/∂ẑ
+    Eigen::MatrixXd hessian;  // ½ ∂²distance²/∂ẑ² of the closest feature's plane (Gauss–Newton)
+  };
+  Nearest nearest(const Eigen::VectorXd& z) const;
+  double distance2(const Eigen::VectorXd& z) const;
+  int latent_dim() const { return int(mean_.size()); }
+
+ private:
+  // One triangle of the surface in whitened coordinates: corner a, edges e1 = b − a, e2 = c − a
+  // and their Gram matrix, precomputed because nearest() runs at every Gauss–Newton iteration.
+  struct Triangle {
+    int a, b, c;
+    Eigen::VectorXd e1, e2;
+    double a11, a12, a22, det;
+  };
+  Eigen::VectorXd whiten(const Eigen::VectorXd& z) const;
+  // The closest point to w on the surface, and an orthonormal basis of the plane of the feature
+  // it lies on (two columns in a triangle's interior, one on an edge, none at a corner).
+  double closest(const Eigen::VectorXd& w, Eigen::VectorXd* point, Eigen::MatrixXd* plane) const;
+
+  std::vector<Eigen::VectorXd> w_;  // whitened training latents
+  std::vector<Triangle> tri_;
+  Eigen::VectorXd mean_, spread_;
+};
+
+}  // namespace nsf
