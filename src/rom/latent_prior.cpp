@@ -45,22 +45,23 @@ LatentPrior::LatentPrior(const std::vector<std::vector<Eigen::VectorXd>>& runs) 
     t.det = t.a11 * t.a22 - t.a12 * t.a12;
     tri_.push_back(std::move(t));
   };
+  // The grid of runs × frames, two triangles per cell. With one run (or one frame per run) the
+  // grid is a polyline, kept as degenerate triangles whose edges are its segments.
   const auto id = [&](size_t j, size_t i) { return j * frames + i; };
-  if (frames == 1 && runs.size() == 1) add(0, 0, 0);
-  for (size_t i = 0; i + 1 < std::max<size_t>(frames, 2); ++i) {
-    if (runs.size() == 1) {  // one run: its curve, as degenerate triangles (edges only)
-      if (frames > 1) add(id(0, i), id(0, i + 1), id(0, i + 1));
-      continue;
-    }
-    for (size_t j = 0; j + 1 < runs.size(); ++j) {
-      if (frames == 1) {  // one frame per run: the polyline across μ
-        add(id(j, 0), id(j + 1, 0), id(j + 1, 0));
-        continue;
+  const size_t n_runs = runs.size();
+  if (n_runs == 1 && frames == 1) add(0, 0, 0);
+  for (size_t j = 0; j < n_runs; ++j)
+    for (size_t i = 0; i < frames; ++i) {
+      const bool next_run = j + 1 < n_runs, next_frame = i + 1 < frames;
+      if (next_run && next_frame) {
+        add(id(j, i), id(j + 1, i), id(j, i + 1));
+        add(id(j + 1, i), id(j + 1, i + 1), id(j, i + 1));
+      } else if (next_frame && n_runs == 1) {
+        add(id(j, i), id(j, i + 1), id(j, i + 1));
+      } else if (next_run && frames == 1) {
+        add(id(j, i), id(j + 1, i), id(j + 1, i));
       }
-      add(id(j, i), id(j + 1, i), id(j, i + 1));
-      add(id(j + 1, i), id(j + 1, i + 1), id(j, i + 1));
     }
-  }
 }
 
 Eigen::VectorXd LatentPrior::whiten(const Eigen::VectorXd& z) const {
