@@ -56,7 +56,7 @@ SamplingSpec parse_sampling(const nlohmann::json& rom) {
                 [](const auto& a, const auto& b) { return a.fraction < b.fraction; });
     } else {
       fail("unknown scene key '", path,
-           "' (known: samples, sampling, center, sigma, seed, schedule, dt_ratio)");
+           "' (known: samples, sampling, center, sigma, seed, schedule, dt_ratio, latent_prior)");
     }
   }
   if (s.mode == "cluster" && s.sigma <= 0)
