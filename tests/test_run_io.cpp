@@ -308,8 +308,19 @@ TEST_F(RunIo, RejectsAChangedParticleCount) {
   }
 }
 
-TEST_F(RunIo, WriterFailsNamingAnUnwritablePath) {
+TEST_F(RunIo, WriterMakesAMissingDirectory) {
   const std::string path = file("no/such/dir/run.h5");
+  nsf::Particles ps = make_particles(3);
+  nsf::RunWriter w(path, ps, settings(), "cube", kJson);
+  w.write_frame(ps, 0.0);
+  w.finish();
+  EXPECT_EQ(nsf::RunReader(path).frame_count(), 1u);
+}
+
+TEST_F(RunIo, WriterFailsNamingAnUnwritablePath) {
+  // A directory that cannot be made, even by root: its parent is a regular file.
+  { std::ofstream(file("plain_file")) << "x"; }
+  const std::string path = file("plain_file/dir/run.h5");
   nsf::Particles ps = make_particles(3);
   try {
     nsf::RunWriter w(path, ps, settings(), "cube", kJson);

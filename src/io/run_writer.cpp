@@ -237,6 +237,13 @@ RunWriter::RunWriter(const std::string& path, const Particles& p, const SimSetti
     h5::fail(w.tmp, "this HDF5 library has no gzip filter");
   }
   refuse_if_being_written(w.tmp, path);
+  // Like `nsf sweep` and `nsf train`, every command that writes a run makes its directory.
+  if (const fs::path dir = fs::path(path).parent_path(); !dir.empty()) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec)
+      nsf::fail(path, ": cannot create the directory ", dir.string(), " (", ec.message(), ")");
+  }
   w.file = Handle(h5::check(H5Fcreate(w.tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
                             w.tmp, "cannot create file"),
                   H5Fclose);
