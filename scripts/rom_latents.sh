@@ -22,15 +22,7 @@ jobs="${JOBS:-2}"
 mkdir -p "$out"
 
 # One line per training run: file name and μ ("-" for a dataset without μ).
-runs=$(python3 - "$data/manifest.json" <<'EOF'
-import json, sys
-m = json.load(open(sys.argv[1]))
-runs = m.get("runs") or [{"file": f, "split": "train"} for f in m.get("train", [])]
-for r in runs:
-    if r.get("split") == "train":
-        print(r["file"], repr(r["mu"]) if "mu" in r else "-")
-EOF
-)
+runs=$(python3 "$(dirname "$0")/manifest_runs.py" "$data/manifest.json" train)
 total=$(echo "$runs" | wc -l)
 echo "$0: $total ROM runs of $model into $out, $jobs at a time"
 
