@@ -28,7 +28,8 @@ Runs wavy_runs() {
   return runs;
 }
 
-// The same spread per component as the prior computes it (population standard deviation).
+// Each component's spread over the training latents (population standard deviation), as the
+// model's norm_z holds it.
 Eigen::VectorXd spread_of(const Runs& runs) {
   Eigen::VectorXd mean = Eigen::VectorXd::Zero(runs[0][0].size()), sq = mean;
   double n = 0;
@@ -64,7 +65,7 @@ double sampled_distance2(const Runs& runs, const Eigen::VectorXd& z) {
 
 TEST(LatentPrior, DistanceIsTheWhitenedDistanceToTheTrainingRunsSurface) {
   const Runs runs = wavy_runs();
-  const nsf::LatentPrior prior(runs);
+  const nsf::LatentPrior prior(runs, spread_of(runs));
   // On the surface: every training latent, and a point inside one of its triangles.
   for (const auto& run : runs)
     for (const auto& z : run) EXPECT_LT(prior.distance2(z), 1e-20);
@@ -84,13 +85,14 @@ TEST(LatentPrior, DistanceIsTheWhitenedDistanceToTheTrainingRunsSurface) {
 
 TEST(LatentPrior, DistanceIsInUnitsOfEachComponentsSpread) {
   Runs runs = wavy_runs();
-  const nsf::LatentPrior prior(runs);
+  const nsf::LatentPrior prior(runs, spread_of(runs));
   Eigen::VectorXd z(3);
   z << 3.1, 0.4, 1.2;
-  // Scaling a latent component (training latents and query alike) changes nothing.
+  // Scaling a latent component (training latents, their spread and the query alike) changes
+  // nothing.
   for (auto& run : runs)
     for (auto& q : run) q[2] *= 10.0;
-  const nsf::LatentPrior scaled(runs);
+  const nsf::LatentPrior scaled(runs, spread_of(runs));
   Eigen::VectorXd zs = z;
   zs[2] *= 10.0;
   EXPECT_NEAR(scaled.distance2(zs), prior.distance2(z), 1e-9 * prior.distance2(z));
@@ -98,7 +100,7 @@ TEST(LatentPrior, DistanceIsInUnitsOfEachComponentsSpread) {
 }
 
 TEST(LatentPrior, GradientAndHessianAreTheSquaredDistancesHalvedDerivatives) {
-  const nsf::LatentPrior prior(wavy_runs());
+  const nsf::LatentPrior prior(wavy_runs(), spread_of(wavy_runs()));
   // Points whose closest feature is a triangle's interior, an edge, and a corner of the sheet.
   std::vector<Eigen::VectorXd> points(3, Eigen::VectorXd(3));
   points[0] << 3.1, 0.6, 0.9;
@@ -130,7 +132,7 @@ TEST(LatentPrior, OneRunIsItsCurveAndNoLatentsAreAClearError) {
     z << double(i), double(i % 2);
     one[0].push_back(z);
   }
-  const nsf::LatentPrior curve(one);
+  const nsf::LatentPrior curve(one, spread_of(one));
   Eigen::VectorXd mid(2);
   mid << 0.5, 0.5;  // on the first segment
   EXPECT_LT(curve.distance2(mid), 1e-20);
@@ -146,8 +148,14 @@ TEST(LatentPrior, OneRunIsItsCurveAndNoLatentsAreAClearError) {
     }
   EXPECT_NEAR(curve.distance2(off), expected, 1e-8);
   EXPECT_GT(expected, 0.1);
-  nsf::testing::expect_contains(nsf::testing::error_of([] { nsf::LatentPrior(Runs{}); }),
-                                "no training latents");
+  nsf::testing::expect_contains(
+      nsf::testing::error_of([] { nsf::LatentPrior(Runs{}, Eigen::VectorXd::Ones(2)); }),
+      "no training latents");
+  nsf::testing::expect_contains(
+      nsf::testing::error_of([&] { nsf::LatentPrior(one, Eigen::Vector2d(1.0, 0.0)); }),
+      "positive");
+  nsf::testing::expect_contains(
+      nsf::testing::error_of([&] { nsf::LatentPrior(one, Eigen::VectorXd::Ones(3)); }), "positive");
 }
 
 }  // namespace

@@ -126,7 +126,7 @@ TEST(RomInversion, LatentPriorKeepsALatentOnTheTrainingSurfaceAndPullsOneOffItTo
   std::vector<std::vector<Eigen::VectorXd>> runs(3);
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 4; ++i) runs[size_t(j)].push_back(base + i * along_t + j * along_mu);
-  const nsf::LatentPrior prior(runs);
+  const nsf::LatentPrior prior(runs, Eigen::VectorXd::Constant(4, 0.2));
   nsf::GaussNewtonOptions opt;
   opt.max_iterations = 30;
   opt.tolerance = 1e-8;

@@ -13,34 +13,25 @@
 
 namespace nsf {
 
-LatentPrior::LatentPrior(const std::vector<std::vector<Eigen::VectorXd>>& runs) {
+LatentPrior::LatentPrior(const std::vector<std::vector<Eigen::VectorXd>>& runs,
+                         const Eigen::VectorXd& spread)
+    : spread_(spread) {
   if (runs.empty() || runs[0].empty()) fail("latent prior: the model stores no training latents");
   size_t frames = runs[0].size();
   for (const auto& run : runs) frames = std::min(frames, run.size());
   if (frames == 0) fail("latent prior: a training run without latents");
-  const Eigen::Index r = runs[0][0].size();
-  mean_ = Eigen::VectorXd::Zero(r);
+  if (!(spread_.size() == runs[0][0].size() && (spread_.array() > 0).all() && spread_.allFinite()))
+    fail("latent prior: the latent spreads must be ", runs[0][0].size(), " positive numbers");
   for (const auto& run : runs)
     for (size_t i = 0; i < frames; ++i) {
-      if (run[i].size() != r || !run[i].allFinite())
+      if (run[i].size() != spread_.size() || !run[i].allFinite())
         fail("latent prior: training latents of unequal dimension or not finite");
-      mean_ += run[i];
+      w_.push_back(whiten(run[i]));
     }
-  const double count = double(runs.size() * frames);
-  mean_ /= count;
-  spread_ = Eigen::VectorXd::Zero(r);
-  for (const auto& run : runs)
-    for (size_t i = 0; i < frames; ++i) spread_ += (run[i] - mean_).cwiseAbs2();
-  spread_ = (spread_ / count).cwiseSqrt();
-  // A component that never varies over the training runs (one run at rest, say) gets unit scale.
-  const double largest = spread_.maxCoeff();
-  for (Eigen::Index j = 0; j < r; ++j)
-    if (!(spread_[j] > 1e-12 * largest)) spread_[j] = largest > 0 ? largest : 1.0;
-  for (const auto& run : runs)
-    for (size_t i = 0; i < frames; ++i) w_.push_back(whiten(run[i]));
 
   const auto add = [&](size_t a, size_t b, size_t c) {
-    Triangle t{int(a), int(b), int(c), w_[b] - w_[a], w_[c] - w_[a], 0, 0, 0, 0};
+    Triangle t{int(a), int(b), int(c), w_[b] - w_[a], w_[c] - w_[a], {}, 0, 0, 0, 0};
+    t.side[0] = t.e1, t.side[1] = w_[c] - w_[b], t.side[2] = -t.e2;
     t.a11 = t.e1.squaredNorm(), t.a12 = t.e1.dot(t.e2), t.a22 = t.e2.squaredNorm();
     t.det = t.a11 * t.a22 - t.a12 * t.a12;
     tri_.push_back(std::move(t));
@@ -64,8 +55,9 @@ LatentPrior::LatentPrior(const std::vector<std::vector<Eigen::VectorXd>>& runs) 
     }
 }
 
+// Distances are all that count, so no mean is taken off: scaling each component is enough.
 Eigen::VectorXd LatentPrior::whiten(const Eigen::VectorXd& z) const {
-  return (z - mean_).cwiseQuotient(spread_);
+  return z.cwiseQuotient(spread_);
 }
 
 double LatentPrior::closest(const Eigen::VectorXd& w, Eigen::VectorXd* point,
@@ -76,10 +68,9 @@ double LatentPrior::closest(const Eigen::VectorXd& w, Eigen::VectorXd* point,
   const Triangle* best_tri = nullptr;
   int best_edge = -1;
   double best_s = 0, best_u = 0;
-  const int corner[3][2] = {{0, 1}, {1, 2}, {2, 0}};
+  Eigen::VectorXd d(w.size());  // reused: this loop is on the inversion's every iteration
   for (const Triangle& t : tri_) {
-    const Eigen::VectorXd& a = w_[size_t(t.a)];
-    const Eigen::VectorXd d = w - a;
+    d = w - w_[size_t(t.a)];
     if (t.det > 1e-12 * t.a11 * t.a22) {
       const double b1 = t.e1.dot(d), b2 = t.e2.dot(d);
       const double s = (t.a22 * b1 - t.a12 * b2) / t.det, u = (t.a11 * b2 - t.a12 * b1) / t.det;
@@ -89,10 +80,9 @@ double LatentPrior::closest(const Eigen::VectorXd& w, Eigen::VectorXd* point,
         continue;  // inside: no edge of this triangle is closer
       }
     }
-    const Eigen::VectorXd* v[3] = {&w_[size_t(t.a)], &w_[size_t(t.b)], &w_[size_t(t.c)]};
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::VectorXd &p0 = *v[corner[k][0]], &p1 = *v[corner[k][1]];
-      const Eigen::VectorXd e = p1 - p0;
+    const Eigen::VectorXd* start[3] = {&w_[size_t(t.a)], &w_[size_t(t.b)], &w_[size_t(t.c)]};
+    for (int k = 0; k < 3; ++k) {  // side k runs from corner k to the next
+      const Eigen::VectorXd &p0 = *start[k], &e = t.side[k];
       const double ee = e.squaredNorm();
       const double s = ee > 0 ? std::clamp((w - p0).dot(e) / ee, 0.0, 1.0) : 0.0;
       const double dist = (w - p0 - s * e).squaredNorm();
@@ -110,12 +100,10 @@ double LatentPrior::closest(const Eigen::VectorXd& w, Eigen::VectorXd* point,
         Eigen::HouseholderQR<Eigen::MatrixXd>(E).householderQ() * Eigen::MatrixXd::Identity(r, 2);
     return best;
   }
-  const int ids[3] = {t.a, t.b, t.c};
-  const Eigen::VectorXd &p0 = w_[size_t(ids[corner[best_edge][0]])],
-                        &p1 = w_[size_t(ids[corner[best_edge][1]])];
-  *point = p0 + best_s * (p1 - p0);
+  const int start[3] = {t.a, t.b, t.c};
+  *point = w_[size_t(start[best_edge])] + best_s * t.side[best_edge];
   if (best_s > 0 && best_s < 1)
-    *plane = (p1 - p0).normalized();
+    *plane = t.side[best_edge].normalized();
   else
     plane->resize(r, 0);
   return best;

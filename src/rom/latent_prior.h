@@ -14,8 +14,10 @@ namespace nsf {
 class LatentPrior {
  public:
   // runs[j][i]: the latent of frame i of the run with the j-th smallest μ. Runs of unequal
-  // length are cut to the shortest (a sweep's runs all have the scene's frame count).
-  explicit LatentPrior(const std::vector<std::vector<Eigen::VectorXd>>& runs);
+  // length are cut to the shortest (a sweep's runs all have the scene's frame count). spread:
+  // each latent component's training spread, the unit of distance (the model's norm_z, which the
+  // tangent cache measures in too).
+  LatentPrior(const std::vector<std::vector<Eigen::VectorXd>>& runs, const Eigen::VectorXd& spread);
 
   struct Nearest {
     double distance2 = 0;      // squared distance to the surface, in training spreads
@@ -24,14 +26,14 @@ class LatentPrior {
   };
   Nearest nearest(const Eigen::VectorXd& z) const;
   double distance2(const Eigen::VectorXd& z) const;
-  int latent_dim() const { return int(mean_.size()); }
 
  private:
-  // One triangle of the surface in whitened coordinates: corner a, edges e1 = b − a, e2 = c − a
-  // and their Gram matrix, precomputed because nearest() runs at every Gauss–Newton iteration.
+  // One triangle of the surface in whitened coordinates: corners a, b, c, edges e1 = b − a and
+  // e2 = c − a with their Gram matrix, and its sides a → b, b → c, c → a, all precomputed because
+  // nearest() runs at every Gauss–Newton iteration.
   struct Triangle {
     int a, b, c;
-    Eigen::VectorXd e1, e2;
+    Eigen::VectorXd e1, e2, side[3];
     double a11, a12, a22, det;
   };
   Eigen::VectorXd whiten(const Eigen::VectorXd& z) const;
@@ -41,7 +43,7 @@ class LatentPrior {
 
   std::vector<Eigen::VectorXd> w_;  // whitened training latents
   std::vector<Triangle> tri_;
-  Eigen::VectorXd mean_, spread_;
+  Eigen::VectorXd spread_;
 };
 
 }  // namespace nsf

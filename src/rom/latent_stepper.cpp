@@ -183,6 +183,13 @@ struct LatentStepper::Impl {
     z_prev = invert_deformation(model, Xn_S, target, z, fit).z;
   }
 
+  // Each latent component's spread over the training latents: the unit in which the tangent
+  // cache's radius and the latent prior's distance are measured.
+  Eigen::VectorXd latent_spread() const {
+    const torch::Tensor sd = model.norm_z.std.to(torch::kFloat64).contiguous();
+    return Eigen::Map<const Eigen::VectorXd>(sd.data_ptr<double>(), sd.numel());
+  }
+
   // The training runs' latents, in order of μ: the surface the latent prior holds the inversion
   // near, and what training_distance() measures from.
   void make_latent_prior() {
@@ -201,7 +208,7 @@ struct LatentStepper::Impl {
         runs.back().push_back(Eigen::Map<const Eigen::VectorXd>(row.data_ptr<double>(), t.size(2)));
       }
     }
-    prior = std::make_unique<LatentPrior>(runs);
+    prior = std::make_unique<LatentPrior>(runs, latent_spread());
   }
 
   bool tracking() const {
@@ -250,9 +257,7 @@ struct LatentStepper::Impl {
       fail(
           "rom: --linearize expands the networks g, h and l; it does not combine with --crom or "
           "--affine velocity");
-    const torch::Tensor sd = model.norm_z.std.to(torch::kFloat64).contiguous();
-    const Eigen::VectorXd scale =
-        Eigen::Map<const Eigen::VectorXd>(sd.data_ptr<double>(), sd.numel());
+    const Eigen::VectorXd scale = latent_spread();
     const float mu_f = float(mu);
     NeuralModel* m = &model;
     lin_g = std::make_unique<LinearizedField>(
