@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <optional>
 
 #include "core/error.h"
@@ -195,18 +196,17 @@ struct LatentStepper::Impl {
   void make_latent_prior() {
     const torch::Tensor t = model.trajectory_latents.to(torch::kFloat64).contiguous();
     const torch::Tensor m = model.trajectory_mu.to(torch::kFloat64).contiguous();
+    const int64_t frames = t.size(1), r = t.size(2);
+    const double *z = t.data_ptr<double>(), *mu_of = m.data_ptr<double>();
     std::vector<int64_t> order(size_t(t.size(0)));
-    for (size_t j = 0; j < order.size(); ++j) order[j] = int64_t(j);
-    std::stable_sort(order.begin(), order.end(), [&](int64_t a, int64_t b) {
-      return m[a].item<double>() < m[b].item<double>();
-    });
+    std::iota(order.begin(), order.end(), int64_t(0));
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int64_t a, int64_t b) { return mu_of[a] < mu_of[b]; });
     std::vector<std::vector<Eigen::VectorXd>> runs;
     for (int64_t j : order) {
       runs.emplace_back();
-      for (int64_t i = 0; i < t.size(1); ++i) {
-        const torch::Tensor row = t[j][i].contiguous();
-        runs.back().push_back(Eigen::Map<const Eigen::VectorXd>(row.data_ptr<double>(), t.size(2)));
-      }
+      for (int64_t i = 0; i < frames; ++i)
+        runs.back().push_back(Eigen::Map<const Eigen::VectorXd>(z + (j * frames + i) * r, r));
     }
     prior = std::make_unique<LatentPrior>(runs, latent_spread());
   }
