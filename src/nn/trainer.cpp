@@ -238,14 +238,16 @@ void Trainer::store_trajectories() {
     while (store_.index_of(s, k) != FrameStore::kNone) ++k;
     frames = std::min(frames, k);
   }
-  const int64_t runs = int64_t(data_.train().size()), r = model_.latent_dim();
-  model_.trajectory_latents = torch::empty({runs, int64_t(frames), r});
-  model_.trajectory_mu = torch::empty({runs});
-  for (int64_t s = 0; s < runs; ++s) {
-    model_.trajectory_mu[s] = data_.train()[size_t(s)].mu;
-    for (size_t k = 0; k < frames; ++k)
-      model_.trajectory_latents[s][int64_t(k)] = latents_[int64_t(store_.index_of(size_t(s), k))];
+  const int64_t runs = int64_t(data_.train().size());
+  std::vector<int64_t> rows;  // of latents_, run by run
+  std::vector<float> mu;
+  for (size_t s = 0; s < data_.train().size(); ++s) {
+    mu.push_back(float(data_.train()[s].mu));
+    for (size_t k = 0; k < frames; ++k) rows.push_back(int64_t(store_.index_of(s, k)));
   }
+  model_.trajectory_latents = latents_.index_select(0, torch::tensor(rows))
+                                  .reshape({runs, int64_t(frames), model_.latent_dim()});
+  model_.trajectory_mu = torch::tensor(mu);
 }
 
 torch::Tensor Trainer::rom_latents_of(const SimulationFile& run, const std::string& path) const {
