@@ -1,12 +1,15 @@
 #!/usr/bin/env python3
-"""Frame-by-frame comparison of two runs of an axisymmetric pile (the sand column scenes).
+"""Frame-by-frame comparison of two runs: written for an axisymmetric pile (the sand column
+scenes); --extent and the von Mises column serve other shapes too (the metal frame).
 
 Reads the PLY frames that `nsf export RUN.h5 -f ply -o DIR` writes (standard library only: no
 h5py or numpy needed) and prints, per frame, for a run against its ground truth:
   - delta of that frame alone (eq. 11 restricted to one frame),
   - mean squared speed, mean height and top height of each run,
   - radius of gyration about the vertical axis through --axis,
-  - the position error split into radial, tangential and vertical parts about that axis.
+  - the position error split into radial, tangential and vertical parts about that axis,
+  - the mean von Mises stress of each run, when both files carry it (nsf export does),
+  - with --extent AXIS, each run's extent along x, y or z (1st to 99th percentile).
 With --regions FRAME it also prints where the particles of each part of the rest shape (bins of
 initial height and radius) end up in both runs at that frame.
 
@@ -24,7 +27,8 @@ TYPES = {"float": "f", "double": "d", "ushort": "H", "uchar": "B", "int": "i", "
 
 
 def read_ply(path):
-    """Rows of (x, y, z, vx, vy, vz) from a binary little-endian PLY written by nsf export."""
+    """Rows of (x, y, z, vx, vy, vz, von Mises or None) from a binary little-endian PLY written
+    by nsf export."""
     with open(path, "rb") as f:
         data = f.read()
     end = data.index(b"end_header\n") + len(b"end_header\n")
@@ -41,8 +45,9 @@ def read_ply(path):
         sys.exit(f"{path}: expected the properties {need}, found {names}")
     fmt = "<" + "".join(TYPES[t] for t, _ in props)
     cols = [names.index(n) for n in need]
+    vm = names.index("von_mises") if "von_mises" in names else None
     rows = struct.iter_unpack(fmt, data[end : end + count * struct.calcsize(fmt)])
-    return [tuple(r[c] for c in cols) for r in rows]
+    return [tuple(r[c] for c in cols) + (None if vm is None else r[vm],) for r in rows]
 
 
 def frame_files(directory):
@@ -52,13 +57,18 @@ def frame_files(directory):
     return files
 
 
-def summary(rows, ax, az):
+def summary(rows, ax, az, extent_axis):
     n = len(rows)
     speed2 = sum(r[3] ** 2 + r[4] ** 2 + r[5] ** 2 for r in rows) / n
     height = sum(r[1] for r in rows) / n
     top = max(r[1] for r in rows)
     gyration = math.sqrt(sum((r[0] - ax) ** 2 + (r[2] - az) ** 2 for r in rows) / n)
-    return speed2, height, top, gyration
+    von_mises = None if rows[0][6] is None else sum(r[6] for r in rows) / n
+    extent = None
+    if extent_axis is not None:  # percentiles, so that a few stray particles do not set it
+        c = sorted(r[extent_axis] for r in rows)
+        extent = c[int(0.99 * (n - 1))] - c[int(0.01 * (n - 1))]
+    return speed2, height, top, gyration, von_mises, extent
 
 
 def error_parts(run, truth, ax, az):
@@ -116,13 +126,17 @@ def main():
     p.add_argument("--floor", type=float, default=0.0, help="height of the floor (m)")
     p.add_argument("--every", type=int, default=3, help="print every k-th frame (and the last)")
     p.add_argument("--regions", type=int, metavar="FRAME", help="the region table at this frame")
+    p.add_argument("--extent", choices="xyz", help="also print each run's extent along this axis")
     a = p.parse_args()
+    extent_axis = None if a.extent is None else "xyz".index(a.extent)
     ax, az = a.axis
     files = frame_files(a.truth)
     if frame_files(a.run) != files:
         sys.exit(f"{a.run} and {a.truth} hold different frames")
     print("frame  delta_k | speed^2 run/truth | height run/truth | top run/truth | "
-          "gyration run/truth | rms error mm: radial tangential vertical")
+          "gyration run/truth | rms error mm: radial tangential vertical"
+          + ("" if a.extent is None else f" | {a.extent} extent run/truth")
+          + " | von Mises run/truth")
     total = norm_total = 0.0
     for k, name in enumerate(files):
         run = read_ply(os.path.join(a.run, name))
@@ -135,12 +149,17 @@ def main():
             norm_total += norm
         if k % a.every and k != len(files) - 1:
             continue
-        s, t = summary(run, ax, az), summary(truth, ax, az)
+        s, t = summary(run, ax, az, extent_axis), summary(truth, ax, az, extent_axis)
         n = len(run)
-        print(f"{k:5d}  {100 * math.sqrt(tot / norm):6.2f}% | {s[0]:.4f}/{t[0]:.4f} | "
-              f"{s[1] - a.floor:+.4f}/{t[1] - a.floor:+.4f} | {s[2] - a.floor:.4f}/{t[2] - a.floor:.4f}"
-              f" | {s[3]:.4f}/{t[3]:.4f} | {1000 * math.sqrt(rad / n):5.1f} "
-              f"{1000 * math.sqrt(tan / n):5.1f} {1000 * math.sqrt(ver / n):5.1f}")
+        line = (f"{k:5d}  {100 * math.sqrt(tot / norm):6.2f}% | {s[0]:.4f}/{t[0]:.4f} | "
+                f"{s[1] - a.floor:+.4f}/{t[1] - a.floor:+.4f} | {s[2] - a.floor:.4f}/{t[2] - a.floor:.4f}"
+                f" | {s[3]:.4f}/{t[3]:.4f} | {1000 * math.sqrt(rad / n):5.1f} "
+                f"{1000 * math.sqrt(tan / n):5.1f} {1000 * math.sqrt(ver / n):5.1f}")
+        if extent_axis is not None:
+            line += f" | {s[5]:.4f}/{t[5]:.4f}"
+        if s[4] is not None and t[4] is not None:
+            line += f" | {s[4]:.0f}/{t[4]:.0f}"
+        print(line)
     print(f"delta over frames 1 to {len(files) - 1} (eq. 11): {100 * math.sqrt(total / norm_total):.2f}%")
     if a.regions is not None:
         name = f"frame_{a.regions:04d}.ply"
