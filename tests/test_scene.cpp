@@ -242,20 +242,36 @@ TEST(SceneValidation, TrainSectionSetsWhatTheCommandLineLeavesOpen) {
       parse_train_section(json::parse(R"({"steps": [34000, 1500, 1500], "widths": [192, 128, 128],
                       "encoder_max_length": 1024, "frames_per_batch": [16, 4, 4],
                       "particles_per_frame": [128, 512, 512]})"));
-  const TrainPlan cli{{6000, 4000, 4000}, {0, 128, 128}};
-  const TrainPlan scene = with_train_section(cli, t, false, false);
+  const TrainPlan cli{{6000, 4000, 4000}, {0, 96, 96}};
+  const TrainPlan scene = with_train_section(cli, t, {});
   EXPECT_EQ(scene.steps, (std::array<long, 3>{34000, 1500, 1500}));
   EXPECT_EQ(scene.widths, (std::array<int, 3>{192, 128, 128}));
   EXPECT_EQ(scene.encoder_max_length, 1024);
   EXPECT_EQ(scene.frames_per_batch, (std::array<int, 3>{16, 4, 4}));
   EXPECT_EQ(scene.particles_per_frame, (std::array<int, 3>{128, 512, 512}));
-  const TrainPlan given = with_train_section(cli, t, true, true);  // --steps and --widths win
+  GivenOnCommandLine flags;  // --steps and every width on the command line win
+  flags.steps = true;
+  flags.widths = {true, true, true};
+  const TrainPlan given = with_train_section(cli, t, flags);
   EXPECT_EQ(given.steps, cli.steps);
   EXPECT_EQ(given.widths, cli.widths);
   EXPECT_EQ(given.encoder_max_length, 1024);
+  EXPECT_EQ(recipe_taken(t, flags),
+            "encoder_max_length 1024; frames_per_batch 16,4,4; particles_per_frame 128,512,512");
+  // One width and the batches given (nsf train --width-h, --frames-per-batch, ...): the
+  // recipe fills in the rest.
+  GivenOnCommandLine some;
+  some.widths = {false, true, false};
+  some.encoder_max_length = some.frames_per_batch = some.particles_per_frame = true;
+  const TrainPlan mixed = with_train_section(cli, t, some);
+  EXPECT_EQ(mixed.widths, (std::array<int, 3>{192, 96, 128}));
+  EXPECT_EQ(mixed.encoder_max_length, 0);
+  EXPECT_EQ(mixed.frames_per_batch, cli.frames_per_batch);
+  EXPECT_EQ(mixed.particles_per_frame, cli.particles_per_frame);
+  EXPECT_EQ(recipe_taken(t, some), "steps 34000,1500,1500; width g 192; width l 128");
   // Keys left out keep the command's values.
-  const TrainPlan partial = with_train_section(
-      cli, parse_train_section(json::parse(R"({"steps": [1, 2, 3]})")), false, false);
+  const TrainPlan partial =
+      with_train_section(cli, parse_train_section(json::parse(R"({"steps": [1, 2, 3]})")), {});
   EXPECT_EQ(partial.steps, (std::array<long, 3>{1, 2, 3}));
   EXPECT_EQ(partial.widths, cli.widths);
   EXPECT_EQ(partial.encoder_max_length, 0);

@@ -3,11 +3,11 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "app/commands.h"
+#include "app/pipeline.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/progress.h"
@@ -56,40 +56,16 @@ std::optional<TrainSection> scene_recipe(const Dataset& data) {
 
 // The recipe's values where the command line gives none; returns what it set, for the log.
 std::string apply_recipe(const TrainSection& t, const TrainArgs& a, TrainConfig& c) {
-  std::ostringstream set;
-  if (t.steps && a.steps.empty() && a.epochs.empty()) {
-    for (int s = 0; s < kStageCount; ++s) c.steps[s] = (*t.steps)[s];
-    set << " steps " << c.steps[0] << "," << c.steps[1] << "," << c.steps[2] << ";";
-  }
-  if (t.widths) {
-    const int given[3] = {a.width_g, a.width_h, a.width_l};
-    int* width[3] = {&c.net.width_g, &c.net.width_h, &c.net.width_l};
-    const char* name[3] = {"g", "h", "l"};
-    for (int n = 0; n < 3; ++n) {
-      if (given[n] > 0) continue;
-      *width[n] = (*t.widths)[n];
-      set << " width " << name[n] << " " << *width[n] << ";";
-    }
-  }
-  if (t.encoder_max_length > 0 && a.encoder_max_length == 0) {
-    c.net.encoder_max_length = t.encoder_max_length;
-    set << " encoder_max_length " << t.encoder_max_length << ";";
-  }
-  const struct {
-    const std::optional<std::array<int, 3>>& recipe;
-    const std::vector<int>& given;
-    std::array<int, kStageCount>& out;
-    const char* name;
-  } batch[] = {{t.frames_per_batch, a.frames, c.frames_per_batch, "frames_per_batch"},
-               {t.particles_per_frame, a.particles, c.particles_per_frame, "particles_per_frame"}};
-  for (const auto& b : batch) {
-    if (!b.recipe || !b.given.empty()) continue;
-    b.out = *b.recipe;
-    set << " " << b.name << " " << b.out[0] << "," << b.out[1] << "," << b.out[2] << ";";
-  }
-  std::string out = set.str();
-  if (!out.empty()) out.pop_back();
-  return out;
+  GivenOnCommandLine given;
+  given.steps = !a.steps.empty() || !a.epochs.empty();
+  given.widths = {a.width_g > 0, a.width_h > 0, a.width_l > 0};
+  given.encoder_max_length = a.encoder_max_length > 0;
+  given.frames_per_batch = !a.frames.empty();
+  given.particles_per_frame = !a.particles.empty();
+  TrainPlan plan;  // widths, encoder length and batches 0: c's stay unless the recipe sets them
+  plan.steps = c.steps;
+  apply_plan(with_train_section(plan, t, given), c);
+  return recipe_taken(t, given);
 }
 
 void run_train(TrainArgs& a) {
@@ -111,7 +87,7 @@ void run_train(TrainArgs& a) {
       const std::string set = apply_recipe(*recipe, a, c);
       if (!set.empty())
         std::fprintf(stderr,
-                     "  the scene's \"train\" recipe:%s (flags on the command line take "
+                     "  the scene's \"train\" recipe: %s (flags on the command line take "
                      "precedence; --no-scene-recipe for the defaults)\n",
                      set.c_str());
     }

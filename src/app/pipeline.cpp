@@ -27,7 +27,23 @@ TrainPlan with_scene_recipe(TrainPlan plan, const std::string& scene, bool steps
                             bool widths_given) {
   const nlohmann::json j = read_scene_json(scene);
   if (!j.contains("train")) return plan;
-  return with_train_section(plan, parse_train_section(j.at("train")), steps_given, widths_given);
+  GivenOnCommandLine given;
+  given.steps = steps_given;
+  given.widths.fill(widths_given);
+  return with_train_section(plan, parse_train_section(j.at("train")), given);
+}
+
+void apply_plan(const TrainPlan& plan, TrainConfig& config) {
+  config.steps = plan.steps;
+  int* widths[3] = {&config.net.width_g, &config.net.width_h, &config.net.width_l};
+  for (int n = 0; n < 3; ++n)
+    if (plan.widths[n] > 0) *widths[n] = plan.widths[n];
+  if (plan.encoder_max_length > 0) config.net.encoder_max_length = plan.encoder_max_length;
+  for (int s = 0; s < kStageCount; ++s) {
+    if (plan.frames_per_batch[s] > 0) config.frames_per_batch[s] = plan.frames_per_batch[s];
+    if (plan.particles_per_frame[s] > 0)
+      config.particles_per_frame[s] = plan.particles_per_frame[s];
+  }
 }
 
 bool ensure_model(const std::string& data, const std::string& model, const TrainPlan& plan,
@@ -45,16 +61,7 @@ bool ensure_model(const std::string& data, const std::string& model, const Train
   }
   TrainOptions to;
   to.config.net = default_net_config(dataset.scene_name());
-  for (int s = 0; s < kStageCount; ++s) to.config.steps[s] = plan.steps[s];
-  int* widths[3] = {&to.config.net.width_g, &to.config.net.width_h, &to.config.net.width_l};
-  for (int s = 0; s < 3; ++s)
-    if (plan.widths[s] > 0) *widths[s] = plan.widths[s];
-  if (plan.encoder_max_length > 0) to.config.net.encoder_max_length = plan.encoder_max_length;
-  for (int s = 0; s < kStageCount; ++s) {
-    if (plan.frames_per_batch[s] > 0) to.config.frames_per_batch[s] = plan.frames_per_batch[s];
-    if (plan.particles_per_frame[s] > 0)
-      to.config.particles_per_frame[s] = plan.particles_per_frame[s];
-  }
+  apply_plan(plan, to.config);
   to.config.threads = threads;
   to.resume = true;  // an interrupted demo or report continues where it stopped
   train_model(data, model, to);

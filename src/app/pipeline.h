@@ -4,6 +4,7 @@
 #include <string>
 
 #include "mpm/scene/train_section.h"
+#include "nn/config.h"
 
 namespace nsf::app {
 
@@ -14,6 +15,10 @@ double ensure_dataset(const std::string& scene, const std::string& data, int thr
 // not give.
 TrainPlan with_scene_recipe(TrainPlan plan, const std::string& scene, bool steps_given,
                             bool widths_given);
+
+// `plan`'s steps, and its widths, encoder length and batches where it sets them (> 0), into the
+// trainer's configuration: what `nsf train` takes from a scene's recipe, and `ensure_model`.
+void apply_plan(const TrainPlan& plan, TrainConfig& config);
 
 // nsf train <data> --out <model> by `plan`, unless <model> exists and fits the dataset's scene
 // (then it is reused). Returns true if it trained.

@@ -1,5 +1,7 @@
 #include "mpm/scene/train_section.h"
 
+#include <sstream>
+
 #include "core/error.h"
 #include "core/json_util.h"
 
@@ -46,14 +48,38 @@ TrainSection parse_train_section(const nlohmann::json& train, const std::string&
   return t;
 }
 
-TrainPlan with_train_section(TrainPlan plan, const TrainSection& section, bool steps_given,
-                             bool widths_given) {
-  if (section.steps && !steps_given) plan.steps = *section.steps;
-  if (section.widths && !widths_given) plan.widths = *section.widths;
-  if (section.encoder_max_length > 0) plan.encoder_max_length = section.encoder_max_length;
-  if (section.frames_per_batch) plan.frames_per_batch = *section.frames_per_batch;
-  if (section.particles_per_frame) plan.particles_per_frame = *section.particles_per_frame;
+TrainPlan with_train_section(TrainPlan plan, const TrainSection& section,
+                             const GivenOnCommandLine& given) {
+  if (section.steps && !given.steps) plan.steps = *section.steps;
+  for (size_t n = 0; n < 3; ++n)
+    if (section.widths && !given.widths[n]) plan.widths[n] = (*section.widths)[n];
+  if (section.encoder_max_length > 0 && !given.encoder_max_length)
+    plan.encoder_max_length = section.encoder_max_length;
+  if (section.frames_per_batch && !given.frames_per_batch)
+    plan.frames_per_batch = *section.frames_per_batch;
+  if (section.particles_per_frame && !given.particles_per_frame)
+    plan.particles_per_frame = *section.particles_per_frame;
   return plan;
+}
+
+std::string recipe_taken(const TrainSection& section, const GivenOnCommandLine& given) {
+  std::ostringstream out;
+  const auto triple = [&](const char* name, const auto& v) {
+    out << name << " " << v[0] << "," << v[1] << "," << v[2] << "; ";
+  };
+  if (section.steps && !given.steps) triple("steps", *section.steps);
+  const char network[] = "ghl";
+  for (size_t n = 0; n < 3; ++n)
+    if (section.widths && !given.widths[n])
+      out << "width " << network[n] << " " << (*section.widths)[n] << "; ";
+  if (section.encoder_max_length > 0 && !given.encoder_max_length)
+    out << "encoder_max_length " << section.encoder_max_length << "; ";
+  if (section.frames_per_batch && !given.frames_per_batch)
+    triple("frames_per_batch", *section.frames_per_batch);
+  if (section.particles_per_frame && !given.particles_per_frame)
+    triple("particles_per_frame", *section.particles_per_frame);
+  std::string text = out.str();
+  return text.empty() ? text : text.substr(0, text.size() - 2);
 }
 
 }  // namespace nsf

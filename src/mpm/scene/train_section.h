@@ -21,8 +21,9 @@ struct TrainSection {
 
 TrainSection parse_train_section(const nlohmann::json& train, const std::string& path = "train");
 
-// What `nsf report` and `nsf demo` train: steps per stage and, where > 0, decoder widths (g, h, l)
-// in place of Table 1's for the scene.
+// A training recipe as `nsf train`, `nsf report` and `nsf demo` settle it from their command
+// lines and the scene's section: steps per stage and, where > 0, decoder widths (g, h, l) in
+// place of Table 1's for the scene.
 struct TrainPlan {
   std::array<long, 3> steps = {2000, 1500, 1500};
   std::array<int, 3> widths = {0, 0, 0};
@@ -31,8 +32,19 @@ struct TrainPlan {
   std::array<int, 3> particles_per_frame = {0, 0, 0};  // likewise
 };
 
+// Which of a recipe's values a command line gave itself: those keep the command line's.
+struct GivenOnCommandLine {
+  bool steps = false;
+  std::array<bool, 3> widths = {false, false, false};  // g, h, l
+  bool encoder_max_length = false, frames_per_batch = false, particles_per_frame = false;
+};
+
 // `plan` with the section's values in place of those the command line did not give.
-TrainPlan with_train_section(TrainPlan plan, const TrainSection& section, bool steps_given,
-                             bool widths_given);
+TrainPlan with_train_section(TrainPlan plan, const TrainSection& section,
+                             const GivenOnCommandLine& given);
+
+// What with_train_section takes from `section`, for the log: "steps 34000,1500,1500; width g
+// 192; encoder_max_length 1024" ("" if nothing).
+std::string recipe_taken(const TrainSection& section, const GivenOnCommandLine& given);
 
 }  // namespace nsf
