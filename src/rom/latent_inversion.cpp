@@ -82,16 +82,16 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
   const double lambda = options.prior && options.prior_length > 0
                             ? double(n) * options.prior_length * options.prior_length
                             : 0.0;
-  const auto prior_cost = [&](const Eigen::VectorXd& z) {
-    return lambda > 0 ? lambda * options.prior->distance2(z) : 0.0;
+  const auto prior_at = [&](const Eigen::VectorXd& z) {
+    return lambda > 0 ? options.prior->nearest(z) : LatentPrior::Nearest{};
   };
+  // The prior's Gauss–Newton terms come from the closest point of its surface to ẑ; the line
+  // search finds it for the step it accepts, which is the next iteration's ẑ.
+  LatentPrior::Nearest near = prior_at(res.z);
   for (int it = 0; it < iterations; ++it) {
     deformation_jacobian(model, Xn, res.z, J, g);
     Eigen::VectorXd residual(3 * n);
     for (int64_t p = 0; p < n; ++p) residual.segment<3>(3 * p) = g[p] - target[p];
-    // The prior's Gauss–Newton terms come from the closest point of its surface to ẑ.
-    const LatentPrior::Nearest near =
-        lambda > 0 ? options.prior->nearest(res.z) : LatentPrior::Nearest{};
     const double r0 = residual.squaredNorm() + lambda * near.distance2;
     res.rms_residual = std::sqrt(residual.squaredNorm() / double(n));
     // Normal equations are r × r; a tiny Levenberg term keeps them solvable when some latent
@@ -118,9 +118,11 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
     bool accepted = false;
     for (int halvings = 0; halvings < 6; ++halvings) {
       const double d1 = squared_residual(model, Xn, res.z + dz, target, trial);
-      const double r1 = d1 + prior_cost(res.z + dz);
+      LatentPrior::Nearest near1 = prior_at(res.z + dz);
+      const double r1 = d1 + lambda * near1.distance2;
       if (r1 < r0) {
         res.z += dz;
+        near = std::move(near1);
         res.fitted.swap(trial);
         res.rms_residual = std::sqrt(d1 / double(n));
         accepted = true;

@@ -119,7 +119,7 @@ LatentPrior::Nearest LatentPrior::nearest(const Eigen::VectorXd& z) const {
   Eigen::MatrixXd T;
   Nearest n;
   n.distance2 = closest(w, &p, &T);
-  // In whitened coordinates d² = ‖(I − TTᵀ)(w − p)‖² near the closest point; w = D⁻¹(ẑ − mean).
+  // In whitened coordinates d² = ‖(I − TTᵀ)(w − p)‖² near the closest point; w = D⁻¹ẑ.
   const Eigen::VectorXd inv = spread_.cwiseInverse();
   n.gradient = inv.cwiseProduct(w - p);
   const Eigen::MatrixXd normal = Eigen::MatrixXd::Identity(w.size(), w.size()) - T * T.transpose();
