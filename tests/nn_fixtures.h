@@ -3,6 +3,7 @@
 // in the layout `nsf sweep` produces: x = X + a(t, μ)·f(X) + b(t)·k(X), τ and C linear in a, b.
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>

@@ -347,9 +347,17 @@ class RomEndToEnd : public ::testing::Test {
     c.seed = 2;
     c.quiet = true;
     nsf::train_model((root_ / "data").string(), model(), o);
+    // The same latent size with the per-point basis decoders (nn/basis_decoders.h).
+    c.net.decoder = "basis";
+    c.net.modes = {16, 16, 16};
+    c.net.coefficient_width = 64;
+    c.net.coefficient_depth = 2;
+    c.frames_per_batch = {4, 32, 32};
+    nsf::train_model((root_ / "data").string(), basis_model(), o);
   }
   static void TearDownTestSuite() { fs::remove_all(root_); }
   static std::string model() { return (root_ / "tiny.nsf").string(); }
+  static std::string basis_model() { return (root_ / "tiny_basis.nsf").string(); }
   static std::string truth() { return (root_ / "data" / "test_0.h5").string(); }
   static double test_mu() { return 1.0; }  // the sweep's single test run (midpoint)
 
@@ -419,9 +427,10 @@ TEST_F(RomEndToEnd, CandidateSchemeFindsExactlyTheIntegrationParticlesAlongTheRu
   const int frames = scene.settings.frames;
   nsf::LatentStepper rom(f, std::move(scene), test_mu(), verified_cluster_options());
   for (int k = 0; k < frames; ++k) rom.advance_frame();
-  EXPECT_EQ(rom.integration_misses(), 0);
-  EXPECT_GT(rom.mean_candidate_count(), rom.mean_integration_count());
-  EXPECT_LT(rom.mean_candidate_count(), 0.9 * double(rom.particle_count()));
+  const nsf::RomDiagnostics d = rom.diagnostics();
+  EXPECT_EQ(d.integration_misses, 0);
+  EXPECT_GT(d.mean_K, d.mean_N);
+  EXPECT_LT(d.mean_K, 0.9 * double(rom.particle_count()));
   EXPECT_GT(rom.step_count(), 100);
 }
 
@@ -436,11 +445,13 @@ TEST_F(RomEndToEnd, ThinnedQuadratureKeepsNExactAmongTheQuadraturePoints) {
   const int frames = scene.settings.frames;
   nsf::LatentStepper rom(f, std::move(scene), test_mu(), o);
   // 864 particles in 108 cells of 2³: one merged point per cell, and the 8 samples themselves.
-  EXPECT_EQ(rom.quadrature_count(), 108u + 8u);
+  const nsf::RomDiagnostics d = rom.diagnostics();
+  EXPECT_EQ(d.quadrature_points, 108u + 8u);
   for (int k = 0; k < frames; ++k) rom.advance_frame();
-  EXPECT_EQ(rom.integration_misses(), 0);
-  EXPECT_LE(rom.mean_candidate_count(), double(rom.quadrature_count()));
-  EXPECT_GT(rom.mean_integration_count(), double(rom.sample_count()));
+  const nsf::RomDiagnostics after = rom.diagnostics();
+  EXPECT_EQ(after.integration_misses, 0);
+  EXPECT_LE(after.mean_K, double(after.quadrature_points));
+  EXPECT_GT(after.mean_N, double(rom.sample_count()));
 
   nsf::RomRunOptions full = options(), thin = options();
   thin.rom.quadrature_per_cell = 1;
@@ -489,6 +500,62 @@ TEST_F(RomEndToEnd, SceneSetsTheTimeStepRatioAndTheCommandLineOverridesIt) {
               100 * given.delta);
 }
 
+// A basis model runs through the same step with its own sources: close to ground truth, with
+// every particle an integration point or with the thinned quadrature (whose merged points take
+// their group's blended basis rows), and the sources of the other family are a clear error.
+TEST_F(RomEndToEnd, BasisModelRunsCloseToGroundTruth) {
+  nsf::RomRunOptions o = options();
+  o.model_path = basis_model();
+  const nsf::RomReport r = nsf::run_rom(o);
+  EXPECT_EQ(r.field_sources, "x from g's basis, tau from h's basis, C from l's basis");
+  EXPECT_LT(r.delta, 0.05);
+  EXPECT_GE(r.stress_error, 0);
+  o.rom.quadrature_per_cell = 1;
+  const nsf::RomReport thin = nsf::run_rom(o);
+  EXPECT_LT(thin.delta, 0.05);
+  EXPECT_LT(thin.mean_N, 0.5 * r.mean_N);
+  std::printf(
+      "tiny scene, basis model: ROM delta %.3f%% (stress %.1f%%, affine %.1f%%), "
+      "%.3f%% with one quadrature point per cell\n",
+      100 * r.delta, 100 * r.stress_error, 100 * r.affine_error, 100 * thin.delta);
+  o.rom.quadrature_per_cell = 0;
+  o.rom.fields.stress = "network";
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+                                "per-point basis model");
+  o.model_path = model();
+  o.rom.fields.stress = "basis";
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+                                "nsf train --decoder basis");
+}
+
+// The scene's rom.seed chooses the samples (it was validated and then overwritten by the command
+// line's default); the command line's --seed overrides it.
+TEST_F(RomEndToEnd, SceneSetsTheSampleSeedAndTheCommandLineOverridesIt) {
+  nsf::RomRunOptions o = options();
+  const nsf::RomReport seed1 = nsf::run_rom(o);
+  o.overrides = {"rom.seed=7"};
+  const nsf::RomReport scene_seed = nsf::run_rom(o);
+  EXPECT_NE(scene_seed.delta, seed1.delta) << "the scene's seed was ignored";
+  o.seed = 1;
+  const nsf::RomReport given = nsf::run_rom(o);
+  EXPECT_EQ(given.delta, seed1.delta);
+  o.overrides.clear();
+  o.seed = 7;
+  EXPECT_EQ(nsf::run_rom(o).delta, scene_seed.delta);
+}
+
+// Field sources are chosen by name from a registry; an unknown name lists the known ones.
+TEST_F(RomEndToEnd, UnknownFieldSourceIsAClearErrorListingTheKnownOnes) {
+  nsf::RomRunOptions o = options();
+  o.rom.fields.stress = "magic";
+  const std::string msg = nsf::testing::error_of([&] { nsf::run_rom(o); });
+  nsf::testing::expect_contains(msg, "unknown stress source 'magic'");
+  nsf::testing::expect_contains(msg, "basis, crom, network, tangent, tracked");
+  o.rom.fields = {"", "", "nope"};
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+                                "unknown affine source 'nope'");
+}
+
 // A bar thrown at 6 m/s, four times the training range, runs into the wall; the samples trail
 // its leading end by two cells, so particles of N leave the grid first. The stepper must stop
 // with an error naming them before the engine's transfer indexes the grid outside its nodes.
@@ -511,16 +578,17 @@ TEST_F(RomEndToEnd, IntegrationParticlesLeavingTheGridAreAClearError) {
 
 TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {
   nsf::RomRunOptions o = options();
-  o.rom.crom = true;
+  o.rom.fields.stress = "crom";
   const nsf::RomReport crom = nsf::run_rom(o);
   EXPECT_GE(crom.delta, 0);
-  o.rom.crom = false;
+  EXPECT_EQ(crom.field_sources, "x from g, tau from dg/dX through the material (CROM), C = 0");
+  o.rom.fields.stress = "";
   o.rom.inversion.taylor = true;
   const nsf::RomReport taylor = nsf::run_rom(o);
   EXPECT_LT(taylor.delta, 0.1);
   // C from the ROM's own velocity field instead of l.
   o.rom.inversion.taylor = false;
-  o.rom.affine = nsf::AffineSource::velocity;
+  o.rom.fields.affine = "velocity";
   const nsf::RomReport velocity = nsf::run_rom(o);
   EXPECT_LT(velocity.delta, 0.05);
   std::printf("tiny scene: ROM delta with C from the velocity field %.3f%%\n",
@@ -552,8 +620,7 @@ TEST_F(RomEndToEnd, TrackedStressAndAffineReplaceTheNetworksWhenEveryParticleIsA
   nsf::RomRunOptions o = options();
   o.samples = 864;  // |P| of the tiny scene
   const nsf::RomReport networks = nsf::run_rom(o);
-  o.rom.stress = nsf::StressSource::tracked;
-  o.rom.affine = nsf::AffineSource::tracked;
+  o.rom.fields = {"", "tracked", "tracked"};
   const nsf::RomReport tracked = nsf::run_rom(o);
   EXPECT_NE(tracked.delta, networks.delta);
   EXPECT_LT(tracked.delta, 0.05);
@@ -561,7 +628,7 @@ TEST_F(RomEndToEnd, TrackedStressAndAffineReplaceTheNetworksWhenEveryParticleIsA
       "tiny scene, every particle a sample: ROM delta %.3f%% with tracked stress and C, "
       "%.3f%% with h and l\n",
       100 * tracked.delta, 100 * networks.delta);
-  o.rom.affine = nsf::AffineSource::network;
+  o.rom.fields.affine = "network";
   const nsf::RomReport stress_only = nsf::run_rom(o);
   EXPECT_NE(stress_only.delta, tracked.delta);
   o.samples = 100;
@@ -580,15 +647,15 @@ TEST_F(RomEndToEnd, TrackedStressAndAffineReplaceTheNetworksWhenEveryParticleIsA
 TEST_F(RomEndToEnd, TangentCacheFollowsTheNetworkRun) {
   const nsf::RomReport plain = nsf::run_rom(options());
   nsf::RomRunOptions o = options();
-  o.rom.linearize = 0.02;
+  o.rom.use_tangent_cache(0.02);
   const nsf::RomReport cached = nsf::run_rom(o);
   EXPECT_GT(cached.linearization_anchors, 1);
   EXPECT_LT(cached.linearization_anchors, long(cached.frames) * cached.rom_steps_per_frame);
   EXPECT_NEAR(cached.delta, plain.delta, 0.2 * plain.delta + 1e-3);
   std::printf("tiny scene: ROM delta %.3f%% with the tangent cache (%ld anchors), %.3f%% without\n",
               100 * cached.delta, cached.linearization_anchors, 100 * plain.delta);
-  o.rom.crom = true;
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "--linearize");
+  o.rom.quadrature_per_cell = 1;
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "--quadrature");
 }
 
 TEST_F(RomEndToEnd, BadInputIsAClearError) {
@@ -717,7 +784,7 @@ TEST_F(RomEndToEnd, OutputHoldsTheStressAndAffineFieldsOfEachFramesLatent) {
   EXPECT_NEAR(r.affine_error, std::sqrt(affine_num / affine_den), 1e-6);
   EXPECT_GT(r.stress_error, 0);
   EXPECT_LT(r.stress_error, 1.5);
-  EXPECT_EQ(r.field_sources, "tau from h, C from l");
+  EXPECT_EQ(r.field_sources, "x from g, tau from h, C from l");
   std::printf("tiny scene: ROM stress error %.1f%%, affine error %.1f%%\n", 100 * r.stress_error,
               100 * r.affine_error);
 }

@@ -3,9 +3,13 @@
 #include <cstdio>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "app/commands.h"
 #include "core/timer.h"
+#include "io/atomic_file.h"
 #include "nn/evaluate.h"
+#include "nn/neural_fields.h"
 #include "nn/runtime.h"
 
 namespace nsf::app {
@@ -13,7 +17,7 @@ namespace nsf::app {
 namespace {
 
 struct EvalArgs {
-  std::string model, data;
+  std::string model, data, json;
   EvalOptions opt;
   int threads = 0;
 };
@@ -23,6 +27,54 @@ std::string percent(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3f%%", 100.0 * v);
   return buf;
+}
+
+// NaN (a field that is zero throughout) as JSON null.
+nlohmann::json number(double v) {
+  return std::isnan(v) ? nlohmann::json() : nlohmann::json(v);
+}
+
+// The machine-readable row (docs/results/eval/SCENE_DECODER.json): means over the runs, as the
+// table's last line prints them, and each run's own.
+void write_json(const EvalArgs& a, const std::vector<EvalRow>& rows) {
+  const NeuralFields nf = NeuralFields::load(a.model);
+  auto mean = [&](double EvalRow::*field) {
+    double s = 0;
+    for (const EvalRow& r : rows) s += r.*field;
+    return number(rows.empty() ? NAN : s / double(rows.size()));
+  };
+  nlohmann::json j;
+  j["scene"] = nf.scene_name();
+  j["decoder"] = nf.decoder();
+  j["model"] = a.model;
+  j["data"] = a.data;
+  j["split"] = a.opt.split;
+  j["latent_dim"] = nf.latent_dim();
+  j["delta"] = mean(&EvalRow::delta);
+  j["stress_error"] = mean(&EvalRow::stress_error);
+  j["affine_error"] = mean(&EvalRow::affine_error);
+  j["force_error"] = mean(&EvalRow::force_error);
+  j["train_seconds"] = nf.train_seconds();
+  if (nf.bases())
+    j["projection_bound"] = {{"delta", mean(&EvalRow::projection_delta)},
+                             {"stress_error", mean(&EvalRow::projection_stress)},
+                             {"affine_error", mean(&EvalRow::projection_affine)}};
+  j["command"] = "nsf eval " + a.model + " " + a.data + " --json " + a.json;
+  for (const EvalRow& r : rows) {
+    nlohmann::json run = {{"run", r.run},
+                          {"frames", r.frames},
+                          {"delta", number(r.delta)},
+                          {"stress_error", number(r.stress_error)},
+                          {"affine_error", number(r.affine_error)},
+                          {"force_error", number(r.force_error)}};
+    if (r.has_mu) run["mu"] = r.mu;
+    if (nf.bases())
+      run["projection_bound"] = {{"delta", number(r.projection_delta)},
+                                 {"stress_error", number(r.projection_stress)},
+                                 {"affine_error", number(r.projection_affine)}};
+    j["runs"].push_back(run);
+  }
+  write_file_atomic(a.json, j.dump(2) + "\n");
 }
 
 void run_eval(const EvalArgs& a) {
@@ -60,6 +112,20 @@ void run_eval(const EvalArgs& a) {
       "error of the grid forces -sum V tau grad w from h's stress, what the MPM step uses.\n",
       latents, rows.empty() ? size_t(0) : rows[0].particles, now_seconds() - start,
       a.opt.poly_degree);
+  if (!rows.empty() && !std::isnan(rows[0].projection_delta)) {
+    double pd = 0, ps = 0, pa = 0;
+    for (const EvalRow& r : rows)
+      pd += r.projection_delta, ps += r.projection_stress, pa += r.projection_affine;
+    const double n = double(rows.size());
+    std::printf(
+        "projection onto the model's bases (the best any coefficients can do): delta %s, "
+        "stress %s, affine %s\n",
+        percent(pd / n).c_str(), percent(ps / n).c_str(), percent(pa / n).c_str());
+  }
+  if (!a.json.empty()) {
+    write_json(a, rows);
+    std::printf("wrote %s\n", a.json.c_str());
+  }
 }
 
 }  // namespace
@@ -84,6 +150,8 @@ void add_eval_command(CLI::App& app) {
                   "Degree of the per-frame polynomial fits (poly columns)")
       ->capture_default_str()
       ->check(CLI::Range(0, 8));
+  cmd->add_option("--json", a->json,
+                  "Also write the means and each run's row as JSON (docs/results/eval/)");
   cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")->capture_default_str();
   cmd->callback([a] { run_eval(*a); });
 }

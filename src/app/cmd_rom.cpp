@@ -1,9 +1,9 @@
 // `nsf rom models/NAME.nsf scene.json --mu V --samples K`: a reduced-order run at parameter μ,
 // timed against the full-order engine on the same scene in the same process.
 #include <cstdio>
-#include <map>
 
 #include "app/commands.h"
+#include "rom/field_source.h"
 #include "rom/rom_run.h"
 
 namespace nsf::app {
@@ -16,6 +16,9 @@ struct RomArgs {
   int samples = 0;
   double dt_ratio = 1;
   double latent_prior = 0;
+  uint64_t seed = 1;
+  double linearize = 0;
+  bool crom = false;
   bool no_full_order = false;
 };
 
@@ -34,8 +37,8 @@ void add_rom_command(CLI::App& app) {
   auto* samples =
       cmd->add_option("--samples,-k", a->samples,
                       "Sample particles |S| (default: the scene's rom.samples, or 256)");
-  cmd->add_option("--seed", a->opt.rom.sampling.seed, "Seed of the sample choice")
-      ->capture_default_str();
+  auto* seed = cmd->add_option("--seed", a->seed,
+                               "Seed of the sample choice (default: the scene's rom.seed, or 1)");
   cmd->add_option("--out,-o", a->opt.out_path,
                   "Write the ROM run here (HDF5, nsf simulate layout)");
   cmd->add_option("--truth", a->opt.truth_path,
@@ -71,29 +74,31 @@ void add_rom_command(CLI::App& app) {
                   "Share of the grid transfer's smoothing given back to the samples each step "
                   "(FLIP-style, 0-1)")
       ->capture_default_str();
-  cmd->add_flag("--crom", a->opt.rom.crom,
-                "CROM-style baseline: stress from dg/dX through the material, no affine field");
-  cmd->add_option("--affine", a->opt.rom.affine,
-                  "APIC affine matrices C from: network (l, the paper), velocity (the gradient of "
-                  "the ROM's own velocity field, from dg/dX), none (C = 0; --crom's default), "
-                  "tracked (each particle's own G2P C; needs --samples |P|)")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, AffineSource>{{"network", AffineSource::network},
-                                              {"velocity", AffineSource::velocity},
-                                              {"none", AffineSource::none},
-                                              {"tracked", AffineSource::tracked}},
-          CLI::ignore_case));
-  cmd->add_option("--stress", a->opt.rom.stress,
-                  "Kirchhoff stress from: network (h, the paper), tracked (each particle's own "
-                  "F and plastic state through the material, as in full order; needs --samples "
-                  "|P|: an ablation of h)")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, StressSource>{{"network", StressSource::network},
-                                              {"tracked", StressSource::tracked}},
-          CLI::ignore_case));
-  cmd->add_option("--linearize", a->opt.rom.linearize,
+  // Field sources by name (rom/field_registry.cpp); each option lists the registered ones.
+  const auto names = [](const std::vector<std::string>& v) {
+    std::string out;
+    for (const auto& n : v) out += (out.empty() ? "" : ", ") + n;
+    return out;
+  };
+  cmd->add_option("--deformation", a->opt.rom.fields.deformation,
+                  "Positions on the candidates from: " + names(deformation_source_names()) +
+                      " (default: the model's decoder g)");
+  cmd->add_option(
+      "--stress", a->opt.rom.fields.stress,
+      "Kirchhoff stress on N from: " + names(point_field_source_names(FieldRole::stress)) +
+          " (default: the model's decoder h; crom: from dg/dX through the material; "
+          "tracked: each particle's own F and plastic state, needs --samples |P|)");
+  cmd->add_option(
+      "--affine", a->opt.rom.fields.affine,
+      "APIC affine matrices C on N from: " + names(point_field_source_names(FieldRole::affine)) +
+          " (default: the model's decoder l, or none with --stress crom; velocity: "
+          "the gradient of the ROM's own velocity field; tracked: each particle's "
+          "own G2P C, needs --samples |P|)");
+  cmd->add_flag("--crom", a->crom,
+                "CROM-style baseline: --stress crom (and --affine none unless given)");
+  cmd->add_option("--linearize", a->linearize,
                   "Tangent cache: g, h, l by per-particle first-order expansions in z, re-anchored "
-                  "when z moves this far (in latent spreads; 0 = the networks every step)")
+                  "when z moves this far (in latent spreads; 0 = the decoders every step)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 100.0));
   cmd->add_option("--halo", a->opt.rom.halo, "Candidate margin around the grid nodes I, in cells")
@@ -108,8 +113,11 @@ void add_rom_command(CLI::App& app) {
                 "Also find N by brute force every step and count misses (slow)");
   cmd->add_option("--threads,-j", a->opt.threads, "Threads for both engines (0 = all cores)")
       ->capture_default_str();
-  cmd->callback([a, mu, samples, dt_ratio, latent_prior] {
+  cmd->callback([a, mu, samples, dt_ratio, latent_prior, seed] {
     if (*mu) a->opt.mu = a->mu;
+    if (*seed) a->opt.seed = a->seed;
+    if (a->crom) a->opt.rom.fields.stress = "crom";
+    if (a->linearize > 0) a->opt.rom.use_tangent_cache(a->linearize);
     if (*samples) a->opt.samples = a->samples;
     if (*dt_ratio) a->opt.dt_ratio = a->dt_ratio;
     if (*latent_prior) a->opt.latent_prior = a->latent_prior;

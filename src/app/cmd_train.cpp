@@ -31,6 +31,9 @@ struct TrainArgs {
   int r = 0, depth = 0, width_g = 0, width_h = 0, width_l = 0, encoder_channels = 0,
       encoder_hidden = 0, encoder_max_length = 0;
   bool no_mu = false, no_scene_recipe = false;
+  std::string decoder;
+  std::vector<int> modes;
+  int coefficient_width = 0, coefficient_depth = 0;
   TrainOptions opt;
 };
 
@@ -101,6 +104,16 @@ void run_train(TrainArgs& a) {
   if (a.encoder_hidden > 0) c.net.encoder_hidden = a.encoder_hidden;
   if (a.encoder_max_length > 0) c.net.encoder_max_length = a.encoder_max_length;
   if (a.no_mu) c.net.stress_uses_mu = false;
+  if (!a.decoder.empty()) c.net.decoder = a.decoder;
+  if (a.modes.size() == 1) c.net.modes = {a.modes[0], a.modes[0], a.modes[0]};
+  if (a.modes.size() == 3) c.net.modes = {a.modes[0], a.modes[1], a.modes[2]};
+  if (!a.modes.empty() && a.modes.size() != 3 && a.modes.size() != 1)
+    fail("--modes takes one K for all fields or three (x,tau,C), got ", a.modes.size());
+  if (a.coefficient_width > 0) c.net.coefficient_width = a.coefficient_width;
+  if (a.coefficient_depth > 0) c.net.coefficient_depth = a.coefficient_depth;
+  const bool basis_flags = !a.modes.empty() || a.coefficient_width > 0 || a.coefficient_depth > 0;
+  if (basis_flags && c.net.decoder != "basis")
+    fail("--modes and --coefficient-* shape the per-point bases: give --decoder basis");
   per_stage(a.steps, c.steps, "--steps");
   per_stage(a.epochs, a.opt.epochs, "--epochs");
   per_stage(a.frames, c.frames_per_batch, "--frames-per-batch");
@@ -108,10 +121,18 @@ void run_train(TrainArgs& a) {
   if (!a.opt.base_model.empty()) {
     // The base model fixes every shape; a shape flag beside it would be silently ignored.
     if (a.r > 0 || a.depth > 0 || a.width_g > 0 || a.width_h > 0 || a.width_l > 0 ||
-        a.encoder_channels > 0 || a.encoder_hidden > 0 || a.encoder_max_length > 0 || a.no_mu)
+        a.encoder_channels > 0 || a.encoder_hidden > 0 || a.encoder_max_length > 0 || a.no_mu ||
+        !a.decoder.empty() || basis_flags)
       fail("--base-model ", a.opt.base_model,
-           " fixes the networks' shapes: drop -r, --depth, --width-*, --encoder-* and --no-mu");
+           " fixes the networks' shapes: drop -r, --depth, --width-*, --encoder-*, --no-mu, "
+           "--decoder, --modes and --coefficient-*");
     std::fprintf(stderr, "  networks: those of %s\n", a.opt.base_model.c_str());
+  } else if (c.net.decoder == "basis") {
+    std::fprintf(stderr,
+                 "  decoders: per-point bases of K = %d (x), %d (tau), %d (C) modes, coefficient "
+                 "networks %d x %d; r = %d (Table 1 row '%s')\n",
+                 c.net.modes[0], c.net.modes[1], c.net.modes[2], c.net.coefficient_depth,
+                 c.net.coefficient_width, c.net.latent_dim, row.c_str());
   } else {
     std::fprintf(
         stderr, "  networks (Table 1 row '%s'): r = %d, depth %d, widths g %d, h %d, l %d\n",
@@ -193,6 +214,20 @@ void add_nn_commands(CLI::App& app) {
                   "Width of the encoder's hidden Linear layer (default: 32, App. E)")
       ->check(CLI::Range(1, 4096));
   cmd->add_flag("--no-mu", a->no_mu, "Do not condition the stress field h on mu");
+  cmd->add_option("--decoder", a->decoder,
+                  "Decoder family: mlp (the paper's coordinate networks) or basis (per-point "
+                  "bases of the training frames times coefficients from small networks of the "
+                  "latent; docs/TRAINING.md)")
+      ->check(CLI::IsMember({"mlp", "basis"}));
+  cmd->add_option("--modes", a->modes, "Basis modes K: one value or x,tau,C (default 32,64,64)")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 4096));
+  cmd->add_option("--coefficient-width", a->coefficient_width,
+                  "Hidden width of the basis coefficient networks (default 128)")
+      ->check(CLI::Range(1, 4096));
+  cmd->add_option("--coefficient-depth", a->coefficient_depth,
+                  "Hidden layers of the basis coefficient networks (default 3)")
+      ->check(CLI::Range(1, 16));
   cmd->add_flag("--no-scene-recipe", a->no_scene_recipe,
                 "Ignore the scene's \"train\" section (steps, widths, encoder length, batches) and "
                 "use the defaults: Table 1's widths, the documented steps");

@@ -18,6 +18,12 @@ struct NetConfig {
   int encoder_channels = 3;     // output channels of each encoder convolution (App. E: 3)
   int encoder_max_length = 12;  // convolutions continue while the length exceeds this (App. E: 12)
   bool stress_uses_mu = true;   // h(X, ẑ, μ) when the dataset has a parameter μ
+  // The decoder family (docs/TRAINING.md, "Decoder families"): "mlp", the paper's coordinate
+  // networks f(X, ẑ); or "basis", per-point bases of the training frames times coefficients
+  // from small networks of the latent (nn/basis_decoders.h).
+  std::string decoder = "mlp";
+  std::array<int, 3> modes = {32, 64, 64};             // K of x − X, τ and C (basis)
+  int coefficient_width = 128, coefficient_depth = 3;  // the coefficient networks (basis)
 };
 
 // Table 1, keyed by the scene name stored in the run files; unknown scenes get the bread row.

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "nn/basis_decoders.h"
 #include "nn/dataset.h"
 #include "nn/field_checks.h"
 #include "nn/model.h"
@@ -12,6 +13,35 @@
 #include "rom/latent_inversion.h"
 
 namespace nsf {
+
+namespace {
+
+// The field of `truth` (dim values per particle, all particles) projected onto a basis: the
+// coefficients c* minimise the weighted error, and the modes are orthonormal in that weight, so
+// c* = Σ_p B_pᵀ W² (f_p − mean_p). Writes the projection into `out`.
+void project(const PointBasis& b, const std::vector<double>& weights, const float* truth,
+             std::vector<float>& out) {
+  const size_t d = size_t(b.dim), K = size_t(b.K);
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(b.K);
+  for (size_t p = 0; p < b.points; ++p)
+    for (size_t i = 0; i < d; ++i) {
+      const double w2 = weights[i] * weights[i];
+      const double r = w2 * (double(truth[p * d + i]) - b.mean[p * d + i]);
+      const float* row = &b.modes[(p * d + i) * K];
+      for (size_t k = 0; k < K; ++k) c[Eigen::Index(k)] += r * row[k];
+    }
+  const Eigen::VectorXf cf = c.cast<float>();
+  out.resize(b.points * d);
+  for (size_t p = 0; p < b.points; ++p) b.value(p, cf, &out[p * d]);
+}
+
+Mat3 symmetric(const float* s) {
+  Mat3 t;
+  t << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
+  return t;
+}
+
+}  // namespace
 
 std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::string& data_dir,
                                     const EvalOptions& o) {
@@ -53,8 +83,9 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
     EvalRow row;
     row.run = std::filesystem::path(run.path).filename().string();
     row.mu = run.mu, row.has_mu = run.has_mu, row.particles = n;
-    double ex = 0, nx = 0;
-    ErrorSum stress, affine, force, stress_poly_fit, affine_poly_fit;
+    double ex = 0, nx = 0, px = 0;
+    ErrorSum stress, affine, force, stress_poly_fit, affine_poly_fit, stress_proj, affine_proj;
+    const BasisDecoders* bases = nf.bases();
     // Eq. (11) sums over n = 1…N: frame 0 is the initial state, not a prediction.
     for (size_t k = std::min<size_t>(1, run.frames - 1); k < run.frames;
          k += std::max<size_t>(1, o.frame_stride)) {
@@ -69,9 +100,7 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
       for (size_t i = 0; i < n; ++i) {
         const size_t p = subset[i];
         ex += (x[i] - full[p]).squaredNorm(), nx += full[p].squaredNorm();
-        const float* s = &f.tau[6 * p];
-        Mat3 t;
-        t << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
+        const Mat3 t = symmetric(&f.tau[6 * p]);
         stress.add(tau[i], t);
         const Mat3 c = Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(&f.C[9 * p])
                            .cast<double>();
@@ -81,6 +110,27 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
       add_grid_force_error(x_true, volume, tau, tau_true, data.domain_lo(), data.grid_dx(), force);
       smooth.add_residual(tau_true, stress_poly_fit);
       smooth.add_residual(C_true, affine_poly_fit);
+      if (bases) {
+        std::vector<float> u(3 * P), proj;
+        for (size_t p = 0; p < P; ++p)
+          for (int c = 0; c < 3; ++c) u[3 * p + c] = float(full[p][c] - bases->rest[p][c]);
+        project(bases->u, {1, 1, 1}, u.data(), proj);
+        for (size_t i = 0; i < n; ++i) {
+          const size_t p = subset[i];
+          const Vec3 x = bases->rest[p] + Vec3(proj[3 * p], proj[3 * p + 1], proj[3 * p + 2]);
+          px += (x - full[p]).squaredNorm();
+        }
+        const double r2 = M_SQRT2;
+        project(bases->tau, {1, 1, 1, r2, r2, r2}, f.tau.data(), proj);
+        for (size_t i = 0; i < n; ++i)
+          stress_proj.add(symmetric(&proj[6 * subset[i]]), tau_true[i]);
+        project(bases->C, std::vector<double>(9, 1.0), f.C.data(), proj);
+        for (size_t i = 0; i < n; ++i)
+          affine_proj.add(
+              Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(&proj[9 * subset[i]])
+                  .cast<double>(),
+              C_true[i]);
+      }
       ++row.frames;
     }
     // A field that is zero throughout (no stress in a rigid drop) has no relative error: NaN.
@@ -90,6 +140,11 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
     row.force_error = force.relative();
     row.stress_poly_fit = stress_poly_fit.relative(),
     row.affine_poly_fit = affine_poly_fit.relative();
+    if (bases) {
+      row.projection_delta = nx > 0 ? std::sqrt(px / nx) : NAN;
+      row.projection_stress = stress_proj.relative();
+      row.projection_affine = affine_proj.relative();
+    }
     rows.push_back(row);
   }
   return rows;

@@ -1,6 +1,7 @@
 #pragma once
 // `nsf eval`: how well a trained model reproduces held-out runs when each frame's latent comes
 // from the encoder (no latent dynamics yet): δ of eq. (11) and relative errors of τ and C.
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ struct EvalRow {
   // resolves finer features can beat it; particle-scale noise stays in both.
   double force_error = 0;
   double stress_poly_fit = 0, affine_poly_fit = 0;
+  // A basis model's own bound: the same frames projected onto its bases (the best any
+  // coefficients can do), as δ and relative errors; NaN for an MLP model.
+  double projection_delta = NAN, projection_stress = NAN, projection_affine = NAN;
 };
 
 std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::string& data_dir,

@@ -15,6 +15,11 @@ constexpr const char* kFormat = "nsf-model";
 // 2: g predicts x − X (displacement, norm_u). 3: encoder_max_length, which an older nsf would
 // ignore and then fail on the encoder's parameters, so it refuses the file instead.
 constexpr int64_t kFormatVersion = 3;
+// 4: a basis model (per-point bases and coefficient networks instead of g, h, l), which an older
+// nsf must refuse. MLP models keep writing 3.
+constexpr int64_t kBasisFormatVersion = 4;
+constexpr const char* kBasisNames[3] = {"u", "tau", "C"};
+constexpr int64_t kBasisDims[3] = {3, 6, 9};
 
 torch::Tensor to_tensor(const std::vector<double>& v) {
   std::vector<float> f(v.begin(), v.end());
@@ -91,9 +96,19 @@ NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
     : config(c), scene(s), has_mu(mu) {
   const int64_t r = c.latent_dim;
   encoder = Encoder(s.particles, r, c.encoder_hidden, c.encoder_channels, c.encoder_max_length);
-  g = FieldMlp(3 + r, 3, c.width_g, c.depth);
-  h = FieldMlp(3 + r + (stress_has_mu() ? 1 : 0), 6, c.width_h, c.depth);
-  l = FieldMlp(3 + r, 9, c.width_l, c.depth);
+  if (c.decoder == "basis") {
+    for (int f = 0; f < 3; ++f) {
+      if (c.modes[f] < 1) fail("a basis model needs at least one mode per field, got ", c.modes[f]);
+      const int64_t in = r + (f == 1 && stress_has_mu() ? 1 : 0);
+      basis[f].net = FieldMlp(in, c.modes[f], c.coefficient_width, c.coefficient_depth);
+    }
+  } else if (c.decoder == "mlp") {
+    g = FieldMlp(3 + r, 3, c.width_g, c.depth);
+    h = FieldMlp(3 + r + (stress_has_mu() ? 1 : 0), 6, c.width_h, c.depth);
+    l = FieldMlp(3 + r, 9, c.width_l, c.depth);
+  } else {
+    fail("unknown decoder family '", c.decoder, "' (known: mlp, basis)");
+  }
   norm_X = Normalizer::identity(3);
   norm_x = Normalizer::identity(3);
   norm_u = Normalizer::identity(3);
@@ -105,7 +120,7 @@ NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
 
 void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   a.write("format", c10::IValue(std::string(kFormat)));
-  a.write("format_version", c10::IValue(kFormatVersion));
+  a.write("format_version", c10::IValue(is_basis() ? kBasisFormatVersion : kFormatVersion));
   a.write("nsf_version", c10::IValue(std::string(NSF_VERSION)));
   a.write("scene_name", c10::IValue(scene.scene_name));
   a.write("scene_particles", c10::IValue(scene.particles));
@@ -122,6 +137,7 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   a.write("has_mu", c10::IValue(has_mu));
   a.write("mu_min", c10::IValue(mu_min));
   a.write("mu_max", c10::IValue(mu_max));
+  a.write("train_seconds", c10::IValue(train_seconds));
   write_normalizer(a, "X", norm_X);
   write_normalizer(a, "x", norm_x);
   write_normalizer(a, "z", norm_z);
@@ -135,8 +151,22 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
     a.write("trajectory_latents", trajectory_latents, /*is_buffer=*/true);
     a.write("trajectory_mu", trajectory_mu, /*is_buffer=*/true);
   }
-  const std::pair<const char*, const torch::nn::Module*> nets[] = {
-      {"encoder", encoder.get()}, {"g", g.get()}, {"h", h.get()}, {"l", l.get()}};
+  std::vector<std::pair<std::string, const torch::nn::Module*>> nets = {{"encoder", encoder.get()}};
+  if (is_basis()) {
+    a.write("decoder", c10::IValue(config.decoder));
+    a.write("coefficient_width", c10::IValue(int64_t(config.coefficient_width)));
+    a.write("coefficient_depth", c10::IValue(int64_t(config.coefficient_depth)));
+    for (int f = 0; f < 3; ++f) {
+      const std::string n = kBasisNames[f];
+      a.write("modes_" + n, c10::IValue(int64_t(config.modes[f])));
+      a.write("basis_" + n + "_mean", basis[f].mean, /*is_buffer=*/true);
+      a.write("basis_" + n + "_modes", basis[f].modes, /*is_buffer=*/true);
+      a.write("basis_" + n + "_scale", basis[f].scale, /*is_buffer=*/true);
+      nets.emplace_back("c_" + n, basis[f].net.get());
+    }
+  } else {
+    nets.insert(nets.end(), {{"g", g.get()}, {"h", h.get()}, {"l", l.get()}});
+  }
   for (const auto& [name, net] : nets) {
     torch::serialize::OutputArchive sub;
     net->save(sub);
@@ -149,9 +179,9 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   if (!a.try_read("format", format) || !format.isString() || format.toStringRef() != kFormat)
     fail(path, " is not an nsf model file (no 'format' = '", kFormat, "' entry)");
   const int64_t version = read_value(a, "format_version", path).toInt();
-  if (version > kFormatVersion)
+  if (version > kBasisFormatVersion)
     fail("model file ", path, " has format version ", version, "; this nsf reads up to ",
-         kFormatVersion, " (written by nsf ", read_value(a, "nsf_version", path).toStringRef(),
+         kBasisFormatVersion, " (written by nsf ", read_value(a, "nsf_version", path).toStringRef(),
          ")");
   auto integer = [&](const char* key) {
     return static_cast<int>(read_value(a, key, path).toInt());
@@ -170,6 +200,13 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   if (a.try_read("encoder_max_length", max_length))
     c.encoder_max_length = static_cast<int>(max_length.toInt());
   c.stress_uses_mu = read_value(a, "stress_uses_mu", path).toBool();
+  if (version >= kBasisFormatVersion) {
+    c.decoder = read_value(a, "decoder", path).toStringRef();
+    c.coefficient_width = integer("coefficient_width");
+    c.coefficient_depth = integer("coefficient_depth");
+    for (int f = 0; f < 3; ++f)
+      c.modes[f] = integer((std::string("modes_") + kBasisNames[f]).c_str());
+  }
   SceneFingerprint s;
   s.scene_name = read_value(a, "scene_name", path).toStringRef();
   s.particles = read_value(a, "scene_particles", path).toInt();
@@ -177,6 +214,8 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   NeuralModel m(c, s, read_value(a, "has_mu", path).toBool());
   m.mu_min = read_value(a, "mu_min", path).toDouble();
   m.mu_max = read_value(a, "mu_max", path).toDouble();
+  c10::IValue seconds;  // absent before nsf recorded it
+  if (a.try_read("train_seconds", seconds)) m.train_seconds = seconds.toDouble();
   m.norm_X = read_normalizer(a, "X");
   m.norm_x = read_normalizer(a, "x");
   m.norm_z = read_normalizer(a, "z");
@@ -200,8 +239,26 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
     m.trajectory_latents = trajectories;
     m.trajectory_mu = trajectory_mu;
   }
-  const std::pair<const char*, torch::nn::Module*> nets[] = {
-      {"encoder", m.encoder.get()}, {"g", m.g.get()}, {"h", m.h.get()}, {"l", m.l.get()}};
+  std::vector<std::pair<std::string, torch::nn::Module*>> nets = {{"encoder", m.encoder.get()}};
+  if (m.is_basis()) {
+    for (int f = 0; f < 3; ++f) {
+      const std::string n = kBasisNames[f];
+      BasisField& b = m.basis[f];
+      a.read("basis_" + n + "_mean", b.mean, /*is_buffer=*/true);
+      a.read("basis_" + n + "_modes", b.modes, /*is_buffer=*/true);
+      a.read("basis_" + n + "_scale", b.scale, /*is_buffer=*/true);
+      const int64_t K = c.modes[f], d = kBasisDims[f];
+      if (b.mean.sizes() != torch::IntArrayRef({s.particles, d}) ||
+          b.modes.sizes() != torch::IntArrayRef({s.particles, d, K}) ||
+          b.scale.sizes() != torch::IntArrayRef({K}))
+        fail("model file ", path, ": damaged basis of ", n, " (shapes ", b.mean.sizes(), ", ",
+             b.modes.sizes(), ", ", b.scale.sizes(), " for ", s.particles, " particles and K = ", K,
+             ")");
+      nets.emplace_back("c_" + n, b.net.get());
+    }
+  } else {
+    nets.insert(nets.end(), {{"g", m.g.get()}, {"h", m.h.get()}, {"l", m.l.get()}});
+  }
   for (const auto& [name, net] : nets) {
     torch::serialize::InputArchive sub;
     a.read(name, sub);
@@ -247,9 +304,21 @@ void NeuralModel::check_scene(const SceneFingerprint& data, const std::string& w
 
 void NeuralModel::set_eval_mode() {
   encoder->eval();
-  g->eval();
-  h->eval();
-  l->eval();
+  for (FieldMlp* net : {&g, &h, &l, &basis[0].net, &basis[1].net, &basis[2].net})
+    if (!net->is_empty()) (*net)->eval();
+}
+
+torch::Tensor NeuralModel::coefficient_input(int field, const torch::Tensor& z,
+                                             const torch::Tensor& mu) const {
+  if (field == 0) return z;  // as g sees it: the encoder's raw latent
+  if (field == 1 && stress_has_mu()) return torch::cat({norm_z.apply(z), norm_mu.apply(mu)}, 1);
+  return norm_z.apply(z);
+}
+
+torch::Tensor NeuralModel::coefficients(int field, const torch::Tensor& z,
+                                        const torch::Tensor& mu) {
+  BasisField& b = basis[field];
+  return b.net->forward(coefficient_input(field, z, mu)) * b.scale;
 }
 
 torch::Tensor NeuralModel::encode(const torch::Tensor& x) {
@@ -271,17 +340,29 @@ torch::Tensor NeuralModel::l_input(const torch::Tensor& Xn, const torch::Tensor&
   return torch::cat({Xn, norm_z.apply(z)}, 1);
 }
 
+namespace {
+void require_mlp(const NeuralModel& m, const char* what) {
+  if (m.is_basis())
+    fail("internal error: ", what,
+         "(X, z) asked of a per-point basis model, which has no "
+         "coordinate network; evaluate it through its points (nn/neural_fields.h)");
+}
+}  // namespace
+
 torch::Tensor NeuralModel::deform(const torch::Tensor& Xn, const torch::Tensor& z) {
+  require_mlp(*this, "g");
   if (displacement) return norm_X.invert(Xn) + norm_u.invert(g->forward(g_input(Xn, z)));
   return norm_x.invert(g->forward(g_input(Xn, z)));
 }
 
 torch::Tensor NeuralModel::stress(const torch::Tensor& Xn, const torch::Tensor& z,
                                   const torch::Tensor& mu) {
+  require_mlp(*this, "h");
   return norm_tau.invert(h->forward(h_input(Xn, z, mu)));
 }
 
 torch::Tensor NeuralModel::affine(const torch::Tensor& Xn, const torch::Tensor& z) {
+  require_mlp(*this, "l");
   return norm_C.invert(l->forward(l_input(Xn, z)));
 }
 

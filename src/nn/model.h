@@ -41,6 +41,16 @@ struct SceneFingerprint {
   std::string describe() const;  // "scene 'bread' (40000 particles, X hash 0123abcd…)"
 };
 
+// One field of a basis model, f_p = mean_p + B_p · (scale ⊙ net(input)) (nn/basis_decoders.h has
+// the run-time form). The bases come from the training frames (nn/basis_fit.h).
+struct BasisField {
+  torch::Tensor mean;   // |P| × dim
+  torch::Tensor modes;  // |P| × dim × K
+  torch::Tensor scale;  // K: each coefficient's spread over the training frames
+  FieldMlp net{nullptr};
+  int64_t K() const { return scale.defined() ? scale.size(0) : 0; }
+};
+
 class NeuralModel {
  public:
   NeuralModel(const NetConfig& config, const SceneFingerprint& scene, bool has_mu);
@@ -57,6 +67,7 @@ class NeuralModel {
   static NeuralModel read(torch::serialize::InputArchive& a, const std::string& path);
 
   bool stress_has_mu() const { return has_mu && config.stress_uses_mu; }
+  bool is_basis() const { return config.decoder == "basis"; }
   int64_t latent_dim() const { return config.latent_dim; }
 
   // ---- batched evaluation, physical units in and out (float32) ----
@@ -76,12 +87,18 @@ class NeuralModel {
 
   void set_eval_mode();
 
+  // ---- basis models: coefficients of field f (0: x − X, 1: τ, 2: C) in physical units, B × K,
+  // for raw latents z (B × r) and μ (B × 1, physical; used by τ when stress_has_mu()).
+  torch::Tensor coefficients(int field, const torch::Tensor& z, const torch::Tensor& mu);
+  torch::Tensor coefficient_input(int field, const torch::Tensor& z, const torch::Tensor& mu) const;
+
   NetConfig config;
   SceneFingerprint scene;
   bool has_mu = false;
   double mu_min = 0, mu_max = 0;
   Encoder encoder{nullptr};
-  FieldMlp g{nullptr}, h{nullptr}, l{nullptr};
+  FieldMlp g{nullptr}, h{nullptr}, l{nullptr};  // mlp models
+  BasisField basis[3];                          // basis models: x − X, τ, C
   // X: rest positions, x: current positions (also the encoder's input), z: latents as seen by
   // h and l (g learns with raw encoder output), mu, tau (6), C (9).
   Normalizer norm_X, norm_x, norm_z, norm_mu, norm_tau, norm_C;
@@ -95,6 +112,9 @@ class NeuralModel {
   // r, float32), and each run's μ (runs; zeros without μ): the region of latent space the ROM's
   // latent prior holds the inversion to (rom/latent_prior.h). Undefined in older model files.
   torch::Tensor trajectory_latents, trajectory_mu;
+  // Wall time of the training that made this model, all stages (and resumed runs) together;
+  // 0 in files written before nsf recorded it.
+  double train_seconds = 0;
 };
 
 }  // namespace nsf

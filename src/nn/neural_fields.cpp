@@ -1,7 +1,9 @@
 #include "nn/neural_fields.h"
 
 #include "core/error.h"
+#include "nn/basis_runtime.h"
 #include "nn/model.h"
+#include "nn/point_interpolation.h"
 
 namespace nsf {
 
@@ -39,15 +41,44 @@ torch::Tensor chunked(const torch::Tensor& Xn, const torch::Tensor& z, F&& f) {
 }  // namespace
 
 struct NeuralFields::Points::Impl {
-  torch::Tensor Xn;  // N × 3 normalised rest positions
+  torch::Tensor Xn;            // N × 3 normalised rest positions (mlp)
+  PointInterpolation weights;  // per point, particles and weights (basis)
+  bool particles = false;      // (basis) the points are the particles themselves, in order
+  size_t count = 0;
 };
+
+namespace {
+
+// A basis field at prepared points: dim values per point for coefficients c, then `put` turns
+// each point's values into its output.
+template <typename Put>
+void basis_values(const PointBasis& b, bool particles, const PointInterpolation& w, size_t count,
+                  const Eigen::VectorXf& c, Put&& put) {
+  const int d = b.dim;
+  const int64_t n = int64_t(count);
+#pragma omp parallel for schedule(static) if (n > 4096)
+  for (int64_t i = 0; i < n; ++i) {
+    float v[9], acc[9] = {0};
+    if (particles) {
+      b.value(size_t(i), c, acc);
+    } else {
+      for (uint32_t e = w.start[size_t(i)]; e < w.start[size_t(i) + 1]; ++e) {
+        b.value(w.particle[e], c, v);
+        for (int k = 0; k < d; ++k) acc[k] += w.weight[e] * v[k];
+      }
+    }
+    put(size_t(i), acc);
+  }
+}
+
+}  // namespace
 
 NeuralFields::Points::Points() = default;
 NeuralFields::Points::~Points() = default;
 NeuralFields::Points::Points(Points&&) noexcept = default;
 NeuralFields::Points& NeuralFields::Points::operator=(Points&&) noexcept = default;
 size_t NeuralFields::Points::size() const {
-  return impl_ ? size_t(impl_->Xn.size(0)) : 0;
+  return impl_ ? impl_->count : 0;
 }
 
 NeuralFields::NeuralFields() = default;
@@ -58,7 +89,15 @@ NeuralFields& NeuralFields::operator=(NeuralFields&&) noexcept = default;
 NeuralFields NeuralFields::load(const std::string& path) {
   NeuralFields f;
   f.model_ = std::make_unique<NeuralModel>(NeuralModel::load(path));
+  if (f.model_->is_basis()) f.bases_ = std::make_unique<BasisDecoders>(basis_decoders(*f.model_));
   return f;
+}
+
+const std::string& NeuralFields::decoder() const {
+  return model_->config.decoder;
+}
+const BasisDecoders* NeuralFields::bases() const {
+  return bases_.get();
 }
 
 int NeuralFields::latent_dim() const {
@@ -78,6 +117,9 @@ double NeuralFields::mu_min() const {
 }
 double NeuralFields::mu_max() const {
   return model_->mu_max;
+}
+double NeuralFields::train_seconds() const {
+  return model_->train_seconds;
 }
 NeuralModel& NeuralFields::model() {
   return *model_;
@@ -109,20 +151,64 @@ Latent NeuralFields::encode(const std::vector<Vec3>& x) const {
 NeuralFields::Points NeuralFields::prepare(const std::vector<Vec3>& X) const {
   Points p;
   p.impl_ = std::make_unique<Points::Impl>();
-  p.impl_->Xn = X.empty() ? torch::empty({0, 3}) : model_->norm_X.apply(positions_tensor(X));
+  p.impl_->count = X.size();
+  if (!bases_) {
+    p.impl_->Xn = X.empty() ? torch::empty({0, 3}) : model_->norm_X.apply(positions_tensor(X));
+    return p;
+  }
+  p.impl_->particles = X.size() == bases_->rest.size();
+  for (size_t i = 0; p.impl_->particles && i < X.size(); ++i)
+    p.impl_->particles = (X[i] - bases_->rest[i]).norm() <= 1e-6 * (1 + X[i].norm());
+  if (!p.impl_->particles) p.impl_->weights = interpolate_points(bases_->rest, X);
   return p;
 }
 
 void NeuralFields::deform(const Points& X, const Latent& z, std::vector<Vec3>& x) const {
+  x.resize(X.size());
+  if (bases_) {
+    if (z.size() != latent_dim())
+      fail("latent of size ", z.size(), " for a model with r = ", latent_dim());
+    const auto& pts = *X.impl_;
+    // g = X + (mean + B c) at each particle; at other points the particles' g interpolated.
+    const std::vector<Vec3>& rest = bases_->rest;
+    const PointBasis& u = bases_->u;
+    const Eigen::VectorXf c = bases_->deformation_coefficients(z);
+    const int64_t n = int64_t(pts.count);
+#pragma omp parallel for schedule(static) if (n > 4096)
+    for (int64_t i = 0; i < n; ++i) {
+      float d[3];
+      if (pts.particles) {
+        u.value(size_t(i), c, d);
+        x[size_t(i)] = rest[size_t(i)] + Vec3(d[0], d[1], d[2]);
+        continue;
+      }
+      Vec3 acc = Vec3::Zero();
+      const PointInterpolation& w = pts.weights;
+      for (uint32_t e = w.start[size_t(i)]; e < w.start[size_t(i) + 1]; ++e) {
+        u.value(w.particle[e], c, d);
+        acc += double(w.weight[e]) * (rest[w.particle[e]] + Vec3(d[0], d[1], d[2]));
+      }
+      x[size_t(i)] = acc;
+    }
+    return;
+  }
   const torch::Tensor out =
       chunked(X.impl_->Xn, latent_tensor(z, latent_dim()),
               [&](const auto& a, const auto& b) { return model_->deform(a, b); });
-  x.resize(X.size());
   if (!x.empty()) std::copy_n(out.data_ptr<double>(), 3 * x.size(), x[0].data());
 }
 
 void NeuralFields::stress(const Points& X, const Latent& z, double mu,
                           std::vector<Mat3>& tau) const {
+  tau.resize(X.size());
+  if (bases_) {
+    basis_values(bases_->tau, X.impl_->particles, X.impl_->weights, X.size(),
+                 bases_->stress_coefficients(z, mu),
+                 [&](size_t i, const float* s) {  // xx yy zz xy yz xz
+                   tau[i] << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
+                 });
+    return;
+  }
   const torch::Tensor m = torch::full({1, 1}, float(mu));
   const torch::Tensor out =
       chunked(X.impl_->Xn, latent_tensor(z, latent_dim()), [&](const auto& a, const auto& b) {
@@ -135,6 +221,14 @@ void NeuralFields::stress(const Points& X, const Latent& z, double mu,
 }
 
 void NeuralFields::affine(const Points& X, const Latent& z, std::vector<Mat3>& C) const {
+  C.resize(X.size());
+  if (bases_) {
+    basis_values(bases_->C, X.impl_->particles, X.impl_->weights, X.size(),
+                 bases_->affine_coefficients(z), [&](size_t i, const float* c) {  // row-major
+                   C[i] << c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8];
+                 });
+    return;
+  }
   const torch::Tensor out =
       chunked(X.impl_->Xn, latent_tensor(z, latent_dim()),
               [&](const auto& a, const auto& b) { return model_->affine(a, b); });

@@ -12,6 +12,7 @@
 namespace nsf {
 
 class NeuralModel;
+struct BasisDecoders;
 
 using Latent = Eigen::VectorXd;  // ẑ ∈ R^r
 
@@ -27,8 +28,13 @@ class NeuralFields {
   size_t particle_count() const;  // |P| of the scene it was trained for
   const std::string& scene_name() const;
   bool stress_uses_mu() const;
+  // "mlp" (the paper's coordinate networks) or "basis" (per-point bases, nn/basis_decoders.h).
+  const std::string& decoder() const;
+  // A basis model's decoders at run time; null for an MLP model.
+  const BasisDecoders* bases() const;
   double mu_min() const;  // the training runs' μ range (extrapolation beyond it is risky)
   double mu_max() const;
+  double train_seconds() const;  // wall time of the training that made it (0: not recorded)
 
   // Throws nsf::Error unless X (rest positions of `what`, e.g. a run file) is the model's scene.
   void check_scene(const std::string& scene_name, const std::vector<Vec3>& X,
@@ -38,9 +44,10 @@ class NeuralFields {
   Latent encode(const std::vector<Vec3>& x) const;
   std::vector<Latent> encode(const std::vector<std::vector<Vec3>>& frames) const;
 
-  // A set of reference positions prepared once for repeated evaluation (the normalised X; the
-  // place to keep per-particle precomputed X-parts of the first layers). Any X in Ω₀ works,
-  // not only the training particles: g queried at more points boosts the resolution (Fig. 6).
+  // A set of reference positions prepared once for repeated evaluation (the normalised X for the
+  // networks; for a basis model, each point's particles and weights, nn/point_interpolation.h).
+  // Any X in Ω₀ works, not only the training particles: g queried at more points boosts the
+  // resolution (Fig. 6).
   class Points {
    public:
     Points();
@@ -68,6 +75,7 @@ class NeuralFields {
  private:
   NeuralFields();
   std::unique_ptr<NeuralModel> model_;
+  std::unique_ptr<BasisDecoders> bases_;
 };
 
 }  // namespace nsf

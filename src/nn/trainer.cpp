@@ -17,6 +17,7 @@
 #include "core/progress.h"
 #include "core/timer.h"
 #include "io/run_reader.h"
+#include "nn/basis_fit.h"
 #include "nn/dataset.h"
 #include "nn/model.h"
 #include "nn/runtime.h"
@@ -47,6 +48,12 @@ struct LossRow {
 // Sizes of the decoder targets per stage: x (3), τ (6), C (9).
 constexpr int kTargetDim[kStageCount] = {3, 6, 9};
 constexpr const char* kNetworkNames[kStageCount] = {"g", "h", "l"};
+// Latent rows per optimiser step of a basis model's stages 2 and 3: a row is one frame's whole
+// field, so a few dozen make a batch.
+constexpr int64_t kBasisRows = 64;
+// τ's Frobenius norm counts its off-diagonal entries twice (xx yy zz xy yz xz).
+const std::vector<double> kBasisWeights[kStageCount] = {
+    {1, 1, 1}, {1, 1, 1, M_SQRT2, M_SQRT2, M_SQRT2}, std::vector<double>(9, 1.0)};
 
 // ≤ 0: half of what the machine has available now, at least 2 GiB (the former fixed default).
 double memory_budget_gib(double requested) {
@@ -82,6 +89,8 @@ class Trainer {
     return std::min<int64_t>(int64_t(data_.particle_count()), cfg_.particles_per_frame[s]);
   }
   int64_t points_per_step(int s) const {
+    if (model_.is_basis())  // each row is a whole frame's field
+      return (s == 0 ? cfg_.frames_per_batch[0] : kBasisRows) * int64_t(data_.particle_count());
     return cfg_.frames_per_batch[s] * particles_per_batch_frame(s);
   }
   void say(const std::string& s) const {
@@ -99,6 +108,8 @@ class Trainer {
   void start_stage();
   std::vector<torch::Tensor> stage_parameters();
   double train_step();
+  void fit_bases(int first_field);
+  double basis_step();
   void save_checkpoint() const;
   void load_checkpoint();
   void write_loss_curves(TrainReport& report) const;
@@ -120,6 +131,9 @@ class Trainer {
   long step_ = 0;
   std::vector<LossRow> history_;
   std::unique_ptr<torch::optim::Adam> adam_;
+  // Basis models: each training frame's projection onto each field's basis (frames × K), the
+  // targets of the coefficient networks.
+  torch::Tensor targets_[kStageCount];
 };
 
 std::string Trainer::config_key() const {
@@ -142,6 +156,9 @@ std::string Trainer::config_key() const {
   if (n.encoder_max_length != EncoderImpl::kMaxLength)
     os << " encoder_max_length=" << n.encoder_max_length;
   if (cfg_.mix_frames > 0) os << " mix_frames=" << cfg_.mix_frames;
+  if (n.decoder != "mlp")
+    os << " decoder=" << n.decoder << " modes=" << n.modes[0] << "," << n.modes[1] << ","
+       << n.modes[2] << " coefficients=" << n.coefficient_width << "x" << n.coefficient_depth;
   if (!opt_.base_model.empty()) os << " base=" << opt_.base_model;
   for (const std::string& dir : opt_.rom_latents) os << " rom_latents=" << dir;
   return os.str();
@@ -282,8 +299,11 @@ void Trainer::start_from_base_model() {
   const NeuralModel fresh(base.config, base.scene, base.has_mu);
   base.h = fresh.h;
   base.l = fresh.l;
+  base.basis[1].net = fresh.basis[1].net;
+  base.basis[2].net = fresh.basis[2].net;
   model_ = std::move(base);
   stage_ = 1;
+  if (model_.is_basis()) fit_bases(1);  // τ's and C's bases from this dataset
 }
 
 void Trainer::refine_latents() {
@@ -316,6 +336,12 @@ void Trainer::refine_latents() {
 }
 
 std::vector<torch::Tensor> Trainer::stage_parameters() {
+  if (model_.is_basis()) {
+    auto p = model_.basis[stage_].net->parameters();
+    if (stage_ == 0)
+      for (auto& t : model_.encoder->parameters()) p.insert(p.begin(), t);
+    return p;
+  }
   if (stage_ == 0) {
     auto p = model_.encoder->parameters();
     for (auto& t : model_.g->parameters()) p.push_back(t);
@@ -339,7 +365,101 @@ torch::Tensor Trainer::noisy(const torch::Tensor& z) {
   return z + e * model_.norm_z.std;
 }
 
+void Trainer::fit_bases(int first_field) {
+  const int64_t P = int64_t(data_.particle_count());
+  const std::vector<Vec3>& X = data_.rest_positions();
+  for (int f = first_field; f < kStageCount; ++f) {
+    const int d = kTargetDim[f];
+    const double start = now_seconds();
+    const SnapshotBasis b = fit_snapshot_basis(
+        store_.size(), size_t(P * d),
+        [&](size_t i, float* row) {
+          const FrameData& fr = store_.get(i);
+          if (f == 0)
+            for (int64_t j = 0; j < 3 * P; ++j) row[j] = float(double(fr.x[j]) - X[j / 3][j % 3]);
+          else
+            std::copy_n((f == 1 ? fr.tau : fr.C).data(), P * d, row);
+        },
+        kBasisWeights[f], cfg_.net.modes[f]);
+    const int64_t K = b.sigma.size();
+    if (K != cfg_.net.modes[f]) {
+      say("basis of " + std::string(kStageNames[f]) + ": " + std::to_string(K) +
+          " modes (the training frames' rank), not " + std::to_string(cfg_.net.modes[f]));
+      model_.config.modes[f] = int(K);
+      const int64_t in = model_.basis[f].net->in_features();
+      model_.basis[f].net = FieldMlp(in, K, cfg_.net.coefficient_width, cfg_.net.coefficient_depth);
+    }
+    BasisField& field = model_.basis[f];
+    field.mean = torch::from_blob(const_cast<float*>(b.mean.data()), {P, d}).clone();
+    // Eigen's column-major columns × K is, per point, dim × K with a stride: copy to row-major.
+    field.modes = torch::from_blob(const_cast<float*>(b.modes.data()), {K, P, d})
+                      .permute({1, 2, 0})
+                      .contiguous();
+    targets_[f] = torch::from_blob(const_cast<float*>(b.coeffs.data()), {K, int64_t(store_.size())})
+                      .t()
+                      .contiguous();
+    const Eigen::VectorXf spread = (b.sigma / std::sqrt(double(store_.size()))).cast<float>();
+    field.scale = torch::from_blob(const_cast<float*>(spread.data()), {K}).clone();
+    char line[160];
+    std::snprintf(line, sizeof line,
+                  "basis of %s: %lld modes hold %.2f%% of the training frames' variance (%.1f s)",
+                  kStageNames[f], static_cast<long long>(K), 100 * (1 - b.residual_share()),
+                  now_seconds() - start);
+    say(line);
+  }
+}
+
+// One step of a basis model's stage: the coefficient network against each row's projection.
+// The loss is the field's squared error over its variance per frame, as the MLP stages' is
+// per component: the modes are orthonormal, so coefficient error is field error.
+double Trainer::basis_step() {
+  const int64_t P = int64_t(data_.particle_count());
+  const torch::Tensor& targets = targets_[stage_];
+  const int64_t B = stage_ == 0 ? cfg_.frames_per_batch[0] : kBasisRows;
+  const size_t choices = stage_ == 0 ? store_.size() : latent_frame_.size();
+  std::uniform_int_distribution<size_t> pick(0, choices - 1);
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  std::vector<int64_t> rows(B), frames(B);
+  for (int64_t b = 0; b < B; ++b) {
+    rows[b] = int64_t(pick(rng_));
+    frames[b] = stage_ == 0 ? rows[b] : latent_frame_[size_t(rows[b])];
+  }
+  torch::Tensor goal = targets.index_select(0, torch::tensor(frames, torch::kInt64));
+  torch::Tensor pred;
+  if (stage_ == 0) {
+    torch::Tensor full_x = torch::empty({B, P, 3});
+    for (int64_t b = 0; b < B; ++b) {
+      const FrameData& f = store_.get(size_t(frames[b]));
+      std::copy(f.x.begin(), f.x.end(), full_x[b].data_ptr<float>());
+      // A blend of two frames is its own target, and so is the blend of their projections.
+      if (cfg_.mix_frames > 0 && uniform(rng_) < cfg_.mix_frames) {
+        const std::vector<size_t>& partners = mix_partners_[size_t(frames[b])];
+        if (partners.empty()) continue;
+        const size_t other =
+            partners[std::uniform_int_distribution<size_t>(0, partners.size() - 1)(rng_)];
+        const float a = uniform(rng_);
+        const FrameData& g = store_.get(other);
+        float* xb = full_x[b].data_ptr<float>();
+        for (int64_t k = 0; k < 3 * P; ++k) xb[k] += a * (g.x[size_t(k)] - xb[k]);
+        goal[b] += a * (targets[int64_t(other)] - goal[b]);
+      }
+    }
+    pred = model_.coefficients(0, model_.encode(full_x), torch::Tensor());
+  } else {
+    const torch::Tensor z = noisy(latents_.index_select(0, torch::tensor(rows, torch::kInt64)));
+    pred =
+        model_.coefficients(stage_, z, mu_.index_select(0, torch::tensor(frames, torch::kInt64)));
+  }
+  const torch::Tensor variance = targets.pow(2).sum(1).mean();
+  torch::Tensor loss = (pred - goal).pow(2).sum(1).mean() / variance;
+  adam_->zero_grad();
+  loss.backward();
+  adam_->step();
+  return loss.item<double>();
+}
+
 double Trainer::train_step() {
+  if (model_.is_basis()) return basis_step();
   const int64_t P = static_cast<int64_t>(data_.particle_count());
   const int64_t B = cfg_.frames_per_batch[stage_];
   const int64_t n = particles_per_batch_frame(stage_);
@@ -430,6 +550,8 @@ void Trainer::save_checkpoint() const {
     a.write("latents", latents_, true);
     a.write("latent_frames", torch::tensor(latent_frame_, torch::kInt64), true);
   }
+  for (int f = 0; f < kStageCount; ++f)
+    if (targets_[f].defined()) a.write("basis_targets_" + std::to_string(f), targets_[f], true);
   torch::Tensor h = torch::empty({int64_t(history_.size()), 4}, torch::kFloat64);
   for (size_t i = 0; i < history_.size(); ++i) {
     const LossRow& r = history_[i];
@@ -471,6 +593,8 @@ void Trainer::load_checkpoint() {
     else
       for (int64_t i = 0; i < latents_.size(0); ++i) latent_frame_.push_back(i);
   }
+  for (int f = 0; f < kStageCount; ++f)
+    a.try_read("basis_targets_" + std::to_string(f), targets_[f], true);
   torch::Tensor h;
   a.read("history", h, true);
   history_.clear();
@@ -560,6 +684,7 @@ TrainReport Trainer::run() {
     say("stage 1 skipped: encoder and g from " + opt_.base_model);
   } else {
     compute_statistics();
+    if (model_.is_basis()) fit_bases(0);
     start_stage();
   }
   Xn_ = model_.norm_X.apply(torch::from_blob(const_cast<double*>(data_.rest_positions()[0].data()),
@@ -615,6 +740,7 @@ TrainReport Trainer::run() {
     }
     rep.steps = total - first;
     rep.seconds = now_seconds() - start;
+    model_.train_seconds += rep.seconds;
     rep.points_per_second = rep.steps * double(points_per_step) / std::max(rep.seconds, 1e-9);
     if (stage_ == 0)
       rep.frames_per_second =

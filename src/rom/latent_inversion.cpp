@@ -12,6 +12,7 @@
 #include <exception>
 
 #include "core/error.h"
+#include "nn/basis_runtime.h"
 #include "nn/model.h"
 #include "nn/runtime.h"
 #include "rom/latent_prior.h"
@@ -42,23 +43,78 @@ void deformation_jacobian(NeuralModel& model, const torch::Tensor& Xn, const Eig
   for (int64_t p = 0; p < n; ++p) g[p] = Vec3(op[3 * p], op[3 * p + 1], op[3 * p + 2]);
 }
 
+NetworkSamples::NetworkSamples(NeuralModel& model, torch::Tensor Xn)
+    : model_(model), Xn_(std::move(Xn)) {}
+
+size_t NetworkSamples::size() const {
+  return size_t(Xn_.size(0));
+}
+
+void NetworkSamples::evaluate(const Eigen::VectorXd& z, std::vector<Vec3>& g) {
+  torch::NoGradGuard no_grad;
+  const int64_t n = Xn_.size(0), r = z.size();
+  const torch::Tensor zt =
+      torch::from_blob(const_cast<double*>(z.data()), {1, r}, torch::kFloat64).to(torch::kFloat32);
+  const torch::Tensor o = model_.deform(Xn_, zt.expand({n, r})).to(torch::kFloat64).contiguous();
+  const double* op = o.data_ptr<double>();
+  g.resize(n);
+  for (int64_t p = 0; p < n; ++p) g[p] = Vec3(op[3 * p], op[3 * p + 1], op[3 * p + 2]);
+}
+
+void NetworkSamples::jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std::vector<Vec3>& g) {
+  deformation_jacobian(model_, Xn_, z, J, g);
+}
+
+BasisSamples::BasisSamples(PointBasis u, std::vector<Vec3> rest)
+    : u_(std::move(u)), rest_(std::move(rest)) {}
+
+void BasisSamples::evaluate(const Eigen::VectorXd& z, std::vector<Vec3>& g) {
+  const Eigen::VectorXf c = u_.net(z).cast<float>();
+  g.resize(rest_.size());
+  float d[3];
+  for (size_t p = 0; p < rest_.size(); ++p) {
+    u_.value(p, c, d);
+    g[p] = rest_[p] + Vec3(d[0], d[1], d[2]);
+  }
+}
+
+void BasisSamples::jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std::vector<Vec3>& g) {
+  Eigen::MatrixXd dc;  // K × r
+  const Eigen::VectorXf c = u_.net(z, &dc).cast<float>();
+  const Eigen::MatrixXf dcf = dc.cast<float>();
+  const int64_t n = int64_t(rest_.size()), r = z.size();
+  J.resize(3 * n, r);
+  g.resize(rest_.size());
+  float d[3];
+  for (int64_t p = 0; p < n; ++p) {
+    u_.value(size_t(p), c, d);
+    g[p] = rest_[p] + Vec3(d[0], d[1], d[2]);
+    const Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic, Eigen::RowMajor>> B(
+        &u_.modes[size_t(p) * 3 * size_t(u_.K)], 3, u_.K);
+    J.middleRows<3>(3 * p) = (B * dcf).cast<double>();
+  }
+}
+
+std::unique_ptr<SampleDeformation> sample_deformation(NeuralModel& model,
+                                                      const std::vector<Vec3>& rest,
+                                                      const std::vector<uint32_t>& ids) {
+  std::vector<Vec3> X(ids.size());
+  for (size_t k = 0; k < ids.size(); ++k) X[k] = rest[ids[k]];
+  if (model.is_basis()) return std::make_unique<BasisSamples>(point_basis(model, 0, &ids), X);
+  const torch::Tensor Xn =
+      model.norm_X.apply(torch::from_blob(X.data()->data(), {int64_t(X.size()), 3}, torch::kFloat64)
+                             .to(torch::kFloat32));
+  return std::make_unique<NetworkSamples>(model, Xn);
+}
+
 namespace {
 
 // Σ‖g(X_p, ẑ) − target_p‖², with g(X_p, ẑ) left in `g`.
-double squared_residual(NeuralModel& model, const torch::Tensor& Xn, const Eigen::VectorXd& z,
+double squared_residual(SampleDeformation& samples, const Eigen::VectorXd& z,
                         const std::vector<Vec3>& target, std::vector<Vec3>& g) {
-  torch::NoGradGuard no_grad;
-  const int64_t n = Xn.size(0), r = z.size();
-  const torch::Tensor zt =
-      torch::from_blob(const_cast<double*>(z.data()), {1, r}, torch::kFloat64).to(torch::kFloat32);
-  const torch::Tensor o = model.deform(Xn, zt.expand({n, r})).to(torch::kFloat64).contiguous();
-  const double* op = o.data_ptr<double>();
-  g.resize(n);
+  samples.evaluate(z, g);
   double sum = 0;
-  for (int64_t p = 0; p < n; ++p) {
-    g[p] = Vec3(op[3 * p], op[3 * p + 1], op[3 * p + 2]);
-    sum += (g[p] - target[p]).squaredNorm();
-  }
+  for (size_t p = 0; p < g.size(); ++p) sum += (g[p] - target[p]).squaredNorm();
   return sum;
 }
 
@@ -67,7 +123,13 @@ double squared_residual(NeuralModel& model, const torch::Tensor& Xn, const Eigen
 InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
                                    const std::vector<Vec3>& target, const Eigen::VectorXd& z0,
                                    const GaussNewtonOptions& options) {
-  const int64_t n = Xn.size(0), r = z0.size();
+  NetworkSamples samples(model, Xn);
+  return invert_deformation(samples, target, z0, options);
+}
+
+InversionResult invert_deformation(SampleDeformation& samples, const std::vector<Vec3>& target,
+                                   const Eigen::VectorXd& z0, const GaussNewtonOptions& options) {
+  const int64_t n = int64_t(samples.size()), r = z0.size();
   if (int64_t(target.size()) != n)
     fail("inversion: ", target.size(), " target positions for ", n, " sample particles");
   if (3 * n < r)
@@ -89,7 +151,7 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
   // search finds it for the step it accepts, which is the next iteration's ẑ.
   LatentPrior::Nearest near = prior_at(res.z);
   for (int it = 0; it < iterations; ++it) {
-    deformation_jacobian(model, Xn, res.z, J, g);
+    samples.jacobian(res.z, J, g);
     Eigen::VectorXd residual(3 * n);
     for (int64_t p = 0; p < n; ++p) residual.segment<3>(3 * p) = g[p] - target[p];
     const double r0 = residual.squaredNorm() + lambda * near.distance2;
@@ -117,7 +179,7 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
     // the latent must never fit the samples (plus the prior's term) worse than where it started.
     bool accepted = false;
     for (int halvings = 0; halvings < 6; ++halvings) {
-      const double d1 = squared_residual(model, Xn, res.z + dz, target, trial);
+      const double d1 = squared_residual(samples, res.z + dz, target, trial);
       LatentPrior::Nearest near1 = prior_at(res.z + dz);
       const double r1 = d1 + lambda * near1.distance2;
       if (r1 < r0) {
@@ -136,13 +198,11 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
 }
 
 FrameLatentRefiner::FrameLatentRefiner(NeuralModel& model, const std::vector<Vec3>& rest,
-                                       int iterations)
-    : model_(model) {
+                                       int iterations) {
   const size_t P = rest.size(), m = std::min(kMaxParticles, P);
-  std::vector<Vec3> X;
-  for (size_t i = 0; i < m; ++i) ids_.push_back(i * P / m), X.push_back(rest[ids_.back()]);
-  Xn_ = model.norm_X.apply(
-      torch::from_blob(X.data()->data(), {int64_t(m), 3}, torch::kFloat64).to(torch::kFloat32));
+  std::vector<uint32_t> ids;
+  for (size_t i = 0; i < m; ++i) ids_.push_back(i * P / m), ids.push_back(uint32_t(ids_.back()));
+  g_ = sample_deformation(model, rest, ids);
   options_.max_iterations = iterations;
   options_.tolerance = 1e-7;
 }
@@ -151,7 +211,7 @@ Eigen::VectorXd FrameLatentRefiner::refine(const float* x, const Eigen::VectorXd
   std::vector<Vec3> target;
   target.reserve(ids_.size());
   for (size_t p : ids_) target.emplace_back(x[3 * p], x[3 * p + 1], x[3 * p + 2]);
-  return invert_deformation(model_, Xn_, target, start, options_).z;
+  return invert_deformation(*g_, target, start, options_).z;
 }
 
 void FrameLatentRefiner::refine_many(const std::vector<const float*>& x,

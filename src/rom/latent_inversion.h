@@ -6,9 +6,11 @@
 #include <torch/types.h>
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "core/types.h"
+#include "nn/basis_decoders.h"
 #include "rom/rom_options.h"
 
 namespace nsf {
@@ -25,11 +27,56 @@ struct InversionResult {
   std::vector<Vec3> fitted;
 };
 
+// g on a fixed set of sample points, as the fit needs it: the deformation sources of the
+// stepper (rom/field_source.h) hand one out for S.
+class SampleDeformation {
+ public:
+  virtual ~SampleDeformation() = default;
+  virtual size_t size() const = 0;
+  virtual void evaluate(const Eigen::VectorXd& z, std::vector<Vec3>& g) = 0;
+  // g and ∂g/∂ẑ as a 3|S| × r matrix (row 3p + c is component c of sample p).
+  virtual void jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std::vector<Vec3>& g) = 0;
+};
+
+// The network g at normalised rest positions Xn (|S| × 3, float).
+class NetworkSamples final : public SampleDeformation {
+ public:
+  NetworkSamples(NeuralModel& model, torch::Tensor Xn);
+  size_t size() const override;
+  void evaluate(const Eigen::VectorXd& z, std::vector<Vec3>& g) override;
+  void jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std::vector<Vec3>& g) override;
+
+ private:
+  NeuralModel& model_;
+  torch::Tensor Xn_;
+};
+
+// A basis model's g at particles: x_p = X_p + mean_p + B_p c_u(ẑ), ∂x_p/∂ẑ = B_p ∂c_u/∂ẑ.
+class BasisSamples final : public SampleDeformation {
+ public:
+  BasisSamples(PointBasis u, std::vector<Vec3> rest);
+  size_t size() const override { return rest_.size(); }
+  void evaluate(const Eigen::VectorXd& z, std::vector<Vec3>& g) override;
+  void jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std::vector<Vec3>& g) override;
+
+ private:
+  PointBasis u_;
+  std::vector<Vec3> rest_;
+};
+
+// g at the particles `ids` (rest positions X[ids]) of the model's scene, for either family.
+std::unique_ptr<SampleDeformation> sample_deformation(NeuralModel& model,
+                                                      const std::vector<Vec3>& X,
+                                                      const std::vector<uint32_t>& ids);
+
 // g(X_p, ẑ) for the normalised rest positions Xn (|S| × 3, float) and ∂g/∂ẑ as a 3|S| × r
 // matrix (row 3p + c is component c of particle p).
 void deformation_jacobian(NeuralModel& model, const torch::Tensor& Xn, const Eigen::VectorXd& z,
                           Eigen::MatrixXd& J, std::vector<Vec3>& g);
 
+InversionResult invert_deformation(SampleDeformation& g, const std::vector<Vec3>& target,
+                                   const Eigen::VectorXd& z0, const GaussNewtonOptions& options);
+// The same for the network g at Xn.
 InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
                                    const std::vector<Vec3>& target, const Eigen::VectorXd& z0,
                                    const GaussNewtonOptions& options);
@@ -52,9 +99,8 @@ class FrameLatentRefiner {
   static constexpr size_t kMaxParticles = 1024;
 
  private:
-  NeuralModel& model_;
   std::vector<size_t> ids_;
-  torch::Tensor Xn_;
+  std::unique_ptr<SampleDeformation> g_;
   GaussNewtonOptions options_;
 };
 

@@ -11,49 +11,14 @@
 #include "mpm/simulation.h"
 #include "nn/model.h"
 #include "nn/runtime.h"
-#include "rom/field_gradients.h"
+#include "rom/field_source.h"
 #include "rom/integration_set.h"
 #include "rom/latent_inversion.h"
 #include "rom/latent_prior.h"
-#include "rom/linearized_field.h"
 #include "rom/quadrature.h"
+#include "rom/tracked_particles.h"
 
 namespace nsf {
-
-namespace {
-
-torch::Tensor index_tensor(const std::vector<uint32_t>& ids) {
-  torch::Tensor t = torch::empty({int64_t(ids.size())}, torch::kInt64);
-  int64_t* p = t.data_ptr<int64_t>();
-  for (size_t k = 0; k < ids.size(); ++k) p[k] = ids[k];
-  return t;
-}
-
-torch::Tensor latent_row(const Latent& z) {
-  return torch::from_blob(const_cast<double*>(z.data()), {1, int64_t(z.size())}, torch::kFloat64)
-      .to(torch::kFloat32);
-}
-
-// Rows of a float tensor (n × 3) as positions.
-void to_vec3(const torch::Tensor& t, std::vector<Vec3>& out) {
-  const torch::Tensor d = t.to(torch::kFloat64).contiguous();
-  const double* p = d.data_ptr<double>();
-  out.resize(d.size(0));
-  for (size_t k = 0; k < out.size(); ++k) out[k] = Vec3(p[3 * k], p[3 * k + 1], p[3 * k + 2]);
-}
-
-void rows_to_vec3(const std::vector<double>& v, std::vector<Vec3>& out) {
-  out.resize(v.size() / 3);
-  for (size_t k = 0; k < out.size(); ++k) out[k] = Vec3(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
-}
-
-Mat3 symmetric_from6(const double* s) {  // xx yy zz xy yz xz, the run files' order
-  Mat3 m;
-  m << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
-  return m;
-}
-
-}  // namespace
 
 struct LatentStepper::Impl {
   NeuralFields& fields;
@@ -65,16 +30,11 @@ struct LatentStepper::Impl {
   // Per particle of the scene, then per merged quadrature point (rom/quadrature.h): what the ROM
   // needs of the full particle set. mass and vol0 are the particles' own.
   size_t np = 0;  // |P|
-  std::vector<Vec3> X;
+  PointTable table;
   std::vector<double> mass, vol0;
-  std::vector<uint16_t> material;
-  std::vector<MaterialPoint> mat0;
-  torch::Tensor Xn_particles;  // |P| × 3 normalised rest positions
-  torch::Tensor Xn_all;        // the same, then the merged points'
   NeuralFields::Points all_points;
 
   std::vector<uint32_t> ranked, S;
-  torch::Tensor Xn_S;
   Latent z, z_prev;
   double t = 0, dt = 0, T = 0, dx = 0;
   int per_frame = 1;
@@ -95,15 +55,12 @@ struct LatentStepper::Impl {
   bool xK_last_valid = false;
   long refreshed_at = -1;  // step of the last refresh: g(X, ẑ_n) on K is then known
 
-  // The tangent cache (opt.linearize > 0): g on K, h and l on N through first-order expansions.
-  std::unique_ptr<LinearizedField> lin_g, lin_h, lin_l;
-
-  // --stress tracked / --affine tracked: every particle's own state, as the full-order engine
-  // keeps it (F^E and plastic state updated from its G2P velocity gradient; APIC's C).
-  struct Tracked {
-    std::vector<Mat3> F, tau, C;
-    std::vector<MaterialPoint> mp;
-  } tracked;
+  // The field sources (rom/field_source.h), chosen once; the tracked state that two of them read.
+  std::unique_ptr<TrackedParticles> tracked;
+  std::unique_ptr<FieldContext> context;
+  std::unique_ptr<DeformationSource> g;
+  std::unique_ptr<PointFieldSource> stress, affine;
+  std::unique_ptr<SampleDeformation> g_S;  // g and ∂g/∂ẑ on S, for the inversion
 
   double sum_N = 0, sum_K = 0, last_residual = 0;
   double energy_after_mpm = 0, energy_after_inversion = 0;  // summed over steps, on S
@@ -120,13 +77,13 @@ struct LatentStepper::Impl {
         K(o.halo) {
     const Particles& P = scene.particles;
     fields.check_scene(scene.name, P.X, "scene '" + scene.name + "'");
-    X = P.X, mass = P.mass, vol0 = P.vol0, material = P.material, mat0 = P.mat;
-    np = X.size();
+    table.particles = np = P.X.size();
+    table.X = P.X, table.material = P.material, table.mat0 = P.mat;
+    mass = P.mass, vol0 = P.vol0;
     const std::vector<Vec3> v0 = P.v;
     const std::vector<Mat3> F0 = P.F;
-    const double cfl_bound = opt.stress == StressSource::tracked ? cfl_time_step_bound(scene) : 0.0;
+    const double cfl_bound = cfl_time_step_bound(scene);
     const SimSettings& s = scene.settings;
-    opt.affine = opt.resolved_affine();
     if (!(opt.dt_ratio > 0)) fail("rom: the time-step ratio must be positive, got ", opt.dt_ratio);
     if (!(opt.flip >= 0 && opt.flip <= 1)) fail("rom: --flip must lie in [0, 1], got ", opt.flip);
     // Not capped at the full-order CFL bound: the stress on N comes from h at ẑ, not from F
@@ -138,25 +95,19 @@ struct LatentStepper::Impl {
     dx = s.dx;
     const int r = fields.latent_dim();
     const int min_samples = (r + 2) / 3;
-    if (opt.sampling.count < min_samples || size_t(opt.sampling.count) > X.size())
+    if (opt.sampling.count < min_samples || size_t(opt.sampling.count) > np)
       fail("rom: |S| = ", opt.sampling.count, " sample particles is out of range: need at least ",
-           min_samples, " (r/3 for r = ", r, ") and at most |P| = ", X.size());
+           min_samples, " (r/3 for r = ", r, ") and at most |P| = ", np);
     if (opt.halo < 2) fail("rom: the candidate halo must be at least 2 cells, got ", opt.halo);
-    ranked = rank_samples(X, opt.sampling);
-    slot.assign(X.size(), -1);
-
-    Xn_particles = model.norm_X.apply(
-        torch::from_blob(X.data()->data(), {int64_t(X.size()), 3}, torch::kFloat64)
-            .to(torch::kFloat32));
-    Xn_all = Xn_particles;
-    all_points = fields.prepare(X);
-    if (opt.linearize > 0 && opt.quadrature_per_cell > 0)
-      fail("rom: --linearize and --quadrature do not combine (the tangent cache is per particle)");
-    if (opt.linearize > 0) make_linearized_fields();
+    ranked = rank_samples(table.X, opt.sampling);
+    slot.assign(np, -1);
+    all_points = fields.prepare(table.X);
     sim = std::make_unique<Simulation>(std::move(scene));
     sim->particles() = Particles{};
+    make_sources(F0);
     set_samples(sample_count_at(opt.sampling, 0, T));
-    if (tracking()) start_tracking(F0, cfl_bound);
+    tracked->check(opt.sampling.count, !opt.sampling.schedule.empty(),
+                   opt.quadrature_per_cell > 0 || !g->exact(), cfl_bound);
 
     if (!(opt.latent_prior >= 0 && std::isfinite(opt.latent_prior)))
       fail("rom: the latent prior's length must be a number of metres, 0 or more, got ",
@@ -176,12 +127,25 @@ struct LatentStepper::Impl {
     GaussNewtonOptions fit{8, 1e-7, false};
     fit.prior = opt.inversion.prior;
     fit.prior_length = opt.inversion.prior_length;
-    z = fields.encode(std::vector<Vec3>(X.begin(), X.begin() + np));
+    z = fields.encode(std::vector<Vec3>(table.X.begin(), table.X.begin() + np));
     std::vector<Vec3> target(S.size());
-    for (size_t k = 0; k < S.size(); ++k) target[k] = X[S[k]];
-    z = invert_deformation(model, Xn_S, target, z, fit).z;
-    for (size_t k = 0; k < S.size(); ++k) target[k] = X[S[k]] - dt * v0[S[k]];
-    z_prev = invert_deformation(model, Xn_S, target, z, fit).z;
+    for (size_t k = 0; k < S.size(); ++k) target[k] = table.X[S[k]];
+    z = invert_deformation(*g_S, target, z, fit).z;
+    for (size_t k = 0; k < S.size(); ++k) target[k] = table.X[S[k]] - dt * v0[S[k]];
+    z_prev = invert_deformation(*g_S, target, z, fit).z;
+  }
+
+  // The sources the options name, for this model's decoders.
+  void make_sources(const std::vector<Mat3>& F0) {
+    tracked = std::make_unique<TrackedParticles>(F0, table.mat0, table.material,
+                                                 sim->scene().materials, dt);
+    context = std::make_unique<FieldContext>(FieldContext{fields, table, sim->scene().materials, mu,
+                                                          dt, latent_spread(), opt.tangent_radius,
+                                                          tracked.get()});
+    const FieldChoice c = opt.resolved_fields(fields.bases() ? "basis" : "network");
+    g = make_deformation_source(c.deformation, *context);
+    stress = make_point_field_source(FieldRole::stress, c.stress, *context);
+    affine = make_point_field_source(FieldRole::affine, c.affine, *context);
   }
 
   // Each latent component's spread over the training latents: the unit in which the tangent
@@ -197,7 +161,7 @@ struct LatentStepper::Impl {
     const torch::Tensor t = model.trajectory_latents.to(torch::kFloat64).contiguous();
     const torch::Tensor m = model.trajectory_mu.to(torch::kFloat64).contiguous();
     const int64_t frames = t.size(1), r = t.size(2);
-    const double *z = t.data_ptr<double>(), *mu_of = m.data_ptr<double>();
+    const double *zp = t.data_ptr<double>(), *mu_of = m.data_ptr<double>();
     std::vector<int64_t> order(size_t(t.size(0)));
     std::iota(order.begin(), order.end(), int64_t(0));
     std::stable_sort(order.begin(), order.end(),
@@ -206,153 +170,58 @@ struct LatentStepper::Impl {
     for (int64_t j : order) {
       runs.emplace_back();
       for (int64_t i = 0; i < frames; ++i)
-        runs.back().push_back(Eigen::Map<const Eigen::VectorXd>(z + (j * frames + i) * r, r));
+        runs.back().push_back(Eigen::Map<const Eigen::VectorXd>(zp + (j * frames + i) * r, r));
     }
     prior = std::make_unique<LatentPrior>(runs, latent_spread());
   }
 
-  bool tracking() const {
-    return opt.stress == StressSource::tracked || opt.affine == AffineSource::tracked;
-  }
-
-  // A tracked state is every particle's, so every particle must be a sample at every step
-  // (then N = S = P and each one gets its G2P).
-  void start_tracking(const std::vector<Mat3>& F0, double cfl_bound) {
-    const char* what =
-        opt.stress == StressSource::tracked ? "--stress tracked" : "--affine tracked";
-    if (opt.sampling.count != int(np) || !opt.sampling.schedule.empty())
-      fail("rom: ", what, " keeps every particle's own state, so every particle must be a sample: ",
-           "use --samples ", np, " (|P|) and no sample schedule");
-    if (opt.quadrature_per_cell > 0 || opt.linearize > 0 ||
-        (opt.crom && opt.stress == StressSource::tracked))
-      fail("rom: ", what, " does not combine with --quadrature, --linearize or --crom");
-    // Unlike h's stress, the tracked one is the explicit engine's and shares its bound.
-    if (opt.stress == StressSource::tracked && dt > cfl_bound * (1 + 1e-9))
-      fail("rom: --stress tracked integrates the material explicitly, so the ROM step ", dt,
-           " s must stay within the full-order CFL bound ", cfl_bound, " s: use --dt-ratio ",
-           cfl_bound / sim->settings().dt, " or less");
-    tracked.F = F0;
-    tracked.mp = mat0;
-    tracked.C.assign(np, Mat3::Zero());
-    tracked.tau.resize(np);
-    for (size_t p = 0; p < np; ++p) tracked.tau[p] = material_update(p, tracked.F[p]);
-  }
-
-  Mat3 material_update(size_t p, Mat3& F) {
-    return sim->scene().materials[material[p]]->update(F, tracked.mp[p], dt);
-  }
-
-  // After G2P, which has advanced each particle's tracked F by its own velocity gradient.
-  void advance_tracked(const Particles& P, const std::vector<uint32_t>& gather) {
-    for (size_t k = 0; k < S.size(); ++k) {
-      const uint32_t p = S[k];
-      tracked.F[p] = P.F[gather[k]];
-      tracked.tau[p] = material_update(p, tracked.F[p]);
-      tracked.C[p] = P.C[gather[k]];
-    }
-  }
-
-  void make_linearized_fields() {
-    if (opt.crom || opt.affine == AffineSource::velocity)
-      fail(
-          "rom: --linearize expands the networks g, h and l; it does not combine with --crom or "
-          "--affine velocity");
-    const Eigen::VectorXd scale = latent_spread();
-    const float mu_f = float(mu);
-    NeuralModel* m = &model;
-    lin_g = std::make_unique<LinearizedField>(
-        [m](const torch::Tensor& Xn, const torch::Tensor& zz) { return m->deform(Xn, zz); }, 3,
-        Xn_all, scale, opt.linearize);
-    lin_h = std::make_unique<LinearizedField>(
-        [m, mu_f](const torch::Tensor& Xn, const torch::Tensor& zz) {
-          return m->stress(Xn, zz, torch::full({Xn.size(0), 1}, mu_f));
-        },
-        6, Xn_all, scale, opt.linearize);
-    if (opt.affine == AffineSource::network)
-      lin_l = std::make_unique<LinearizedField>(
-          [m](const torch::Tensor& Xn, const torch::Tensor& zz) { return m->affine(Xn, zz); }, 9,
-          Xn_all, scale, opt.linearize);
-  }
-
   void set_samples(int count) {
     S.assign(ranked.begin(), ranked.begin() + count);
-    Xn_S = Xn_all.index_select(0, index_tensor(S));
     K = CandidateSet(opt.halo);  // forces a refresh
     xK_last_valid = false;
     if (quad.ids.empty() || opt.quadrature_per_cell > 0) set_quadrature();
+    g_S = g->samples(S);
   }
 
   // The sample particles stay themselves in a thinned quadrature, so it follows S.
   void set_quadrature() {
-    X.resize(np), material.resize(np), mat0.resize(np);
+    const bool had_merged = table.X.size() > np;
+    table.X.resize(np), table.material.resize(np), table.mat0.resize(np);
     const SimSettings& s = sim->settings();
-    quad = thin_quadrature(X, mass, vol0, material, s.domain_lo, s.dx, opt.quadrature_per_cell, S);
+    quad = thin_quadrature(table.X, mass, vol0, table.material, s.domain_lo, s.dx,
+                           opt.quadrature_per_cell, S);
     for (size_t j = 0; j < quad.merged_X.size(); ++j) {
       const uint32_t member = quad.merged_group[j];
-      X.push_back(quad.merged_X[j]);
-      material.push_back(material[member]);
-      mat0.push_back(mat0[member]);
+      table.X.push_back(quad.merged_X[j]);
+      table.material.push_back(table.material[member]);
+      table.mat0.push_back(table.mat0[member]);
     }
-    Xn_all = Xn_particles;
+    table.merged_members = quad.merged_members;
     if (thinned()) {
-      const std::vector<Vec3>& merged = quad.merged_X;
-      Xn_all = torch::cat(
-          {Xn_particles,
-           model.norm_X.apply(torch::from_blob(const_cast<double*>(merged.data()->data()),
-                                               {int64_t(merged.size()), 3}, torch::kFloat64)
-                                  .to(torch::kFloat32))});
       std::vector<Vec3> XQ(quad.ids.size());
-      for (size_t k = 0; k < XQ.size(); ++k) XQ[k] = X[quad.ids[k]];
+      for (size_t k = 0; k < XQ.size(); ++k) XQ[k] = table.X[quad.ids[k]];
       quad_points = fields.prepare(XQ);
     }
-    slot.assign(X.size(), -1);
+    if (thinned() || had_merged) {
+      g->set_points();
+      stress->set_points();
+      affine->set_points();
+    }
+    slot.assign(table.X.size(), -1);
   }
 
   bool thinned() const { return quad.thinned(); }
 
-  // g at rows `ids` of the scene for one latent.
-  void deform_rows(const std::vector<uint32_t>& ids, const Latent& zz, std::vector<Vec3>& x) {
-    if (lin_g) {
-      lin_g->prepare(ids, z);
-      std::vector<double> out;
-      lin_g->evaluate(ids, zz, out);
-      rows_to_vec3(out, x);
-      return;
-    }
-    torch::NoGradGuard no_grad;
-    const int64_t m = int64_t(ids.size());
-    to_vec3(model.deform(Xn_all.index_select(0, index_tensor(ids)),
-                         latent_row(zz).expand({m, zz.size()})),
-            x);
-  }
-
   // g on K at ẑ_n and ẑ_{n−1}; the second is last step's first while K has not changed.
   void deform_candidates(std::vector<Vec3>& x, std::vector<Vec3>& xp) {
     ScopedTimer timer(times.inference);
-    if (refreshed_at == n && !lin_g) {  // the refresh evaluated g at ẑ_n on K already
+    if (refreshed_at == n && g->exact()) {  // the refresh evaluated g at ẑ_n on K already
       x = K.refresh_positions();
-      return deform_rows(K.ids(), z_prev, xp);
+      return g->positions(K.ids(), z_prev, z, xp);
     }
-    if (!xK_last_valid) return deform_pair(K.ids(), x, xp);
+    if (!xK_last_valid) return g->positions_pair(K.ids(), {z, z_prev}, x, xp);
     xp.swap(xK_last);
-    deform_rows(K.ids(), z, x);
-  }
-
-  // g at rows `ids` of the scene for ẑ_n and ẑ_{n−1} in one batched call.
-  void deform_pair(const std::vector<uint32_t>& ids, std::vector<Vec3>& x, std::vector<Vec3>& xp) {
-    if (lin_g) {
-      deform_rows(ids, z, x);
-      deform_rows(ids, z_prev, xp);
-      return;
-    }
-    torch::NoGradGuard no_grad;
-    const int64_t m = int64_t(ids.size());
-    const torch::Tensor Xn = Xn_all.index_select(0, index_tensor(ids));
-    const torch::Tensor zz =
-        torch::cat({latent_row(z).expand({m, z.size()}), latent_row(z_prev).expand({m, z.size()})});
-    const torch::Tensor out = model.deform(torch::cat({Xn, Xn}), zz);
-    to_vec3(out.slice(0, 0, m), x);
-    to_vec3(out.slice(0, m, 2 * m), xp);
+    g->positions(K.ids(), z, z, x);
   }
 
   const std::vector<Vec3>& all_positions() {
@@ -407,11 +276,30 @@ struct LatentStepper::Impl {
     }
   }
 
+  // One step of §5: (1) infer x, v on N and τ, C there; (2) one MPM step on N, G2P for S only;
+  // (3) invert g on S for ẑ_{n+1}.
   void step() {
     const int want = sample_count_at(opt.sampling, t, T);
     if (size_t(want) != S.size()) set_samples(want);
 
-    // (1) Inference on the candidates K ⊇ N, then N itself.
+    std::vector<Vec3> xN, vN, xs;  // x, v on N; S at ẑ_n
+    infer_positions(xN, vN, xs);
+    std::vector<Mat3> tau, C;
+    {
+      ScopedTimer timer(times.inference);
+      stress->evaluate(N, {z, z_prev}, true, tau);
+      affine->evaluate(N, {z, z_prev}, true, C);
+    }
+    std::vector<Vec3> xs_new;
+    mpm_on_integration_points(xN, vN, tau, C, xs_new);
+    invert(xs, xs_new);
+    t += dt;
+    ++n;
+  }
+
+  // (1) g on the candidates K ⊇ N, then N itself: the integration points whose stencils touch the
+  // nodes I of the samples' stencils (§5.4). Positions and backward-difference velocities on N.
+  void infer_positions(std::vector<Vec3>& xN, std::vector<Vec3>& vN, std::vector<Vec3>& xs) {
     std::vector<Vec3> xK, xK_prev;
     // Free when all particles' positions are known (output frames), unless thinned.
     if (K.empty() || (cache_step == n && !thinned())) refresh();
@@ -420,8 +308,6 @@ struct LatentStepper::Impl {
       refresh();
       deform_candidates(xK, xK_prev);
     }
-    std::vector<size_t> n_in_K;  // N as positions in K
-    std::vector<Vec3> xs;        // S at ẑ_n
     {
       ScopedTimer timer(times.mpm);
       const auto& ids = K.ids();
@@ -435,134 +321,80 @@ struct LatentStepper::Impl {
       marks.clear();
       marks.mark_stencils(xs, 0);
       N.clear();
+      xN.clear(), vN.clear();
       for (size_t k = 0; k < ids.size(); ++k)
-        if (marks.touches(xK[k])) n_in_K.push_back(k), N.push_back(ids[k]);
+        if (marks.touches(xK[k])) {
+          N.push_back(ids[k]);
+          xN.push_back(xK[k]);
+          vN.push_back((xK[k] - xK_prev[k]) / dt);
+        }
       // A diverging latent can carry a particle of N off the grid while its clamped stencil
       // still touches I's boundary nodes. S ⊆ N (a sample touches its own nodes), so this
       // checks the samples too.
-      std::vector<Vec3> xN(N.size());
-      for (size_t k = 0; k < N.size(); ++k) xN[k] = xK[n_in_K[k]];
       check_finite_inside(xN, N, "integration");
     }
     if (opt.verify_integration_set) verify_integration_set();
     sum_N += double(N.size());
     sum_K += double(K.ids().size());
-
-    std::vector<Mat3> tau, C;
-    {
-      ScopedTimer timer(times.inference);
-      stress_and_affine(N, true, tau, C);
-    }
-
-    // (2) One MPM step on N with the engine's own transfers; G2P for S only.
-    std::vector<Vec3> xs_new(S.size());
-    {
-      ScopedTimer timer(times.mpm);
-      Particles& P = sim->particles();
-      const size_t m = N.size();
-      P.X.resize(m), P.x.resize(m), P.v.resize(m), P.C.resize(m), P.F.resize(m), P.tau.resize(m);
-      P.mass.resize(m), P.vol0.resize(m), P.mat.resize(m), P.material.resize(m);
-      P.object.resize(m);
-      for (size_t k = 0; k < m; ++k) {
-        const uint32_t p = N[k];
-        const size_t q = n_in_K[k];
-        P.X[k] = X[p];
-        P.x[k] = xK[q];
-        P.v[k] = (xK[q] - xK_prev[q]) / dt;
-        P.C[k] = C[k];
-        P.F[k] = tracking() ? tracked.F[p] : Mat3::Identity();
-        P.tau[k] = tau[k];
-        P.mass[k] = quad.mass[p];
-        P.vol0[k] = quad.vol0[p];
-        P.mat[k] = mat0[p];
-        P.material[k] = material[p];
-        P.object[k] = 0;
-        slot[p] = int32_t(k);
-      }
-      std::vector<uint32_t> gather(S.size());
-      for (size_t k = 0; k < S.size(); ++k) gather[k] = uint32_t(slot[S[k]]);
-      for (uint32_t p : N) slot[p] = -1;
-      // The latent velocity field is smooth and g carries it exactly; the round trip through
-      // the grid blurs it whenever l's C is off, and that loss recurs at every step, so a
-      // ROM with small steps slows down (sand_small: δ 2.5 % at 1.0Δt, 3.5 % at 0.5Δt).
-      std::vector<Vec3> smoothing(S.size(), Vec3::Zero());
-      if (opt.flip > 0) {
-        std::vector<Vec3> v_round_trip;
-        sim->transfer_velocity(gather, v_round_trip);
-        for (size_t k = 0; k < S.size(); ++k)
-          smoothing[k] = opt.flip * (P.v[gather[k]] - v_round_trip[k]);
-      }
-      sim->transfer(dt, t, &gather);
-      if (tracking()) advance_tracked(P, gather);
-      for (size_t k = 0; k < S.size(); ++k) xs_new[k] = P.x[gather[k]] + dt * smoothing[k];
-      check_finite_inside(xs_new, S, "sample");
-    }
-
-    // (3) Inversion for ẑ_{n+1}, warm-started from ẑ_n.
-    {
-      ScopedTimer timer(times.inversion);
-      std::optional<ScopedBlasThreads> fit_threads;
-      if (opt.inversion.threads > 0) fit_threads.emplace(opt.inversion.threads);
-      const InversionResult res = invert_deformation(model, Xn_S, xs_new, z, opt.inversion);
-      z_prev = z;
-      z = res.z;
-      last_residual = res.rms_residual;
-      track_kinetic_energy(xs, xs_new, res);
-      xK_last.swap(xK);
-      xK_last_valid = true;
-    }
-    t += dt;
-    ++n;
+    xK_last.swap(xK);  // g(X, ẑ_n) on K: next step's g(X, ẑ_{n−1}) if K stays
   }
 
-  // τ and C on the rows `ids` at ẑ_n, from the sources the options name: h (or CROM's τ(∂g/∂X),
-  // or the tracked state) and l (or the velocity field's gradient, the tracked C, or none).
-  // `tangent_cache`: through --linearize's expansions when they exist, else the networks.
-  void stress_and_affine(const std::vector<uint32_t>& ids, bool tangent_cache,
-                         std::vector<Mat3>& tau, std::vector<Mat3>& C) {
-    const int64_t m = int64_t(ids.size());
-    tau.assign(ids.size(), Mat3::Zero());
-    C.assign(ids.size(), Mat3::Zero());
-    const bool cached_h = tangent_cache && lin_h, cached_l = tangent_cache && lin_l;
-    const torch::Tensor Xn = Xn_all.index_select(0, index_tensor(ids));
-    const torch::Tensor zz = latent_row(z).expand({m, z.size()});
-    torch::Tensor F;  // ∂g/∂X at ẑ_n, when the stress or C needs it
-    if (opt.crom || opt.affine == AffineSource::velocity) F = deformation_gradients(model, Xn, zz);
-    if (opt.stress == StressSource::tracked) {
-      for (int64_t k = 0; k < m; ++k) tau[k] = tracked.tau[ids[k]];
-    } else if (opt.crom) {
-      crom_stress(F, ids, tau);
-    } else if (cached_h) {
-      std::vector<double> out;
-      lin_h->prepare(ids, z);
-      lin_h->evaluate(ids, z, out);
-      for (int64_t k = 0; k < m; ++k) tau[k] = symmetric_from6(&out[6 * k]);
-    } else {
-      torch::NoGradGuard no_grad;
-      const torch::Tensor mus = torch::full({m, 1}, float(mu));
-      const torch::Tensor h = model.stress(Xn, zz, mus).to(torch::kFloat64).contiguous();
-      const double* hp = h.data_ptr<double>();
-      for (int64_t k = 0; k < m; ++k) tau[k] = symmetric_from6(hp + 6 * k);
+  // (2) One MPM step on N with the engine's own transfers; G2P for S only.
+  void mpm_on_integration_points(const std::vector<Vec3>& xN, const std::vector<Vec3>& vN,
+                                 const std::vector<Mat3>& tau, const std::vector<Mat3>& C,
+                                 std::vector<Vec3>& xs_new) {
+    ScopedTimer timer(times.mpm);
+    Particles& P = sim->particles();
+    const size_t m = N.size();
+    P.X.resize(m), P.x.resize(m), P.v.resize(m), P.C.resize(m), P.F.resize(m), P.tau.resize(m);
+    P.mass.resize(m), P.vol0.resize(m), P.mat.resize(m), P.material.resize(m);
+    P.object.resize(m);
+    for (size_t k = 0; k < m; ++k) {
+      const uint32_t p = N[k];
+      P.X[k] = table.X[p];
+      P.x[k] = xN[k];
+      P.v[k] = vN[k];
+      P.C[k] = C[k];
+      P.F[k] = tracked->active() ? tracked->F(p) : Mat3::Identity();
+      P.tau[k] = tau[k];
+      P.mass[k] = quad.mass[p];
+      P.vol0[k] = quad.vol0[p];
+      P.mat[k] = table.mat0[p];
+      P.material[k] = table.material[p];
+      P.object[k] = 0;
+      slot[p] = int32_t(k);
     }
-    if (cached_l) {
-      std::vector<double> out;
-      lin_l->prepare(ids, z);
-      lin_l->evaluate(ids, z, out);
-      for (int64_t k = 0; k < m; ++k)
-        C[k] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&out[9 * k]);
-    } else if (opt.affine == AffineSource::network) {
-      torch::NoGradGuard no_grad;
-      const torch::Tensor l = model.affine(Xn, zz).to(torch::kFloat64).contiguous();
-      const double* lp = l.data_ptr<double>();
-      for (int64_t k = 0; k < m; ++k)
-        C[k] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(lp + 9 * k);
-    } else if (opt.affine == AffineSource::tracked) {
-      for (int64_t k = 0; k < m; ++k) C[k] = tracked.C[ids[k]];
-    } else if (opt.affine == AffineSource::velocity) {
-      const torch::Tensor F_prev =
-          deformation_gradients(model, Xn, latent_row(z_prev).expand({m, z_prev.size()}));
-      velocity_gradients(F, F_prev, dt, C);
+    std::vector<uint32_t> gather(S.size());
+    for (size_t k = 0; k < S.size(); ++k) gather[k] = uint32_t(slot[S[k]]);
+    for (uint32_t p : N) slot[p] = -1;
+    // The latent velocity field is smooth and g carries it exactly; the round trip through
+    // the grid blurs it whenever l's C is off, and that loss recurs at every step, so a
+    // ROM with small steps slows down (sand_small: δ 2.5 % at 1.0Δt, 3.5 % at 0.5Δt).
+    std::vector<Vec3> smoothing(S.size(), Vec3::Zero());
+    if (opt.flip > 0) {
+      std::vector<Vec3> v_round_trip;
+      sim->transfer_velocity(gather, v_round_trip);
+      for (size_t k = 0; k < S.size(); ++k)
+        smoothing[k] = opt.flip * (P.v[gather[k]] - v_round_trip[k]);
     }
+    sim->transfer(dt, t, &gather);
+    if (tracked->active()) tracked->advance(S, P, gather);
+    xs_new.resize(S.size());
+    for (size_t k = 0; k < S.size(); ++k) xs_new[k] = P.x[gather[k]] + dt * smoothing[k];
+    check_finite_inside(xs_new, S, "sample");
+  }
+
+  // (3) Inversion for ẑ_{n+1}, warm-started from ẑ_n.
+  void invert(const std::vector<Vec3>& xs, const std::vector<Vec3>& xs_new) {
+    ScopedTimer timer(times.inversion);
+    std::optional<ScopedBlasThreads> fit_threads;
+    if (opt.inversion.threads > 0) fit_threads.emplace(opt.inversion.threads);
+    const InversionResult res = invert_deformation(*g_S, xs_new, z, opt.inversion);
+    z_prev = z;
+    z = res.z;
+    last_residual = res.rms_residual;
+    track_kinetic_energy(xs, xs_new, res);
+    xK_last_valid = true;
   }
 
   // The samples' kinetic energy after the MPM step, (x_S^{n+1} − x_S^n)/Δt, against what the
@@ -571,30 +403,12 @@ struct LatentStepper::Impl {
   void track_kinetic_energy(const std::vector<Vec3>& xs, const std::vector<Vec3>& xs_new,
                             const InversionResult& res) {
     std::vector<Vec3> taylor_fit;  // the Taylor step leaves g at its latent unevaluated
-    if (res.fitted.empty()) {
-      torch::NoGradGuard no_grad;
-      to_vec3(model.deform(Xn_S, latent_row(res.z).expand({int64_t(S.size()), res.z.size()})),
-              taylor_fit);
-    }
+    if (res.fitted.empty()) g_S->evaluate(res.z, taylor_fit);
     const std::vector<Vec3>& fitted = res.fitted.empty() ? taylor_fit : res.fitted;
     for (size_t k = 0; k < S.size(); ++k) {
       const double m = quad.mass[S[k]];
       energy_after_mpm += 0.5 * m * ((xs_new[k] - xs[k]) / dt).squaredNorm();
       energy_after_inversion += 0.5 * m * ((fitted[k] - xs[k]) / dt).squaredNorm();
-    }
-  }
-
-  // CROM: τ = τ(F) with F = ∂g/∂X, through the scene's own constitutive models (each particle's
-  // initial plastic state: the baseline has no plastic history).
-  void crom_stress(const torch::Tensor& F, const std::vector<uint32_t>& ids,
-                   std::vector<Mat3>& tau) {
-    const int64_t m = F.size(0);
-    const double* f = F.data_ptr<double>();
-    const auto& materials = sim->scene().materials;
-    for (int64_t k = 0; k < m; ++k) {
-      Mat3 Fk = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(f + 9 * k);
-      MaterialPoint mp = mat0[ids[k]];
-      tau[k] = materials[material[ids[k]]]->update(Fk, mp, dt);
     }
   }
 
@@ -657,7 +471,8 @@ void LatentStepper::particle_state(std::vector<Vec3>& x, std::vector<Vec3>* v) {
 void LatentStepper::particle_fields(std::vector<Mat3>& tau, std::vector<Mat3>& C) {
   std::vector<uint32_t> ids(impl_->np);
   for (size_t p = 0; p < ids.size(); ++p) ids[p] = uint32_t(p);
-  impl_->stress_and_affine(ids, false, tau, C);
+  impl_->stress->evaluate(ids, {impl_->z, impl_->z_prev}, false, tau);
+  impl_->affine->evaluate(ids, {impl_->z, impl_->z_prev}, false, C);
 }
 
 size_t LatentStepper::particle_count() const {
@@ -672,36 +487,22 @@ const std::vector<uint32_t>& LatentStepper::samples() const {
 const std::vector<uint32_t>& LatentStepper::integration_particles() const {
   return impl_->N;
 }
-double LatentStepper::mean_integration_count() const {
-  return impl_->n ? impl_->sum_N / double(impl_->n) : 0.0;
-}
-size_t LatentStepper::quadrature_count() const {
-  return impl_->quad.ids.size();
-}
-double LatentStepper::mean_candidate_count() const {
-  return impl_->n ? impl_->sum_K / double(impl_->n) : 0.0;
-}
-long LatentStepper::refreshes() const {
-  return impl_->refreshes;
-}
-long LatentStepper::linearization_anchors() const {
-  return impl_->lin_g ? impl_->lin_g->anchors() : 0;
-}
-long LatentStepper::integration_misses() const {
-  return impl_->misses;
-}
-double LatentStepper::inversion_energy_kept() const {
-  return impl_->energy_after_mpm > 0 ? impl_->energy_after_inversion / impl_->energy_after_mpm
-                                     : 1.0;
-}
-double LatentStepper::training_distance() const {
-  return impl_->prior ? std::sqrt(impl_->prior->distance2(impl_->z)) : -1.0;
-}
-double LatentStepper::last_inversion_residual() const {
-  return impl_->last_residual;
-}
-const RomTimes& LatentStepper::times() const {
-  return impl_->times;
+
+RomDiagnostics LatentStepper::diagnostics() const {
+  const Impl& m = *impl_;
+  RomDiagnostics d;
+  d.times = m.times;
+  d.field_sources = m.g->describe() + ", " + m.stress->describe() + ", " + m.affine->describe();
+  d.mean_N = m.n ? m.sum_N / double(m.n) : 0.0;
+  d.mean_K = m.n ? m.sum_K / double(m.n) : 0.0;
+  d.quadrature_points = m.quad.ids.size();
+  d.refreshes = m.refreshes;
+  d.anchors = m.g->anchors();
+  d.integration_misses = m.misses;
+  d.last_residual = m.last_residual;
+  d.training_distance = m.prior ? std::sqrt(m.prior->distance2(m.z)) : -1.0;
+  d.energy_kept = m.energy_after_mpm > 0 ? m.energy_after_inversion / m.energy_after_mpm : 1.0;
+  return d;
 }
 
 }  // namespace nsf

@@ -5,6 +5,7 @@
 // inversion of g on S for ẑ_{n+1}. The public runtime header: no torch types, so a game engine
 // or VR client can embed it with the model file and a scene.
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "core/timer.h"
@@ -15,10 +16,29 @@
 namespace nsf {
 
 struct RomTimes {
-  PhaseTimer inference;  // g on the candidates, h and l (or ∂g/∂X for CROM) on N
+  PhaseTimer inference;  // g on the candidates, τ and C on N
   PhaseTimer mpm;        // I, N, and the MPM step on N
   PhaseTimer inversion;  // Gauss–Newton
   PhaseTimer refresh;    // rebuilding the candidate set from g on all particles
+};
+
+// What a run has done so far, for reports and checks.
+struct RomDiagnostics {
+  RomTimes times;
+  std::string field_sources;      // where x, τ and C come from ("x from g, tau from h, C from l")
+  double mean_N = 0, mean_K = 0;  // mean |N| and candidates |K| over the steps so far
+  size_t quadrature_points = 0;   // points that can join N (|P| unless thinned)
+  long refreshes = 0;             // candidate sets rebuilt from all positions
+  long anchors = 0;               // re-anchorings of the tangent cache of g
+  long integration_misses = 0;    // with verify_integration_set: particles of N not found
+  double last_residual = 0;       // rms ‖g − x‖ on S after the last inversion (m)
+  // How far ẑ_n is from the latents the model was trained on (the surface its training runs span
+  // over μ and time; rom/latent_prior.h), in training spreads; −1 for a model that does not store
+  // them. Far from it, h and l answer for states they never saw.
+  double training_distance = -1;
+  // Σ over steps of the samples' kinetic energy the inversion keeps, over Σ of what the MPM step
+  // gave them: below 1, the projection onto g's tangent bleeds velocity every step.
+  double energy_kept = 1;
 };
 
 class LatentStepper {
@@ -48,7 +68,7 @@ class LatentStepper {
   // The same for all particles of the scene; also refreshes the candidate set for free.
   void particle_state(std::vector<Vec3>& x, std::vector<Vec3>* v);
   // τ and C of every particle at ẑ_n, from the sources the step itself uses (h or its
-  // replacements, l or its), for output: the networks themselves, not --linearize's expansions.
+  // replacements, l or its), for output: the decoders themselves, not the tangent cache's.
   void particle_fields(std::vector<Mat3>& tau, std::vector<Mat3>& C);
 
   size_t particle_count() const;
@@ -56,21 +76,7 @@ class LatentStepper {
   const std::vector<uint32_t>& samples() const;
   // N of the last step; with a thinned quadrature, ids ≥ particle_count() are merged points.
   const std::vector<uint32_t>& integration_particles() const;
-  double mean_integration_count() const;  // mean |N| over the steps so far
-  double mean_candidate_count() const;
-  size_t quadrature_count() const;  // points that can join N (|P| unless thinned)
-  long refreshes() const;
-  long linearization_anchors() const;      // with RomOptions::linearize: re-anchorings of g so far
-  long integration_misses() const;         // with verify_integration_set: particles of N not found
-  double last_inversion_residual() const;  // rms ‖g − x‖ on S after the last inversion (m)
-  // How far ẑ_n is from the latents the model was trained on (the surface its training runs span
-  // over μ and time; rom/latent_prior.h), in training spreads; −1 for a model that does not store
-  // them. Far from it, h and l answer for states they never saw.
-  double training_distance() const;
-  // Σ over steps of the samples' kinetic energy the inversion keeps, over Σ of what the MPM step
-  // gave them: below 1, the projection onto g's tangent bleeds velocity every step.
-  double inversion_energy_kept() const;
-  const RomTimes& times() const;
+  RomDiagnostics diagnostics() const;
 
  private:
   struct Impl;

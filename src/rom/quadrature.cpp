@@ -87,12 +87,17 @@ ThinnedQuadrature thin_quadrature(const std::vector<Vec3>& X, const std::vector<
     std::vector<double> m(groups, 0.0), v(groups, 0.0);
     std::vector<Vec3> mx(groups, Vec3::Zero());
     std::vector<uint32_t> member(groups, 0);
+    std::vector<std::vector<std::pair<uint32_t, double>>> members(groups);
     for (size_t k = 0; k < bin.size(); ++k) {
       const int g = group[k];
       const uint32_t p = bin[k];
       m[g] += mass[p], v[g] += vol0[p], mx[g] += mass[p] * X[p], member[g] = p;
+      members[g].emplace_back(p, mass[p]);
     }
     for (int g = 0; g < groups; ++g) {
+      for (auto& [p, share] : members[g])
+        share = m[g] > 0 ? share / m[g] : 1.0 / double(members[g].size());
+      q.merged_members.push_back(std::move(members[g]));
       q.ids.push_back(uint32_t(n + q.merged_X.size()));
       q.merged_X.push_back(m[g] > 0 ? Vec3(mx[g] / m[g]) : X[member[g]]);
       q.merged_group.push_back(member[g]);

@@ -8,6 +8,7 @@
 // moment of the rest shape, are conserved cell by cell. The sample particles S stay themselves,
 // so each node of their stencils carries their own mass, and G2P can move them.
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/types.h"
@@ -22,7 +23,9 @@ struct ThinnedQuadrature {
   std::vector<double> mass, vol0;
   std::vector<Vec3> merged_X;          // rest position of merged point j (its group's centroid)
   std::vector<uint32_t> merged_group;  // a particle of merged point j's group (its material)
-  size_t particles = 0;                // |P|
+  // The particles of merged point j's group with their shares of its mass (summing to 1).
+  std::vector<std::vector<std::pair<uint32_t, double>>> merged_members;
+  size_t particles = 0;  // |P|
   bool thinned() const { return !merged_X.empty(); }
 };
 

@@ -1,5 +1,7 @@
 #pragma once
 // Settings of the reduced-order simulator (docs/ROM.md), free of torch types.
+#include <string>
+
 #include "rom/sampling.h"
 
 namespace nsf {
@@ -21,24 +23,14 @@ struct GaussNewtonOptions {
   double prior_length = 0;  // ε
 };
 
-// Where the ROM step takes the particles' APIC affine matrices C from.
-enum class AffineSource {
-  network,  // l(X, ẑ) (§4.4, the paper)
-  velocity,  // the ROM's own velocity field: C = Ḟ F⁻¹ with F = ∂g/∂X at ẑ_n, Ḟ its difference
-             // quotient from ẑ_{n−1}; APIC's C is the velocity gradient at the particle
-  none,     // C = 0 (the CROM baseline's default)
-  tracked,  // each particle keeps the C its last G2P gave it, as the full-order engine does
-            // (needs every particle a sample; an ablation of l, docs/ROM.md)
-};
-
-// Where the ROM step takes the particles' Kirchhoff stress τ from.
-enum class StressSource {
-  network,  // h(X, ẑ[, μ]) (§4.3, the paper)
-  // Each particle carries F^E and its plastic state, updated through the scene's constitutive
-  // model from the velocity gradient of its own G2P, as in the full-order engine; the ROM's
-  // positions still come from g. Needs every particle a sample: an ablation of h that says
-  // how much of the ROM's error is h's (docs/ROM.md, "Where the ROM's error comes from").
-  tracked,
+// Where the step's fields come from, by source name (rom/field_source.h; `nsf rom --help` and
+// docs/ROM.md list them). Empty: the model's own decoders ("network" for the paper's MLP fields,
+// "basis" for per-point bases), and for C, "none" when the stress is CROM's (the baseline has no
+// affine field).
+struct FieldChoice {
+  std::string deformation;  // g on the candidates: network, basis, tangent
+  std::string stress;       // τ on N: network, basis, tangent, crom, tracked
+  std::string affine;       // C on N: network, basis, tangent, velocity, none, tracked
 };
 
 struct RomOptions {
@@ -53,21 +45,10 @@ struct RomOptions {
   double flip = 0.0;
   SamplingSpec sampling;
   GaussNewtonOptions inversion;
-  // CROM-style baseline (Figs. 5, 12, 13): τ from F = ∂g/∂X through the constitutive model,
-  // no affine field (C = 0); h and l are not used.
-  bool crom = false;
-  // Network by default, none when `crom` is set; the CROM baseline can also take `velocity`.
-  AffineSource affine = AffineSource::network;
-  StressSource stress = StressSource::network;
-  // The affine source a run uses: `affine`, except that the baseline has no affine network, so
-  // there `network` means its default, none.
-  AffineSource resolved_affine() const {
-    return crom && affine == AffineSource::network ? AffineSource::none : affine;
-  }
-  // > 0: the tangent cache (rom/linearized_field.h): g, h and l through per-particle first-order
-  // expansions in ẑ, recomputed when ẑ moves further than this from their anchor (in units of
-  // each latent component's training spread). 0: the networks at every step, as in the paper.
-  double linearize = 0;
+  FieldChoice fields;
+  // The tangent cache's anchor radius, in units of each latent component's training spread: its
+  // expansions are recomputed when ẑ moves further than this from their anchor.
+  double tangent_radius = 0.05;
   // > 0: the inversion's latent prior with this ε in metres (GaussNewtonOptions::prior_length),
   // built from the latents the model stores of its training runs. 0: none (the paper).
   double latent_prior = 0;
@@ -79,6 +60,21 @@ struct RomOptions {
   // Also find N by brute force (g on every particle) each step and count the particles the
   // candidate scheme missed. For tests and checks; costs a full evaluation of g per step.
   bool verify_integration_set = false;
+
+  // The tangent cache for g, h and l (`nsf rom --linearize R`); C keeps a source other than l.
+  void use_tangent_cache(double radius) {
+    fields.deformation = fields.stress = "tangent";
+    if (fields.affine.empty() || fields.affine == "network") fields.affine = "tangent";
+    tangent_radius = radius;
+  }
+  // The sources by name, with the defaults filled in for a model whose decoders are `decoder`.
+  FieldChoice resolved_fields(const std::string& decoder) const {
+    FieldChoice f = fields;
+    if (f.deformation.empty()) f.deformation = decoder;
+    if (f.affine.empty()) f.affine = f.stress == "crom" ? "none" : decoder;
+    if (f.stress.empty()) f.stress = decoder;
+    return f;
+  }
 };
 
 }  // namespace nsf

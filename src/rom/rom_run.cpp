@@ -49,19 +49,6 @@ Particles upsampled_points(const Particles& P, int k) {
   return out;
 }
 
-// Where the run's τ and C come from, for its summary and its output file.
-std::string field_sources(const RomOptions& o) {
-  std::string tau = o.stress == StressSource::tracked ? "tau tracked per particle"
-                    : o.crom                          ? "tau from dg/dX through the material (CROM)"
-                                                      : "tau from h";
-  const AffineSource a = o.resolved_affine();
-  const char* C = a == AffineSource::network    ? "C from l"
-                  : a == AffineSource::velocity ? "C from the gradient of g's velocity"
-                  : a == AffineSource::tracked  ? "C tracked per particle"
-                                                : "C = 0";
-  return tau + ", " + C;
-}
-
 // Makes the scene JSON of the run: overrides, then μ through the scene's sweep templates.
 nlohmann::json scene_at_mu(const RomRunOptions& o, const NeuralFields& fields, RomReport& rep) {
   nlohmann::json js = read_scene_json(o.scene_path, o.overrides);
@@ -126,7 +113,7 @@ RomReport run_rom(const RomRunOptions& o) {
   ro.dt_ratio = o.dt_ratio.value_or(section.dt_ratio.value_or(ro.dt_ratio));
   ro.latent_prior = o.latent_prior.value_or(section.latent_prior.value_or(ro.latent_prior));
   if (o.samples) ro.sampling.count = *o.samples;
-  ro.sampling.seed = o.rom.sampling.seed;
+  if (o.seed) ro.sampling.seed = *o.seed;
 
   const SimSettings settings = scene.settings;
   const double frame_dt = settings.substeps * settings.dt;
@@ -202,7 +189,7 @@ RomReport run_rom(const RomRunOptions& o) {
   std::vector<double> latents;          // ẑ of every written frame, row by row
   double delta_num = 0, delta_den = 0;  // the sums of eq. (11) over frames 1…N
   ErrorSum stress_error, affine_error;  // τ and C against the truth's
-  rep.field_sources = field_sources(ro);
+  rep.field_sources = rom.diagnostics().field_sources;
   auto output = [&](int f) {
     const double t1 = now_seconds();
     rom.particle_state(x, &v);
@@ -234,7 +221,7 @@ RomReport run_rom(const RomRunOptions& o) {
       writer->write_frame(frame, rom.time());
       latents.insert(latents.end(), rom.latent().data(), rom.latent().data() + rom.latent().size());
     }
-    if (const double d = rom.training_distance(); d >= 0 && f > 0) {
+    if (const double d = rom.diagnostics().training_distance; d >= 0 && f > 0) {
       rep.training_distance_max = std::max(rep.training_distance_max, d);
       rep.training_distance_mean += d / settings.frames;
     }
@@ -274,16 +261,17 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.rom_file = o.out_path;
   rep.rom_peak_mib = peak_rss_mib();
   rep.samples_end = rom.sample_count();
-  rep.mean_N = rom.mean_integration_count();
-  rep.mean_K = rom.mean_candidate_count();
-  rep.energy_kept = rom.inversion_energy_kept();
+  const RomDiagnostics d = rom.diagnostics();
+  rep.mean_N = d.mean_N;
+  rep.mean_K = d.mean_K;
+  rep.energy_kept = d.energy_kept;
   rep.latent_prior = ro.latent_prior;
-  if (rom.training_distance() < 0) rep.training_distance_mean = rep.training_distance_max = -1;
-  rep.quadrature_points = rom.quadrature_count();
+  if (d.training_distance < 0) rep.training_distance_mean = rep.training_distance_max = -1;
+  rep.quadrature_points = d.quadrature_points;
   rep.threads = o.threads;
-  rep.refreshes = rom.refreshes();
-  rep.linearization_anchors = rom.linearization_anchors();
-  rep.rom_times = rom.times();
+  rep.refreshes = d.refreshes;
+  rep.linearization_anchors = d.anchors;
+  rep.rom_times = d.times;
   return rep;
 }
 

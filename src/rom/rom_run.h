@@ -16,6 +16,7 @@ struct RomRunOptions {
   std::vector<std::string> overrides;  // --set, applied before μ
   std::optional<double> mu;            // applied through the scene's "sweep" templates
   std::optional<int> samples;          // |S| at t = 0; default: the scene's "rom" section
+  std::optional<uint64_t> seed;        // of the sample choice; default: the scene's, else 1
   std::optional<double> dt_ratio;      // ROM step over Δt; default: the scene's, else rom's
   std::optional<double> latent_prior;  // ε (m); default: the scene's, else rom's (0: none)
   RomOptions rom;
@@ -44,7 +45,7 @@ struct RomReport {
   int threads = 0;               // as asked (0 = all cores)
   size_t quadrature_points = 0;  // particles that can join N: |P| unless the quadrature is thinned
   long refreshes = 0;
-  long linearization_anchors = 0;  // with --linearize
+  long linearization_anchors = 0;  // re-anchorings of g's tangent cache
   double delta = -1;               // eq. (11) against the ground truth; < 0 when there is none
   std::vector<double> delta_per_frame;
   // Relative errors of the run's τ and C against the ground truth's, √(Σ‖·−·*‖²/Σ‖·*‖²) over

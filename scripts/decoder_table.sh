@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Both decoder families on the scenes named, side by side: for each SCENE, the dataset
+# data/SCENE (nsf sweep, unless it exists), the paper's MLP fields models/SCENE.nsf and the
+# per-point bases models/SCENE_basis.nsf (nsf train, unless they exist), then `nsf eval` of each
+# on the held-out runs, written to docs/results/eval/SCENE_mlp.json and SCENE_basis.json. These
+# rows make the table of docs/TRAINING.md, "Decoder families". TRAIN_FLAGS go to both trainings,
+# BASIS_FLAGS to the basis one (e.g. "--modes 32,64,64"). Uses build/nsf (scripts/build.sh).
+#
+#   scripts/decoder_table.sh metal_small sand_small jelly_small
+set -euo pipefail
+[ $# -ge 1 ] || { echo "usage: [TRAIN_FLAGS=...] [BASIS_FLAGS=...] $0 SCENE..." >&2; exit 2; }
+cd "$(dirname "$0")/.."
+nsf=build/nsf
+[ -x "$nsf" ] || { echo "$0: $nsf is missing: run scripts/build.sh first" >&2; exit 1; }
+mkdir -p docs/results/eval models data
+export OMP_WAIT_POLICY=passive
+for scene in "$@"; do
+  json=scenes/paper/$scene.json
+  [ -f "$json" ] || { echo "$0: no scene $json" >&2; exit 1; }
+  [ -f "data/$scene/manifest.json" ] || "$nsf" sweep "$json" --out "data/$scene"
+  # shellcheck disable=SC2086
+  [ -f "models/$scene.nsf" ] || "$nsf" train "data/$scene" --out "models/$scene.nsf" ${TRAIN_FLAGS:-}
+  # shellcheck disable=SC2086
+  [ -f "models/${scene}_basis.nsf" ] ||
+    "$nsf" train "data/$scene" --out "models/${scene}_basis.nsf" --decoder basis \
+      ${TRAIN_FLAGS:-} ${BASIS_FLAGS:-}
+  for family in mlp basis; do
+    model=models/$scene.nsf
+    [ $family = basis ] && model=models/${scene}_basis.nsf
+    "$nsf" eval "$model" "data/$scene" --json "docs/results/eval/${scene}_$family.json"
+  done
+done

@@ -1,0 +1,61 @@
+// GCC 12 reports false -Wmaybe-uninitialized warnings from inside Eigen's AVX-512 kernels for
+// dynamic-size products (in the intrinsics headers, not in this code).
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include "nn/basis_decoders.h"
+
+#include <cmath>
+
+namespace nsf {
+
+Eigen::VectorXd CoefficientNet::operator()(const Eigen::VectorXd& x, Eigen::MatrixXd* J) const {
+  Eigen::VectorXd a = (x - in_shift).cwiseQuotient(in_scale);
+  // ∂a/∂x, carried through the layers (outputs × inputs) when asked for.
+  Eigen::MatrixXd D;
+  if (J) D = in_scale.cwiseInverse().asDiagonal();
+  for (size_t i = 0; i < W.size(); ++i) {
+    Eigen::VectorXd y = W[i] * a + b[i];
+    if (J) D = W[i] * D;
+    if (i + 1 < W.size()) {  // ELU between layers, not after the last
+      for (int64_t k = 0; k < y.size(); ++k) {
+        if (y[k] > 0) continue;
+        const double e = std::exp(y[k]);
+        y[k] = e - 1;
+        if (J) D.row(k) *= e;
+      }
+    }
+    a = std::move(y);
+  }
+  if (J) *J = out_scale.asDiagonal() * D;
+  return a.cwiseProduct(out_scale);
+}
+
+void PointBasis::blend(const std::vector<std::pair<uint32_t, double>>& members,
+                       std::vector<float>& mean_out, std::vector<float>& modes_out) const {
+  const size_t d = size_t(dim), dk = size_t(dim) * size_t(K);
+  std::vector<double> m(d, 0.0), b(dk, 0.0);
+  for (const auto& [p, w] : members) {
+    for (size_t i = 0; i < d; ++i) m[i] += w * mean[p * d + i];
+    for (size_t i = 0; i < dk; ++i) b[i] += w * modes[p * dk + i];
+  }
+  mean_out.insert(mean_out.end(), m.begin(), m.end());
+  modes_out.insert(modes_out.end(), b.begin(), b.end());
+}
+
+Eigen::VectorXf BasisDecoders::deformation_coefficients(const Eigen::VectorXd& z,
+                                                        Eigen::MatrixXd* J) const {
+  return u.net(z, J).cast<float>();
+}
+
+Eigen::VectorXf BasisDecoders::stress_coefficients(const Eigen::VectorXd& z, double mu) const {
+  if (!stress_uses_mu) return tau.net(z).cast<float>();
+  Eigen::VectorXd x(z.size() + 1);
+  x << z, mu;
+  return tau.net(x).cast<float>();
+}
+
+Eigen::VectorXf BasisDecoders::affine_coefficients(const Eigen::VectorXd& z) const {
+  return C.net(z).cast<float>();
+}
+
+}  // namespace nsf

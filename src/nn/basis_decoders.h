@@ -1,0 +1,65 @@
+#pragma once
+// The per-point basis decoders at run time, without torch (docs/TRAINING.md, "Decoder families").
+// Each field f ∈ {x − X, τ, C} of a basis model is
+//     f_p(ẑ[, μ]) = mean_p + B_p · c_f(ẑ[, μ]),
+// B_p the K_f modes of particle p (from the SVD of the training frames), c_f a small ELU network
+// of the latent evaluated once per step. A field at a point costs dim·K_f multiply-adds in float;
+// ∂g/∂ẑ at a point is B_p · ∂c/∂ẑ, with ∂c/∂ẑ (K × r) computed once.
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/types.h"
+
+namespace nsf {
+
+// A small ELU MLP in double: input (x − in_shift)/in_scale, hidden layers with ELU, output
+// scaled by out_scale (each coefficient's training spread).
+struct CoefficientNet {
+  std::vector<Eigen::MatrixXd> W;  // layer i: out × in
+  std::vector<Eigen::VectorXd> b;
+  Eigen::VectorXd in_shift, in_scale, out_scale;
+
+  // c(x); with J, also ∂c/∂x (outputs × inputs).
+  Eigen::VectorXd operator()(const Eigen::VectorXd& x, Eigen::MatrixXd* J = nullptr) const;
+  int64_t inputs() const { return W.empty() ? 0 : W.front().cols(); }
+  int64_t outputs() const { return W.empty() ? 0 : W.back().rows(); }
+};
+
+// One field's basis over the particles: dim values per point, K modes.
+struct PointBasis {
+  int dim = 0, K = 0;
+  size_t points = 0;
+  std::vector<float> mean;   // points × dim
+  std::vector<float> modes;  // points × dim × K, row-major per point
+  CoefficientNet net;
+
+  // out[0..dim) = mean_p + B_p c, for particle p.
+  void value(size_t p, const Eigen::VectorXf& c, float* out) const {
+    const float* m = &mean[p * size_t(dim)];
+    const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> B(
+        &modes[p * size_t(dim) * size_t(K)], dim, K);
+    Eigen::Map<Eigen::VectorXf>(out, dim) = Eigen::Map<const Eigen::VectorXf>(m, dim) + B * c;
+  }
+  // The mean and modes of a point standing for several particles, mass-weighted.
+  void blend(const std::vector<std::pair<uint32_t, double>>& members, std::vector<float>& mean_out,
+             std::vector<float>& modes_out) const;
+  size_t bytes() const { return (mean.size() + modes.size()) * sizeof(float); }
+};
+
+// The three fields of a basis model and what their networks take.
+struct BasisDecoders {
+  PointBasis u, tau, C;    // x − X (3), τ (xx yy zz xy yz xz, 6), C (row-major 9)
+  std::vector<Vec3> rest;  // X of every particle
+  bool stress_uses_mu = false;
+
+  // c_u(ẑ) (the encoder's raw latent, as g sees it) with ∂c_u/∂ẑ when J is given.
+  Eigen::VectorXf deformation_coefficients(const Eigen::VectorXd& z,
+                                           Eigen::MatrixXd* J = nullptr) const;
+  Eigen::VectorXf stress_coefficients(const Eigen::VectorXd& z, double mu) const;
+  Eigen::VectorXf affine_coefficients(const Eigen::VectorXd& z) const;
+  size_t bytes() const { return u.bytes() + tau.bytes() + C.bytes(); }
+};
+
+}  // namespace nsf

@@ -1,0 +1,19 @@
+#pragma once
+// A basis model's decoders in their run-time form (nn/basis_decoders.h), copied out of the
+// torch-level model (nn/model.h): at load for the runtime, and during training for the latent
+// refinement, which fits the current networks.
+#include <cstdint>
+#include <vector>
+
+#include "nn/basis_decoders.h"
+
+namespace nsf {
+
+class NeuralModel;
+
+// Field f (0: x − X, 1: τ, 2: C) at the particles `ids` (all particles when null).
+PointBasis point_basis(const NeuralModel& model, int field,
+                       const std::vector<uint32_t>* ids = nullptr);
+BasisDecoders basis_decoders(const NeuralModel& model);
+
+}  // namespace nsf

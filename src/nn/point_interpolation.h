@@ -1,0 +1,30 @@
+#pragma once
+// Fields that live on the particles (a basis model's modes), read at other rest positions: the
+// ROM's output points of Fig. 6 (`nsf rom --upsample`) and any point a host asks for. Each point
+// becomes a short list of particles and weights, f(X) = Σ w_i f_i, computed once.
+// Two schemes (docs/TRAINING.md measures them at held-out particles):
+//   nearest: the nearest particle's value;
+//   mls: moving least squares, linear, with a cubic-spline weight over the k nearest particles:
+//        exact for fields affine in X, and the weights still sum to 1.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace nsf {
+
+struct PointInterpolation {
+  std::vector<uint32_t> start;  // point i uses entries [start[i], start[i + 1])
+  std::vector<uint32_t> particle;
+  std::vector<float> weight;
+  size_t size() const { return start.empty() ? 0 : start.size() - 1; }
+};
+
+// A point that coincides with a particle (within 1e-9 of the particles' extent) gets that
+// particle alone, whatever the scheme. Throws nsf::Error for an unknown scheme or no particles.
+PointInterpolation interpolate_points(const std::vector<Vec3>& particles,
+                                      const std::vector<Vec3>& points,
+                                      const std::string& scheme = "mls", int neighbours = 16);
+
+}  // namespace nsf

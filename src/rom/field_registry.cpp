@@ -1,0 +1,110 @@
+#include <map>
+#include <mutex>
+
+#include "core/error.h"
+#include "rom/field_source.h"
+#include "rom/fields/sources.h"
+
+namespace nsf {
+
+namespace {
+
+// Built-in sources are listed here: self-registering statics would be dropped by the linker from
+// a static library.
+struct Tables {
+  std::map<std::string, DeformationFactory> deformation = {
+      {"network", make_network_deformation},
+      {"basis", make_basis_deformation},
+      {"tangent", make_tangent_deformation},
+  };
+  std::map<std::string, PointFieldFactory> stress = {
+      {"network", make_network_stress}, {"basis", make_basis_stress},
+      {"tangent", make_tangent_stress}, {"crom", make_crom_stress},
+      {"tracked", make_tracked_stress},
+  };
+  std::map<std::string, PointFieldFactory> affine = {
+      {"network", make_network_affine}, {"basis", make_basis_affine},
+      {"tangent", make_tangent_affine}, {"velocity", make_velocity_affine},
+      {"none", make_zero_affine},       {"tracked", make_tracked_affine},
+  };
+  std::map<std::string, PointFieldFactory>& of(FieldRole role) {
+    return role == FieldRole::stress ? stress : affine;
+  }
+};
+
+Tables& tables() {
+  static Tables t;
+  return t;
+}
+
+std::mutex& tables_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+template <typename Map>
+std::vector<std::string> names_of(const Map& m) {
+  std::vector<std::string> out;
+  for (const auto& entry : m) out.push_back(entry.first);
+  return out;
+}
+
+template <typename Map>
+const typename Map::mapped_type& find(const Map& m, const std::string& name, const char* what) {
+  const auto it = m.find(name);
+  if (it == m.end()) {
+    std::string known;
+    for (const auto& entry : m) known += (known.empty() ? "" : ", ") + entry.first;
+    fail("rom: unknown ", what, " source '", name, "' (known: ", known, ")");
+  }
+  return it->second;
+}
+
+const char* role_name(FieldRole role) {
+  return role == FieldRole::stress ? "stress" : "affine";
+}
+
+}  // namespace
+
+void register_deformation_source(const std::string& name, DeformationFactory factory) {
+  std::lock_guard<std::mutex> lock(tables_mutex());
+  tables().deformation[name] = std::move(factory);
+}
+
+void register_point_field_source(FieldRole role, const std::string& name,
+                                 PointFieldFactory factory) {
+  std::lock_guard<std::mutex> lock(tables_mutex());
+  tables().of(role)[name] = std::move(factory);
+}
+
+std::unique_ptr<DeformationSource> make_deformation_source(const std::string& name,
+                                                           const FieldContext& context) {
+  DeformationFactory factory;
+  {
+    std::lock_guard<std::mutex> lock(tables_mutex());
+    factory = find(tables().deformation, name, "deformation");
+  }
+  return factory(context);
+}
+
+std::unique_ptr<PointFieldSource> make_point_field_source(FieldRole role, const std::string& name,
+                                                          const FieldContext& context) {
+  PointFieldFactory factory;
+  {
+    std::lock_guard<std::mutex> lock(tables_mutex());
+    factory = find(tables().of(role), name, role_name(role));
+  }
+  return factory(context);
+}
+
+std::vector<std::string> deformation_source_names() {
+  std::lock_guard<std::mutex> lock(tables_mutex());
+  return names_of(tables().deformation);
+}
+
+std::vector<std::string> point_field_source_names(FieldRole role) {
+  std::lock_guard<std::mutex> lock(tables_mutex());
+  return names_of(tables().of(role));
+}
+
+}  // namespace nsf

@@ -1,0 +1,299 @@
+// GCC 12 reports false -Wmaybe-uninitialized warnings from inside Eigen's AVX-512 kernels for
+// dynamic-size products (in the intrinsics headers, not in this code).
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+// The per-point basis decoders (nn/basis_fit.h, nn/basis_decoders.h, `nsf train --decoder
+// basis`): the snapshot SVD, the coefficient networks' Jacobians, training, the model file, and
+// fields at points that are not particles (nn/point_interpolation.h).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "error_matchers.h"
+#include "nn/basis_decoders.h"
+#include "nn/basis_fit.h"
+#include "nn/dataset.h"
+#include "nn/evaluate.h"
+#include "nn/model.h"
+#include "nn/neural_fields.h"
+#include "nn/point_interpolation.h"
+#include "nn/runtime.h"
+#include "nn/trainer.h"
+#include "nn_fixtures.h"
+#include "rom/latent_inversion.h"
+
+#include <torch/torch.h>
+
+namespace fs = std::filesystem;
+using nsf::Latent;
+using nsf::NeuralFields;
+using nsf::Vec3;
+
+namespace {
+
+// Rows: a rank-3 signal plus small noise, 40 frames of 50 points × dim values.
+Eigen::MatrixXf low_rank_frames(int frames, int columns, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> n(0.0f, 1.0f);
+  Eigen::MatrixXf A(frames, columns);
+  Eigen::MatrixXf U(frames, 3), V(3, columns);
+  for (int i = 0; i < U.size(); ++i) U.data()[i] = n(rng);
+  for (int i = 0; i < V.size(); ++i) V.data()[i] = n(rng);
+  A = U * V;
+  for (int i = 0; i < A.size(); ++i) A.data()[i] += 0.01f * n(rng) + 0.5f;
+  return A;
+}
+
+}  // namespace
+
+// The basis reproduces each training frame to its projection error: the modes are orthonormal in
+// the weighted norm, the coefficients are the frames' projections, and what the K modes leave is
+// exactly the variance they do not hold.
+TEST(BasisFit, ReproducesTrainingFramesToTheirProjectionError) {
+  const int frames = 40, columns = 300;  // 50 points × 6 values (τ's layout)
+  const Eigen::MatrixXf A = low_rank_frames(frames, columns, 3);
+  const std::vector<double> w = {1, 1, 1, std::sqrt(2.0), std::sqrt(2.0), std::sqrt(2.0)};
+  const auto fill = [&](size_t i, float* row) {
+    for (int c = 0; c < columns; ++c) row[c] = A(Eigen::Index(i), c);
+  };
+  for (int K : {2, 3, 8}) {
+    const nsf::SnapshotBasis b = nsf::fit_snapshot_basis(frames, columns, fill, w, K);
+    ASSERT_EQ(b.modes.cols(), K);
+    // Orthonormal in the weighted norm.
+    Eigen::MatrixXd Vw = b.modes.cast<double>();
+    for (int c = 0; c < columns; ++c) Vw.row(c) *= w[size_t(c % 6)];
+    EXPECT_LT((Vw.transpose() * Vw - Eigen::MatrixXd::Identity(K, K)).norm(), 1e-4) << K;
+    double residual = 0;
+    for (int i = 0; i < frames; ++i) {
+      const Eigen::VectorXd rebuilt =
+          (b.mean + b.modes * b.coeffs.row(i).transpose()).cast<double>();
+      for (int c = 0; c < columns; ++c) {
+        const double d = w[size_t(c % 6)] * (rebuilt[c] - A(i, c));
+        residual += d * d;
+      }
+    }
+    EXPECT_NEAR(residual / b.total_energy, b.residual_share(), 1e-4) << K;
+    if (K >= 3) {
+      EXPECT_LT(b.residual_share(), 1e-3) << "rank 3 plus noise, K = " << K;
+    } else {
+      EXPECT_GT(b.residual_share(), 1e-2);
+    }
+  }
+  EXPECT_THROW(nsf::fit_snapshot_basis(1, columns, fill, w, 4), nsf::Error);
+}
+
+// ∂c/∂ẑ of a coefficient network, and ∂g/∂ẑ = B ∂c/∂ẑ at the samples, against central differences.
+TEST(BasisDecoders, JacobiansMatchFiniteDifferences) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n(0.0, 0.7);
+  nsf::CoefficientNet net;
+  const int sizes[] = {3, 16, 16, 5};
+  for (int i = 0; i < 3; ++i) {
+    net.W.push_back(Eigen::MatrixXd::NullaryExpr(sizes[i + 1], sizes[i], [&] { return n(rng); }));
+    net.b.push_back(Eigen::VectorXd::NullaryExpr(sizes[i + 1], [&] { return n(rng); }));
+  }
+  net.in_shift.resize(3), net.in_scale.resize(3);
+  net.in_shift << 0.1, -0.2, 0.3;
+  net.in_scale << 2.0, 0.5, 1.5;
+  net.out_scale = Eigen::VectorXd::LinSpaced(5, 0.5, 3.0);
+  Eigen::VectorXd z(3);
+  z << 0.3, -0.4, 0.9;
+  Eigen::MatrixXd J;
+  net(z, &J);
+  const double h = 1e-6;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::VectorXd e = h * Eigen::VectorXd::Unit(3, k);
+    const Eigen::VectorXd fd = (net(z + e) - net(z - e)) / (2 * h);
+    EXPECT_LT((J.col(k) - fd).norm(), 1e-6 * (1 + fd.norm())) << "column " << k;
+  }
+
+  nsf::PointBasis u;
+  u.dim = 3, u.K = 5, u.points = 7;
+  std::uniform_real_distribution<float> uf(-1.0f, 1.0f);
+  for (size_t i = 0; i < 7 * 3; ++i) u.mean.push_back(uf(rng));
+  for (size_t i = 0; i < 7 * 3 * 5; ++i) u.modes.push_back(uf(rng));
+  u.net = net;
+  std::vector<Vec3> rest(7);
+  for (Vec3& X : rest) X = Vec3(uf(rng), uf(rng), uf(rng));
+  nsf::BasisSamples samples(u, rest);
+  Eigen::MatrixXd Jg;
+  std::vector<Vec3> g, gp, gm;
+  samples.jacobian(z, Jg, g);
+  ASSERT_EQ(Jg.rows(), 21);
+  const double step = 1e-3;  // float bases: a larger step, a looser tolerance
+  for (int k = 0; k < 3; ++k) {
+    samples.evaluate(z + step * Eigen::VectorXd::Unit(3, k), gp);
+    samples.evaluate(z - step * Eigen::VectorXd::Unit(3, k), gm);
+    for (size_t p = 0; p < 7; ++p)
+      for (int c = 0; c < 3; ++c) {
+        const double fd = (gp[p][c] - gm[p][c]) / (2 * step);
+        EXPECT_NEAR(Jg(3 * Eigen::Index(p) + c, k), fd, 2e-3 * (1 + std::abs(fd)));
+      }
+  }
+}
+
+// MLS reproduces a field affine in X exactly (away from particles too); a point on a particle
+// takes that particle's value alone; nearest takes the nearest particle's.
+TEST(PointInterpolation, MlsIsExactForAffineFieldsAndPointsOnParticlesAreExact) {
+  const nsf::Particles P = nsf::test::synthetic_particles(400, 9);
+  auto field = [](const Vec3& X) { return 0.3 + 2.0 * X.x() - X.y() + 0.5 * X.z(); };
+  std::vector<Vec3> points = {Vec3(0.5, 0.5, 0.5), Vec3(0.31, 0.62, 0.44), P.X[17]};
+  const nsf::PointInterpolation mls = nsf::interpolate_points(P.X, points, "mls", 16);
+  ASSERT_EQ(mls.size(), 3u);
+  for (size_t i = 0; i < points.size(); ++i) {
+    double v = 0, wsum = 0;
+    for (uint32_t e = mls.start[i]; e < mls.start[i + 1]; ++e)
+      v += mls.weight[e] * field(P.X[mls.particle[e]]), wsum += mls.weight[e];
+    EXPECT_NEAR(v, field(points[i]), 1e-5) << i;
+    EXPECT_NEAR(wsum, 1.0, 1e-5) << i;
+  }
+  EXPECT_EQ(mls.start[3] - mls.start[2], 1u);
+  EXPECT_EQ(mls.particle[mls.start[2]], 17u);
+  const nsf::PointInterpolation nearest = nsf::interpolate_points(P.X, points, "nearest");
+  for (size_t i = 0; i < points.size(); ++i) {
+    const uint32_t p = nearest.particle[nearest.start[i]];
+    for (size_t q = 0; q < P.size(); ++q)
+      EXPECT_LE((P.X[p] - points[i]).norm(), (P.X[q] - points[i]).norm() + 1e-15);
+  }
+  nsf::testing::expect_contains(
+      nsf::testing::error_of([&] { nsf::interpolate_points(P.X, points, "cubic"); }),
+      "unknown scheme 'cubic'");
+}
+
+namespace {
+
+constexpr int kParticles = 300;
+
+nsf::TrainOptions basis_options() {
+  nsf::TrainOptions o;
+  nsf::TrainConfig& c = o.config;
+  c.net.latent_dim = 2;
+  c.net.encoder_hidden = 16;
+  c.net.decoder = "basis";
+  c.net.modes = {4, 4, 4};
+  c.net.coefficient_width = 32;
+  c.net.coefficient_depth = 2;
+  c.steps = {2000, 1000, 1000};
+  c.frames_per_batch = {4, 8, 8};
+  c.checkpoint_every = 50;
+  c.refine_latents = 3;
+  c.seed = 3;
+  c.quiet = true;
+  return o;
+}
+
+// Every field of a model at every particle of one frame, and at two points between particles.
+std::vector<double> outputs(const std::string& model, const std::string& data) {
+  NeuralFields nf = NeuralFields::load(model);
+  const nsf::Dataset d(data);
+  std::vector<Vec3> X = d.rest_positions();
+  X.push_back(Vec3(0.5, 0.5, 0.5)), X.push_back(Vec3(0.4, 0.6, 0.3));
+  const NeuralFields::Points all = nf.prepare(d.rest_positions()), extra = nf.prepare(X);
+  const Latent z = nf.encode(d.read_positions(d.test()[0], 5));
+  std::vector<double> out(z.data(), z.data() + z.size());
+  for (const NeuralFields::Points* pts : {&all, &extra}) {
+    std::vector<Vec3> x;
+    std::vector<nsf::Mat3> tau, C;
+    nf.deform(*pts, z, x);
+    nf.stress(*pts, z, d.test()[0].mu, tau);
+    nf.affine(*pts, z, C);
+    for (const Vec3& v : x) out.insert(out.end(), v.data(), v.data() + 3);
+    for (const auto& m : tau) out.insert(out.end(), m.data(), m.data() + 9);
+    for (const auto& m : C) out.insert(out.end(), m.data(), m.data() + 9);
+  }
+  return out;
+}
+
+bool bit_identical(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+}  // namespace
+
+class BasisModel : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    nsf::set_nn_threads(2);
+    root_ = fs::temp_directory_path() / ("nsf_basis_" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    nsf::test::write_synthetic_dataset(root_ / "data", kParticles);
+    report_ = nsf::train_model(data(), model(), basis_options());
+  }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+  static std::string data() { return (root_ / "data").string(); }
+  static std::string model() { return (root_ / "basis.nsf").string(); }
+  static fs::path root_;
+  static nsf::TrainReport report_;
+};
+fs::path BasisModel::root_;
+nsf::TrainReport BasisModel::report_;
+
+// The synthetic fields have rank 2 in (a, b): four modes hold them, so the bases reproduce every
+// frame (held-out too) to round-off, and the trained coefficients come close.
+TEST_F(BasisModel, HoldsTheFieldsAndItsProjectionBoundsTheModel) {
+  ASSERT_TRUE(report_.completed);
+  NeuralFields nf = NeuralFields::load(model());
+  EXPECT_EQ(nf.decoder(), "basis");
+  ASSERT_NE(nf.bases(), nullptr);
+  // Rank 2 plus the mean: the fit keeps the modes above round-off, at most the 4 asked for.
+  EXPECT_GE(nf.bases()->u.K, 2);
+  EXPECT_LE(nf.bases()->u.K, 4);
+  EXPECT_GT(nf.model().train_seconds, 0.0);
+  for (const char* split : {"train", "test"}) {
+    nsf::EvalOptions o;
+    o.split = split;
+    for (const nsf::EvalRow& r : nsf::evaluate_model(model(), data(), o)) {
+      EXPECT_LT(r.projection_delta, 1e-5) << split;
+      EXPECT_LT(r.projection_stress, 1e-4) << split;
+      EXPECT_LT(r.projection_affine, 1e-4) << split;
+      EXPECT_LE(r.projection_delta, r.delta) << split;
+      EXPECT_LE(r.projection_stress, r.stress_error) << split;
+      EXPECT_LT(r.delta, 0.01) << split << " " << r.run;
+      EXPECT_LT(r.stress_error, 0.2) << split << " " << r.run;
+      EXPECT_LT(r.affine_error, 0.2) << split << " " << r.run;
+      std::printf("basis model, %s run %s: delta %.4f%%, stress %.2f%%, affine %.2f%%\n", split,
+                  r.run.c_str(), 100 * r.delta, 100 * r.stress_error, 100 * r.affine_error);
+    }
+  }
+}
+
+// A model saved and loaded gives bit-identical fields, at particles and between them.
+TEST_F(BasisModel, SavedAndLoadedGivesBitIdenticalFields) {
+  const std::vector<double> a = outputs(model(), data());
+  const std::string copy = (root_ / "copy.nsf").string();
+  nsf::NeuralModel::load(model()).save(copy);
+  EXPECT_TRUE(bit_identical(a, outputs(copy, data())));
+  EXPECT_TRUE(bit_identical(a, outputs(model(), data())));
+}
+
+// Killed after 2,380 steps (in stage 2) and resumed: the same model to the bit.
+TEST_F(BasisModel, ResumedTrainingGivesTheSameModel) {
+  const std::string m = (root_ / "resumed.nsf").string();
+  nsf::TrainOptions o = basis_options();
+  o.stop_after = 2380;
+  EXPECT_FALSE(nsf::train_model(data(), m, o).completed);
+  o.stop_after = -1;
+  o.resume = true;
+  EXPECT_TRUE(nsf::train_model(data(), m, o).completed);
+  EXPECT_TRUE(bit_identical(outputs(m, data()), outputs(model(), data())));
+}
+
+// The model's particles are its scene's: other rest positions are a clear error, and the
+// coordinate-network calls of the torch-level model refuse a basis model.
+TEST_F(BasisModel, AnotherScenesParticlesAreAClearError) {
+  NeuralFields nf = NeuralFields::load(model());
+  const nsf::Particles other = nsf::test::synthetic_particles(kParticles, 99);
+  const std::string msg =
+      nsf::testing::error_of([&] { nf.check_scene("synthetic", other.X, "scene 'other'"); });
+  nsf::testing::expect_contains(msg, "the model was trained for");
+  nsf::testing::expect_contains(msg, "scene 'other'");
+  const nsf::Particles fewer = nsf::test::synthetic_particles(kParticles - 1, 7);
+  EXPECT_THROW(nf.check_scene("synthetic", fewer.X, "scene 'fewer'"), nsf::Error);
+  EXPECT_THROW(nf.model().deform(torch::zeros({1, 3}), torch::zeros({1, 2})), nsf::Error);
+}
