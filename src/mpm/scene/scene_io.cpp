@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/json_parse.h"
 #include "mpm/scene/scene.h"
 
 namespace nsf {
@@ -42,7 +43,7 @@ nlohmann::json read_scene_json(const std::string& path, const std::vector<std::s
   nlohmann::json j;
   try {
     // Comments are allowed so example scenes can explain themselves.
-    j = nlohmann::json::parse(text, nullptr, true, /*ignore_comments=*/true);
+    j = json::parse_bounded(text, "scene file '" + path + "'", /*ignore_comments=*/true);
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte is one past the offending character.
     fail("scene file '", path, "' is not valid JSON at ",
