@@ -11,6 +11,7 @@
 #include "core/progress.h"
 #include "io/frame_range.h"
 #include "io/ply_writer.h"
+#include "io/position_check.h"
 #include "io/run_reader.h"
 #include "io/vtk_writer.h"
 
@@ -46,6 +47,7 @@ void run_export(const ExportArgs& a) {
     std::snprintf(name, sizeof name, "frame_%0*zu.%s", digits, k, a.format.c_str());
     const std::string path = (fs::path(a.out) / name).string();
     const RunFrame f = run.read_frame(k);
+    check_run_positions(f.x, run.path(), k);
     char title[160];
     std::snprintf(title, sizeof title, "nsf run %s frame %zu time %.9g", run.scene_name().c_str(),
                   k, f.time);
