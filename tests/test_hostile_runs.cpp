@@ -38,6 +38,33 @@ void write_run_with_bad_position(const std::string& path, const nsf::Vec3& bad) 
   w.finish();
 }
 
+// File offset and size of the stored chunk of `dataset` that holds frame `frame`.
+void chunk_location(const std::string& path, const char* dataset, hsize_t frame, haddr_t& addr,
+                    hsize_t& size) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  const hid_t set = H5Dopen2(file, dataset, H5P_DEFAULT);
+  ASSERT_GE(set, 0);
+  const hsize_t offset[3] = {frame, 0, 0};
+  unsigned mask = 0;
+  EXPECT_GE(H5Dget_chunk_info_by_coord(set, offset, &mask, &addr, &size), 0);
+  H5Dclose(set);
+  H5Fclose(file);
+}
+
+// Overwrites bytes in the middle of the chunk of `dataset` holding `frame`, as a bad disk would.
+void damage_chunk(const std::string& path, const char* dataset, hsize_t frame) {
+  haddr_t addr = 0;
+  hsize_t size = 0;
+  chunk_location(path, dataset, frame, addr, size);
+  ASSERT_GT(size, 64u);
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  f.seekp(static_cast<std::streamoff>(addr + size / 2));
+  const std::string junk(32, '\x5a');
+  f.write(junk.data(), static_cast<std::streamsize>(junk.size()));
+  ASSERT_TRUE(f.good());
+}
+
 class HostileRun : public ::testing::Test {
  protected:
   void SetUp() override { dir_ = nsf::testing::fresh_dir("hostile_run"); }
@@ -87,6 +114,29 @@ TEST_F(HostileRun, FrameBoxRefusesABoxBeyondDoubles) {
       [&] { nsf::frame_box(opt, nsf::Vec3::Constant(-1e300), nsf::Vec3::Constant(1e300)); });
   expect_contains(msg, "frame_box");
   expect_contains(msg, "not finite");
+}
+
+TEST_F(HostileRun, DamagedFrameDataIsANamedErrorNotAnAbort) {
+  const std::string run = path("damaged.h5");
+  nsf::testing::write_synthetic_run(run, 4);
+  // Frame 2 of the stress only: the render plan (positions, object colours) reads fine, so the
+  // damage is met in the parallel loop that draws the frames.
+  damage_chunk(run, "/frames/tau", 2);
+  for (const char* threads : {"1", "2", "4"}) {
+    std::string out;
+    const std::string args = "render '" + run + "' -q --no-video --size 64x48 --threads " +
+                             std::string(threads) + " --out '" + path("frames") + "'";
+    EXPECT_EQ(run_cli(args, out), 1) << args << "\n" << out;
+    expect_contains(out, "nsf: error: " + run + ": reading frame 2 of /frames/tau");
+  }
+  std::string out;
+  EXPECT_EQ(run_cli("export '" + run + "' -q --out '" + path("vtu") + "'", out), 1) << out;
+  expect_contains(out, "reading frame 2 of /frames/tau");
+  // Damaged positions are met while planning, before any thread starts.
+  damage_chunk(run, "/frames/x", 1);
+  EXPECT_EQ(run_cli("render '" + run + "' -q --no-video --out '" + path("frames") + "'", out), 1)
+      << out;
+  expect_contains(out, "reading frame 1 of /frames/x");
 }
 
 }  // namespace
