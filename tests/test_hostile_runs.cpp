@@ -107,6 +107,19 @@ TEST_F(HostileRun, NonFiniteOrFarPositionsAreANamedErrorInRenderAndExport) {
   }
 }
 
+TEST_F(HostileRun, AStoredSceneNestedTooDeepIsANamedError) {
+  // Parsing it is fine; copying its colliders recursed once per level and overflowed the stack.
+  const std::string run = path("deep_scene.h5");
+  const int levels = 200000;
+  nsf::testing::write_synthetic_run(run, 2,
+                                    R"({"name": "deep", "colliders": )" + std::string(levels, '[') +
+                                        std::string(levels, ']') + "}");
+  std::string out;
+  EXPECT_EQ(run_cli("render '" + run + "' -q --no-video --out '" + path("frames") + "'", out), 1)
+      << out;
+  expect_contains(out, "the run's stored scene nests objects and arrays more than 512 levels");
+}
+
 TEST_F(HostileRun, FrameBoxRefusesABoxBeyondDoubles) {
   nsf::RenderOptions opt;
   opt.camera.fov_deg = 30;
