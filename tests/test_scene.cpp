@@ -466,6 +466,34 @@ TEST(LoadScene, JsonNestedDeeperThanTheLimitIsRefused) {
   EXPECT_NE(msg.find("more than 512 levels deep"), std::string::npos) << msg;
 }
 
+// Before: "internal error: number overflow", "internal error: stoul" and "not valid JSON at line
+// 1", none naming the file, the key or the override.
+TEST(LoadScene, OverflowingNumbersHugeIndicesAndDirectoriesAreNamedErrors) {
+  std::string text = small_scene().dump();
+  text.replace(text.find("1000"), 4, "1e999");
+  const fs::path big = write_temp("big_number.json", text);
+  std::string msg = error_of([&] { load_scene(big.string()); });
+  for (const char* part : {"big_number.json", "1e999", "objects[0].material.E", "out of range"})
+    EXPECT_NE(msg.find(part), std::string::npos) << part << " not in: " << msg;
+
+  const fs::path ok = write_temp("ok.json", small_scene().dump());
+  msg = error_of([&] { load_scene(ok.string(), {"simulation.dt=-1e999"}); });
+  for (const char* part : {"ok.json", "override 'simulation.dt'", "-1e999", "out of range"})
+    EXPECT_NE(msg.find(part), std::string::npos) << part << " not in: " << msg;
+
+  msg = error_of([&] { load_scene(ok.string(), {"objects[99999999999999999999].x=1"}); });
+  for (const char* part : {"ok.json", "objects[99999999999999999999].x=1", "too large"})
+    EXPECT_NE(msg.find(part), std::string::npos) << part << " not in: " << msg;
+  msg = error_of([&] { load_scene(ok.string(), {"objects[999999999999999999].x=1"}); });
+  EXPECT_NE(msg.find("does not exist"), std::string::npos) << msg;
+
+  const fs::path dir = fs::path(testing::TempDir()) / "a_scene_dir";
+  fs::create_directories(dir);
+  msg = error_of([&] { load_scene(dir.string()); });
+  EXPECT_NE(msg.find("a_scene_dir"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("is a directory"), std::string::npos) << msg;
+}
+
 TEST(SceneValidation, CsgNestingIsBoundedAndTheErrorNamesTheKey) {
   // Built in memory, past any file-level check: the shape parser bounds its own recursion.
   json j = small_scene();

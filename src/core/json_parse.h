@@ -11,7 +11,8 @@ namespace nsf::json {
 constexpr int kMaxJsonDepth = 512;
 
 // nlohmann::json::parse that refuses texts nested deeper than kMaxJsonDepth with an nsf::Error
-// naming `what` (e.g. "scene file 'a.json'") and the limit. Syntax errors stay
+// naming `what` (e.g. "scene file 'a.json'") and the limit, and a number literal too large for a
+// double (1e999) with one naming `what` and the key path of the number. Syntax errors stay
 // nlohmann::json::parse_error, whose byte offset callers turn into a line and column.
 nlohmann::json parse_bounded(const std::string& text, const std::string& what,
                              bool ignore_comments = false);

@@ -44,7 +44,9 @@ std::vector<Step> parse_path(const std::string& path, const std::string& what) {
       std::string digits = path.substr(i + 1, close - i - 1);
       if (!std::all_of(digits.begin(), digits.end(), [](char c) { return std::isdigit(c); }))
         bad("non-numeric [index]");
-      steps.push_back({true, "", std::stoul(digits)});
+      // An index past any array is an error at set_at; one past size_t would overflow here.
+      if (digits.size() > 18) bad("[index] too large");
+      steps.push_back({true, "", static_cast<size_t>(std::stoull(digits))});
       i = close + 1;
     }
     if (i < path.size()) {

@@ -1,6 +1,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 #include "core/error.h"
 #include "core/json_parse.h"
@@ -34,6 +35,10 @@ std::string parse_detail(const std::string& what) {
 }  // namespace
 
 nlohmann::json read_scene_json(const std::string& path, const std::vector<std::string>& overrides) {
+  // A directory opens as a stream that reads nothing, which would come out as "not valid JSON".
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    fail("scene file '", path, "' is a directory, not a JSON file");
   std::ifstream in(path, std::ios::binary);
   if (!in) fail("scene file '", path, "' cannot be opened (missing or unreadable)");
   std::stringstream buf;
