@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/temp_files.h"
 #include "io/h5_util.h"
 #include "io/run_format.h"
 
@@ -128,6 +129,7 @@ void check_sizes(const Particles& p, size_t expected, const std::string& file) {
 struct RunWriter::Impl {
   std::string path, tmp;
   hsize_t particles = 0;
+  TempFileRegistration registration;  // a fatal signal deletes tmp (core/temp_files.h)
   Handle file;
   std::array<Handle, kFields.size()> fields;
   Handle time;
@@ -244,6 +246,7 @@ RunWriter::RunWriter(const std::string& path, const Particles& p, const SimSetti
     if (ec)
       nsf::fail(path, ": cannot create the directory ", dir.string(), " (", ec.message(), ")");
   }
+  w.registration = TempFileRegistration(w.tmp);
   w.file = Handle(h5::check(H5Fcreate(w.tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
                             w.tmp, "cannot create file"),
                   H5Fclose);
@@ -329,6 +332,7 @@ void RunWriter::finish() {
   std::error_code ec;
   fs::rename(w.tmp, w.path, ec);
   if (ec) nsf::fail(w.path, ": cannot move ", w.tmp, " into place: ", ec.message());
+  w.registration.release();
   w.finished = true;
 }
 

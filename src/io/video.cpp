@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/process.h"
+#include "core/temp_files.h"
 
 namespace nsf {
 
@@ -28,6 +29,7 @@ std::string read_all(const std::string& path) {
 std::string run_ffmpeg(const std::string& ffmpeg, const VideoJob& job, const std::string& out,
                        const std::string& format, const std::vector<std::string>& codec_args) {
   const std::string tmp = fs::absolute(out + ".tmp").string(), log = out + ".log";
+  const TempFileRegistration registration(tmp), log_registration(log);
   std::vector<std::string> argv = {ffmpeg, "-nostdin", "-y", "-hide_banner", "-loglevel", "error"};
   argv.insert(argv.end(), {"-framerate", std::to_string(job.fps), "-start_number", "0"});
   argv.insert(argv.end(), {"-i", fs::absolute(job.pattern).string()});
