@@ -56,7 +56,18 @@ std::string next_line(const std::string& buf, size_t& pos) {
   return line;
 }
 
-// A PLY file as property name -> one value per vertex (as double).
+// Bytes of the PLY type names that both meshio (7.0's binary reader) and VTK read; nsf must
+// declare no other (meshio rejects "ushort", which nsf wrote before, and "float64").
+size_t ply_type_bytes(const std::string& type) {
+  const std::map<std::string, size_t> sized = {{"int8", 1},  {"uint8", 1},  {"uint16", 2},
+                                               {"int32", 4}, {"uint32", 4}, {"float32", 4},
+                                               {"double", 8}};
+  const auto it = sized.find(type);
+  return it == sized.end() ? 0 : it->second;
+}
+
+// A PLY file as property name -> one value per vertex (as double). Checks that the header
+// declares only sized type names and that they add up to the file's size.
 std::map<std::string, std::vector<double>> read_ply(const fs::path& path) {
   const std::string buf = slurp(path);
   size_t pos = 0;
@@ -76,18 +87,25 @@ std::map<std::string, std::vector<double>> read_ply(const fs::path& path) {
       props.emplace_back(type, name);
     }
   }
+  size_t vertex_bytes = 0;
+  for (const auto& [type, name] : props) {
+    EXPECT_NE(ply_type_bytes(type), 0u) << "PLY type '" << type << "' of " << name;
+    vertex_bytes += ply_type_bytes(type);
+  }
+  EXPECT_EQ(buf.size() - pos, n * vertex_bytes) << "the header's types do not match the data";
   std::map<std::string, std::vector<double>> out;
+  if (buf.size() - pos != n * vertex_bytes) return out;
   for (size_t i = 0; i < n; ++i)
     for (const auto& [type, name] : props) {
       double v = 0;
-      if (type == "float")
+      if (type == "float32")
         v = get_le<float>(buf, pos);
       else if (type == "double")
         v = get_le<double>(buf, pos);
-      else if (type == "ushort")
+      else if (type == "uint16")
         v = get_le<uint16_t>(buf, pos);
       else
-        ADD_FAILURE() << "unexpected PLY type " << type;
+        ADD_FAILURE() << "nsf does not write PLY type " << type;
       out[name].push_back(v);
     }
   EXPECT_EQ(pos, buf.size()) << "trailing bytes in " << path;
