@@ -20,10 +20,15 @@ initial height and radius) end up in both runs at that frame.
 import argparse
 import math
 import os
+import re
 import struct
 import sys
 
-TYPES = {"float": "f", "double": "d", "ushort": "H", "uchar": "B", "int": "i", "uint": "I"}
+# PLY type names, old and sized (nsf export writes float32, float64 and uint16).
+TYPES = {"float": "f", "float32": "f", "double": "d", "float64": "d", "ushort": "H",
+         "uint16": "H", "uchar": "B", "uint8": "B", "int": "i", "int32": "i", "uint": "I",
+         "uint32": "I"}
+FRAME = re.compile(r"_(\d+)\.ply$")
 
 
 def read_ply(path):
@@ -51,10 +56,19 @@ def read_ply(path):
 
 
 def frame_files(directory):
-    files = sorted(f for f in os.listdir(directory) if f.endswith(".ply"))
+    """{frame number: file name} of the frames `nsf export` wrote there (<run>_0012.ply)."""
+    files = {}
+    for f in sorted(os.listdir(directory)):
+        m = FRAME.search(f)
+        if not m:
+            continue
+        k = int(m.group(1))
+        if k in files:
+            sys.exit(f"{directory}: {files[k]} and {f} are both frame {k}: one run per directory")
+        files[k] = f
     if not files:
         sys.exit(f"{directory}: no .ply frames (write them with `nsf export RUN -f ply -o DIR`)")
-    return files
+    return dict(sorted(files.items()))
 
 
 def summary(rows, ax, az, extent_axis):
@@ -131,18 +145,19 @@ def main():
     extent_axis = None if a.extent is None else "xyz".index(a.extent)
     ax, az = a.axis
     files = frame_files(a.truth)
-    if frame_files(a.run) != files:
+    run_files = frame_files(a.run)
+    if list(run_files) != list(files):
         sys.exit(f"{a.run} and {a.truth} hold different frames")
     print("frame  delta_k | speed^2 run/truth | height run/truth | top run/truth | "
           "gyration run/truth | rms error mm: radial tangential vertical"
           + ("" if a.extent is None else f" | {a.extent} extent run/truth")
           + " | von Mises run/truth")
     total = norm_total = 0.0
-    for k, name in enumerate(files):
-        run = read_ply(os.path.join(a.run, name))
-        truth = read_ply(os.path.join(a.truth, name))
+    for k, frame in enumerate(files):
+        run = read_ply(os.path.join(a.run, run_files[frame]))
+        truth = read_ply(os.path.join(a.truth, files[frame]))
         if len(run) != len(truth):
-            sys.exit(f"{name}: {len(run)} particles in the run, {len(truth)} in the truth")
+            sys.exit(f"frame {frame}: {len(run)} particles in the run, {len(truth)} in the truth")
         tot, rad, tan, ver, norm = error_parts(run, truth, ax, az)
         if k > 0:  # eq. 11 sums over n = 1 … N: frame 0 is the initial state
             total += tot
@@ -162,12 +177,11 @@ def main():
         print(line)
     print(f"delta over frames 1 to {len(files) - 1} (eq. 11): {100 * math.sqrt(total / norm_total):.2f}%")
     if a.regions is not None:
-        name = f"frame_{a.regions:04d}.ply"
-        if name not in files:
-            sys.exit(f"--regions {a.regions}: no {name}")
-        rest = read_ply(os.path.join(a.truth, files[0]))
-        regions(rest, read_ply(os.path.join(a.run, name)), read_ply(os.path.join(a.truth, name)),
-                ax, az, a.floor, 5, 5)
+        if a.regions not in files:
+            sys.exit(f"--regions {a.regions}: no frame {a.regions}")
+        rest = read_ply(os.path.join(a.truth, next(iter(files.values()))))
+        regions(rest, read_ply(os.path.join(a.run, run_files[a.regions])),
+                read_ply(os.path.join(a.truth, files[a.regions])), ax, az, a.floor, 5, 5)
 
 
 if __name__ == "__main__":

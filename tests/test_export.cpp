@@ -56,7 +56,18 @@ std::string next_line(const std::string& buf, size_t& pos) {
   return line;
 }
 
-// A PLY file as property name -> one value per vertex (as double).
+// Bytes of the PLY type names that both meshio (7.0's binary reader) and VTK read; nsf must
+// declare no other (meshio rejects "ushort", which nsf wrote before, and "float64").
+size_t ply_type_bytes(const std::string& type) {
+  const std::map<std::string, size_t> sized = {{"int8", 1},  {"uint8", 1},  {"uint16", 2},
+                                               {"int32", 4}, {"uint32", 4}, {"float32", 4},
+                                               {"double", 8}};
+  const auto it = sized.find(type);
+  return it == sized.end() ? 0 : it->second;
+}
+
+// A PLY file as property name -> one value per vertex (as double). Checks that the header
+// declares only sized type names and that they add up to the file's size.
 std::map<std::string, std::vector<double>> read_ply(const fs::path& path) {
   const std::string buf = slurp(path);
   size_t pos = 0;
@@ -76,18 +87,25 @@ std::map<std::string, std::vector<double>> read_ply(const fs::path& path) {
       props.emplace_back(type, name);
     }
   }
+  size_t vertex_bytes = 0;
+  for (const auto& [type, name] : props) {
+    EXPECT_NE(ply_type_bytes(type), 0u) << "PLY type '" << type << "' of " << name;
+    vertex_bytes += ply_type_bytes(type);
+  }
+  EXPECT_EQ(buf.size() - pos, n * vertex_bytes) << "the header's types do not match the data";
   std::map<std::string, std::vector<double>> out;
+  if (buf.size() - pos != n * vertex_bytes) return out;
   for (size_t i = 0; i < n; ++i)
     for (const auto& [type, name] : props) {
       double v = 0;
-      if (type == "float")
+      if (type == "float32")
         v = get_le<float>(buf, pos);
       else if (type == "double")
         v = get_le<double>(buf, pos);
-      else if (type == "ushort")
+      else if (type == "uint16")
         v = get_le<uint16_t>(buf, pos);
       else
-        ADD_FAILURE() << "unexpected PLY type " << type;
+        ADD_FAILURE() << "nsf does not write PLY type " << type;
       out[name].push_back(v);
     }
   EXPECT_EQ(pos, buf.size()) << "trailing bytes in " << path;
@@ -240,7 +258,7 @@ TEST_F(Export, PlyHoldsTheFrameAsFloats) {
   nsf::RunReader run(run_);
   for (size_t k = 0; k < run.frame_count(); ++k) {
     char name[32];
-    std::snprintf(name, sizeof name, "frame_%04zu.ply", k);
+    std::snprintf(name, sizeof name, "run_%04zu.ply", k);
     auto ply = read_ply(dir_ / "ply" / name);
     const nsf::RunFrame f = run.read_frame(k);
     const size_t n = f.x.size();
@@ -261,19 +279,19 @@ TEST_F(Export, PlyHoldsTheFrameAsFloats) {
 TEST_F(Export, PlyDoublePositionsAreExact) {
   export_run("--format ply --double --frames -1 --out '" + (dir_ / "ply").string() + "'");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_ / "ply"), fs::directory_iterator()), 1);
-  auto ply = read_ply(dir_ / "ply" / "frame_0003.ply");
+  auto ply = read_ply(dir_ / "ply" / "run_0003.ply");
   const nsf::RunFrame f = nsf::RunReader(run_).read_frame(3);
   for (size_t i = 0; i < f.x.size(); ++i) EXPECT_EQ(ply["y"][i], f.x[i].y());
 }
 
 TEST_F(Export, LegacyVtkHoldsTheFrame) {
   export_run("--format vtk --frames 1:3 --out '" + (dir_ / "vtk").string() + "'");
-  EXPECT_FALSE(fs::exists(dir_ / "vtk" / "frame_0000.vtk"));
-  EXPECT_FALSE(fs::exists(dir_ / "vtk" / "frame_0003.vtk"));
+  EXPECT_FALSE(fs::exists(dir_ / "vtk" / "run_0000.vtk"));
+  EXPECT_FALSE(fs::exists(dir_ / "vtk" / "run_0003.vtk"));
   nsf::RunReader run(run_);
   for (size_t k : {1, 2}) {
     char name[32];
-    std::snprintf(name, sizeof name, "frame_%04zu.vtk", k);
+    std::snprintf(name, sizeof name, "run_%04zu.vtk", k);
     auto vtk = read_vtk(dir_ / "vtk" / name);
     const nsf::RunFrame f = run.read_frame(k);
     EXPECT_EQ(vtk["TIME"], std::vector<double>{f.time});
@@ -294,7 +312,7 @@ TEST_F(Export, LegacyVtkHoldsTheFrame) {
   // The series file gives ParaView the times.
   const auto series = nlohmann::json::parse(slurp(dir_ / "vtk" / "run.vtk.series"));
   ASSERT_EQ(series["files"].size(), 2u);
-  EXPECT_EQ(series["files"][1]["name"], "frame_0002.vtk");
+  EXPECT_EQ(series["files"][1]["name"], "run_0002.vtk");
   EXPECT_EQ(series["files"][1]["time"].get<double>(), run.times()[2]);
 }
 
@@ -303,7 +321,7 @@ TEST_F(Export, VtuHoldsTheFrameAndPvdListsTheTimes) {
   nsf::RunReader run(run_);
   for (size_t k = 0; k < run.frame_count(); ++k) {
     char name[32];
-    std::snprintf(name, sizeof name, "frame_%04zu.vtu", k);
+    std::snprintf(name, sizeof name, "run_%04zu.vtu", k);
     auto vtu = read_vtu(dir_ / "vtu" / name);
     const nsf::RunFrame f = run.read_frame(k);
     const size_t n = f.x.size();
@@ -335,6 +353,36 @@ TEST_F(Export, VtuHoldsTheFrameAndPvdListsTheTimes) {
   }
   for (const auto& e : fs::directory_iterator(dir_ / "vtu"))
     EXPECT_NE(e.path().extension(), ".tmp") << e.path();
+}
+
+// Before, every export wrote frame_NNNN files: a second run exported into the same folder
+// overwrote the first one's frames, and the first run's .pvd then played the second run.
+TEST_F(Export, TwoRunsInOneFolderKeepTheirOwnFramesAndCollections) {
+  const std::string other = (dir_ / "other.h5").string();
+  nsf::testing::write_synthetic_run(other, 2);
+  const fs::path out = dir_ / "both";
+  fs::create_directories(out);
+  std::ofstream(out / "run_0007.vtu.tmp") << "left by a killed export";
+  std::ofstream(out / "other_run_0001.vtu.tmp") << "another run's, not ours";
+  export_run("--format vtu --out '" + out.string() + "'");
+  std::string log;
+  ASSERT_EQ(run_cli("export '" + other + "' -q --format vtu --out '" + out.string() + "'", log), 0)
+      << log;
+  EXPECT_FALSE(fs::exists(out / "run_0007.vtu.tmp"));  // a stale temp file of this run's export
+  EXPECT_TRUE(fs::exists(out / "other_run_0001.vtu.tmp"));
+  for (const auto& [name, frames] :
+       {std::pair<std::string, size_t>{"run", 4}, std::pair<std::string, size_t>{"other", 2}}) {
+    const std::string pvd = slurp(out / (name + ".pvd"));
+    const std::regex file_re("file=\"([^\"]+)\"");
+    size_t entries = 0;
+    for (auto it = std::sregex_iterator(pvd.begin(), pvd.end(), file_re);
+         it != std::sregex_iterator(); ++it, ++entries) {
+      const std::string file = (*it)[1];
+      EXPECT_EQ(file.rfind(name + "_", 0), 0u) << name << ".pvd lists " << file;
+      EXPECT_TRUE(fs::exists(out / file)) << file;
+    }
+    EXPECT_EQ(entries, frames) << pvd;
+  }
 }
 
 TEST_F(Export, BadInputFailsClearlyAndWritesNothing) {

@@ -433,6 +433,81 @@ TEST(LoadScene, ValidationErrorsNameTheFileAndTheKey) {
   EXPECT_NE(msg.find("simulation.dt"), std::string::npos) << msg;
 }
 
+// `levels` CSG unions around one sphere, as JSON text.
+std::string nested_union(int levels) {
+  std::string text;
+  for (int i = 0; i < levels; ++i) text += R"({"type": "union", "children": [)";
+  text += R"({"type": "sphere", "center": [0.375, 0.375, 0.375], "radius": 0.1})";
+  for (int i = 0; i < levels; ++i) text += "]}";
+  return text;
+}
+
+// A scene file whose first object's shape is `shape` (JSON text).
+std::string scene_text_with_shape(const std::string& shape) {
+  std::string text = small_scene().dump();
+  const std::string box = small_scene()["objects"][0]["shape"].dump();
+  return text.replace(text.find(box), box.size(), shape);
+}
+
+// Before, 14,000 nested unions overflowed the stack (SIGSEGV) in the shape parser's recursion,
+// and 100,000 nested arrays in copying or printing the parsed JSON.
+TEST(LoadScene, JsonNestedDeeperThanTheLimitIsRefused) {
+  for (const int levels : {14000, 100000}) {
+    const fs::path p = write_temp("deep_csg.json", scene_text_with_shape(nested_union(levels)));
+    const std::string msg = error_of([&] { load_scene(p.string()); });
+    EXPECT_NE(msg.find("deep_csg.json"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("more than 512 levels deep"), std::string::npos) << msg;
+  }
+  const fs::path p = write_temp("ok.json", small_scene().dump());
+  const std::string deep_value = std::string(100000, '[') + std::string(100000, ']');
+  const std::string msg =
+      error_of([&] { load_scene(p.string(), {"simulation.dt=" + deep_value}); });
+  EXPECT_NE(msg.find("override 'simulation.dt'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("more than 512 levels deep"), std::string::npos) << msg;
+}
+
+// Before: "internal error: number overflow", "internal error: stoul" and "not valid JSON at line
+// 1", none naming the file, the key or the override.
+TEST(LoadScene, OverflowingNumbersHugeIndicesAndDirectoriesAreNamedErrors) {
+  std::string text = small_scene().dump();
+  text.replace(text.find("1000"), 4, "1e999");
+  const fs::path big = write_temp("big_number.json", text);
+  std::string msg = error_of([&] { load_scene(big.string()); });
+  for (const char* part : {"big_number.json", "1e999", "objects[0].material.E", "out of range"})
+    EXPECT_NE(msg.find(part), std::string::npos) << part << " not in: " << msg;
+
+  const fs::path ok = write_temp("ok.json", small_scene().dump());
+  msg = error_of([&] { load_scene(ok.string(), {"simulation.dt=-1e999"}); });
+  for (const char* part : {"ok.json", "override 'simulation.dt'", "-1e999", "out of range"})
+    EXPECT_NE(msg.find(part), std::string::npos) << part << " not in: " << msg;
+
+  msg = error_of([&] { load_scene(ok.string(), {"objects[99999999999999999999].x=1"}); });
+  for (const char* part : {"ok.json", "objects[99999999999999999999].x=1", "too large"})
+    EXPECT_NE(msg.find(part), std::string::npos) << part << " not in: " << msg;
+  msg = error_of([&] { load_scene(ok.string(), {"objects[999999999999999999].x=1"}); });
+  EXPECT_NE(msg.find("does not exist"), std::string::npos) << msg;
+
+  const fs::path dir = fs::path(testing::TempDir()) / "a_scene_dir";
+  fs::create_directories(dir);
+  msg = error_of([&] { load_scene(dir.string()); });
+  EXPECT_NE(msg.find("a_scene_dir"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("is a directory"), std::string::npos) << msg;
+}
+
+TEST(SceneValidation, CsgNestingIsBoundedAndTheErrorNamesTheKey) {
+  // Built in memory, past any file-level check: the shape parser bounds its own recursion.
+  json j = small_scene();
+  j["objects"][0]["shape"] = json::parse(nested_union(14000));
+  std::string deep_key = "objects[0].shape";
+  for (int i = 0; i <= kMaxShapeDepth; ++i) deep_key += ".children[0]";
+  expect_rejected(j, {"'" + deep_key + "'", "more than 64 levels deep"});
+
+  EXPECT_NO_THROW(parse_shape(json::parse(nested_union(kMaxShapeDepth)), "shape"));
+  const std::string msg =
+      error_of([] { parse_shape(json::parse(nested_union(kMaxShapeDepth + 1)), "shape"); });
+  EXPECT_NE(msg.find("more than 64 levels deep"), std::string::npos) << msg;
+}
+
 TEST(Examples, ReferenceBlockHas64000ParticlesOnA20CellCube) {
   Scene s = load_scene((kExamples / "reference_block.json").string());
   ASSERT_EQ(s.particles.size(), 64000u);

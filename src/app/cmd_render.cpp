@@ -2,7 +2,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -10,6 +12,7 @@
 
 #include "app/commands.h"
 #include "core/error.h"
+#include "core/omp_errors.h"
 #include "core/progress.h"
 #include "io/frame_range.h"
 #include "io/run_reader.h"
@@ -75,23 +78,25 @@ void run_render(const RenderArgs& a) {
                run.scene_name().c_str(), n, run.particle_count(), o.width, o.height, threads);
   Progress progress("render", n, "frames");
   int done = 0;
-  std::string error;
+  // One slot per frame for what went wrong in it (a damaged chunk, a full disk), rethrown after
+  // the loop: an exception escaping the region or a critical section would abort the program.
+  std::vector<std::exception_ptr> errors(n);
+  std::atomic<bool> failed{false};
   // Frames are independent; HDF5 is not thread-safe, so only the reads are serialised.
 #pragma omp parallel for schedule(dynamic, 1)
   for (int i = 0; i < n; ++i) {
-    try {
-      RunFrame f;
+    if (failed) continue;  // the command fails anyway: do not draw the frames not yet begun
+    RunFrame f;
 #pragma omp critical(nsf_render_read)
-      f = run.read_frame(frames[i]);
-      write_png(render_run_frame(run, f, frames[i], plan), frame_path(i));
-    } catch (const std::exception& e) {
-#pragma omp critical(nsf_render_error)
-      if (error.empty()) error = e.what();
-    }
+    errors[i] = capture_exception([&] { f = run.read_frame(frames[i]); });
+    if (!errors[i])
+      errors[i] = capture_exception(
+          [&] { write_png(render_run_frame(run, f, frames[i], plan), frame_path(i)); });
+    if (errors[i]) failed = true;
 #pragma omp critical(nsf_render_progress)
     if (!a.quiet) progress.update(++done);
   }
-  if (!error.empty()) fail(error);
+  rethrow_first(errors);
   if (!a.quiet) progress.finish();
   std::printf("wrote %d frames: %s\n", n, frame_path(0).c_str());
 

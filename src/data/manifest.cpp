@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "core/temp_files.h"
 
 namespace nsf {
 
@@ -26,6 +27,7 @@ nlohmann::json make_manifest(const std::string& scene_name, const std::string& s
 
 void write_json_atomically(const std::string& path, const nlohmann::json& j) {
   const std::string tmp = path + ".tmp";
+  const TempFileRegistration registration(tmp);  // a fatal signal deletes it
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) fail("cannot write '", tmp, "'");

@@ -9,7 +9,8 @@ namespace nsf {
 
 namespace fs = std::filesystem;
 
-AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), tmp_(path_ + ".tmp") {
+AtomicFile::AtomicFile(std::string path)
+    : path_(std::move(path)), tmp_(path_ + ".tmp"), registration_(tmp_) {
   out_.open(tmp_, std::ios::binary | std::ios::trunc);
   if (!out_) fail(path_, ": cannot create ", tmp_);
 }
@@ -27,6 +28,7 @@ void AtomicFile::commit() {
   std::error_code ec;
   fs::rename(tmp_, path_, ec);
   if (ec) fail(path_, ": cannot move ", tmp_, " into place: ", ec.message());
+  registration_.release();
   committed_ = true;
 }
 

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <string>
 
+#include "core/temp_files.h"
+
 namespace nsf {
 
 class AtomicFile {
@@ -19,6 +21,7 @@ class AtomicFile {
 
  private:
   std::string path_, tmp_;
+  TempFileRegistration registration_;  // a fatal signal deletes tmp_ (core/temp_files.h)
   std::ofstream out_;
   bool committed_ = false;
 };

@@ -1,6 +1,7 @@
 #include "io/collider_shapes.h"
 
 #include "core/error.h"
+#include "core/json_parse.h"
 #include "mpm/colliders/box_collider.h"
 #include "mpm/colliders/cylinder_collider.h"
 #include "mpm/colliders/plane_collider.h"
@@ -48,9 +49,8 @@ SceneColliders::SceneColliders(nlohmann::json colliders) {
 }
 
 SceneColliders SceneColliders::from_scene_json(const std::string& scene_json) {
-  const nlohmann::json scene = nlohmann::json::parse(scene_json, nullptr,
-                                                     /*allow_exceptions=*/false,
-                                                     /*ignore_comments=*/true);
+  const nlohmann::json scene =
+      json::parse_bounded_or_discarded(scene_json, "the run's stored scene");
   // A run without a readable scene simply has no colliders to show; the rest of the picture
   // does not depend on it either (scene_hints is as forgiving).
   if (scene.is_discarded() || !scene.is_object()) return {};

@@ -1,8 +1,31 @@
 #include "io/h5_util.h"
 
+#include <atomic>
+#include <cstdlib>
+
 #include "core/error.h"
 
 namespace nsf::h5 {
+
+namespace {
+
+std::atomic<bool> g_close_failed{false};
+
+void shut_down_library() {
+  if (!g_close_failed) H5close();
+}
+
+// Runs before main, hence before HDF5 initialises (H5dont_atexit only works then).
+const bool g_exit_handler_installed = [] {
+  H5dont_atexit();
+  return std::atexit(shut_down_library) == 0;
+}();
+
+}  // namespace
+
+void note_failed_close() {
+  g_close_failed = true;
+}
 
 QuietErrors::QuietErrors() {
   H5Eget_auto2(H5E_DEFAULT, &func_, &data_);

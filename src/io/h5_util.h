@@ -10,6 +10,13 @@
 
 namespace nsf::h5 {
 
+// HDF5 1.10 frees a file whose close fails (the disk is full, the file size limit is reached) but
+// keeps its identifier, so the library's own exit handler closes it a second time and crashes
+// (SIGSEGV in H5F__close_cb). h5_util therefore replaces that handler (H5dont_atexit) with one that
+// shuts the library down only if no close has failed; after a failed close the process exits
+// without it (nsf closes every handle itself, so there is nothing left to flush).
+void note_failed_close();
+
 // Owns one HDF5 identifier. The close function depends on the object kind (file, dataset, ...).
 class Handle {
  public:
@@ -31,10 +38,12 @@ class Handle {
 
   hid_t get() const { return id_; }
   bool valid() const { return id_ >= 0; }
-  // Returns false when HDF5 refuses the close; closing a file flushes it, and that can fail.
+  // Returns false when HDF5 refuses the close; closing a file flushes it, and that can fail
+  // (a full disk). The identifier is given up either way: it must not be closed twice.
   bool reset() {
     if (id_ < 0) return true;
     const herr_t status = close_(std::exchange(id_, H5I_INVALID_HID));
+    if (status < 0) note_failed_close();
     return status >= 0;
   }
 

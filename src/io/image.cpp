@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "core/error.h"
+#include "core/temp_files.h"
 
 namespace nsf {
 
@@ -33,6 +34,7 @@ void write_png(const Image& img, const std::string& path) {
     fail(path, ": image buffer does not match its ", img.width, "x", img.height, " size");
   }
   const std::string tmp = path + ".tmp";
+  const TempFileRegistration registration(tmp);  // a fatal signal deletes it
   png_image pi;
   std::memset(&pi, 0, sizeof pi);
   pi.version = PNG_IMAGE_VERSION;

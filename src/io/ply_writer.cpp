@@ -14,7 +14,9 @@ void write_ply(const std::string& path, const RunFrame& f, const std::vector<uin
   const size_t n = f.x.size();
   if (f.v.size() != n || f.tau.size() != n || material.size() != n || object.size() != n)
     fail(path, ": frame arrays of different lengths");
-  const char* pos_type = options.double_positions ? "double" : "float";
+  // Type names that meshio (7.0 reads binary PLY with uint16, float32 and double, but not ushort
+  // or float64) and VTK, Blender and Houdini all read.
+  const char* pos_type = options.double_positions ? "double" : "float32";
   std::ostringstream h;
   h << "ply\nformat binary_little_endian 1.0\n";
   if (!options.comment.empty()) {
@@ -26,8 +28,8 @@ void write_ply(const std::string& path, const RunFrame& f, const std::vector<uin
   h << "element vertex " << n << "\n";
   for (const char* p : {"x", "y", "z"}) h << "property " << pos_type << " " << p << "\n";
   for (const char* p : {"vx", "vy", "vz", "speed", "von_mises"})
-    h << "property float " << p << "\n";
-  h << "property ushort material\nproperty ushort object\nend_header\n";
+    h << "property float32 " << p << "\n";
+  h << "property uint16 material\nproperty uint16 object\nend_header\n";
 
   std::string buf = h.str();
   buf.reserve(buf.size() + n * (3 * (options.double_positions ? 8 : 4) + 5 * 4 + 2 * 2));

@@ -247,6 +247,10 @@ void frame_box(RenderOptions& opt, const Vec3& lo, const Vec3& hi, const Vec3& v
   const Vec3 dir = view_dir.normalized();
   const Vec3 centre = 0.5 * (lo + hi);
   const double diag = std::max((hi - lo).norm(), 1e-9);
+  // NaN or a box too big for doubles would make the camera fit below search forever.
+  if (!std::isfinite(diag) || !lo.allFinite() || !hi.allFinite() || !centre.allFinite())
+    fail("frame_box: the box to frame, [", lo.transpose(), "] to [", hi.transpose(),
+         "], is not finite");
   Camera& cam = opt.camera;
   cam.target = centre;
   cam.eye = centre - dir * (2 * diag);
@@ -280,7 +284,13 @@ void frame_box(RenderOptions& opt, const Vec3& lo, const Vec3& hi, const Vec3& v
       return true;
     };
     double near = 0, far = diag;
-    while (!fits(far)) far *= 2;
+    // A finite box fits within 2^64 diagonals; the bound stops the search whatever the box.
+    for (int doubling = 0; !fits(far); ++doubling) {
+      if (doubling == 64 || !std::isfinite(2 * far))
+        fail("frame_box: no camera distance fits the box [", lo.transpose(), "] to [",
+             hi.transpose(), "] in the picture");
+      far *= 2;
+    }
     for (int it = 0; it < 40; ++it) {
       const double mid = 0.5 * (near + far);
       (fits(mid) ? far : near) = mid;

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "io/colormap.h"
+#include "io/position_check.h"
 #include "io/scene_hints.h"
 #include "io/text.h"
 
@@ -34,10 +35,6 @@ double percentile(std::vector<double> v, double q) {
   const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5));
   std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
   return v[k];
-}
-
-bool finite(const Vec3& p) {
-  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
 }
 
 Vec3 parse_vec3(const std::string& key, const std::string& text) {
@@ -187,11 +184,8 @@ RenderPlan plan_render(const RunReader& run, const std::vector<size_t>& frames,
     } else {
       x = run.read_positions(k);
     }
-    for (const Vec3& p : x)
-      if (finite(p)) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  }
-  if (!(lo.x() <= hi.x())) {
-    lo = Vec3::Zero(), hi = Vec3::Ones();  // nothing finite to frame; still make pictures
+    check_run_positions(x, run.path(), k);
+    for (const Vec3& p : x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   }
   // The floor the material rests on, not the lowest particle (which sits a radius above it).
   const double ground = hints.floor_height && *hints.floor_height <= lo.y() + 2 * run.dx()

@@ -55,7 +55,8 @@ struct RenderPlan {
 
 // Reads the selected frames once for their bounding box and value range. The camera frames the
 // particles and the parts of the colliders close to them. Fails, before anything is drawn, for
-// a stored collider the engine cannot build.
+// a stored collider the engine cannot build, and for a position no simulation could have written
+// (check_run_positions).
 RenderPlan plan_render(const RunReader& run, const std::vector<size_t>& frames,
                        const RunRenderOptions& options);
 

@@ -12,8 +12,11 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/temp_files.h"
+#include "io/atomic_file.h"
 #include "io/h5_util.h"
 #include "io/run_format.h"
+#include "io/xdmf_writer.h"
 
 namespace nsf {
 
@@ -30,13 +33,14 @@ constexpr hsize_t kTimeChunk = 256;
 struct FrameField {
   const char* name;
   hsize_t width;
+  const char* units;  // SI, stored as each dataset's "units" attribute ("1": dimensionless)
 };
 // Order matches Impl::fields.
-constexpr std::array<FrameField, 5> kFields = {{{"/frames/x", run_format::kVectorWidth},
-                                                {"/frames/v", run_format::kVectorWidth},
-                                                {"/frames/C", run_format::kMatrixWidth},
-                                                {"/frames/F", run_format::kMatrixWidth},
-                                                {"/frames/tau", run_format::kSymWidth}}};
+constexpr std::array<FrameField, 5> kFields = {{{"/frames/x", run_format::kVectorWidth, "m"},
+                                                {"/frames/v", run_format::kVectorWidth, "m/s"},
+                                                {"/frames/C", run_format::kMatrixWidth, "1/s"},
+                                                {"/frames/F", run_format::kMatrixWidth, "1"},
+                                                {"/frames/tau", run_format::kSymWidth, "Pa"}}};
 
 hsize_t chunk_rows(hsize_t rows, hsize_t row_bytes) {
   return std::clamp<hsize_t>(kMaxChunkBytes / row_bytes, 1, rows);
@@ -70,9 +74,10 @@ Handle create_dataset(hid_t file_id, const std::string& name, hid_t type,
                 H5Dclose);
 }
 
+// `units` ("" for none) becomes the dataset's "units" attribute.
 void write_static(hid_t file_id, const std::string& name, hid_t file_type, hid_t mem_type,
                   hsize_t rows, hsize_t width, size_t elem_bytes, const void* data, int gzip,
-                  const std::string& file) {
+                  const std::string& file, const std::string& units) {
   std::vector<hsize_t> dims{rows}, chunk{chunk_rows(rows, width * elem_bytes)};
   if (width > 1) {
     dims.push_back(width);
@@ -81,6 +86,7 @@ void write_static(hid_t file_id, const std::string& name, hid_t file_type, hid_t
   Handle set = create_dataset(file_id, name, file_type, dims, chunk, false, gzip, file);
   h5::check_status(H5Dwrite(set.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), file,
                    "writing dataset " + name);
+  if (!units.empty()) h5::write_attribute(set.get(), "units", units, file);
 }
 
 template <typename T, typename Pack>
@@ -128,10 +134,12 @@ void check_sizes(const Particles& p, size_t expected, const std::string& file) {
 struct RunWriter::Impl {
   std::string path, tmp;
   hsize_t particles = 0;
+  TempFileRegistration registration;  // a fatal signal deletes tmp (core/temp_files.h)
   Handle file;
   std::array<Handle, kFields.size()> fields;
   Handle time;
   hsize_t frames = 0;
+  std::vector<double> times;  // of the frames written, for the XDMF sidecar
   bool created = false;
   bool finished = false;
   bool broken = false;  // a write failed part-way, so the datasets may disagree on frame count
@@ -164,16 +172,16 @@ struct RunWriter::Impl {
   void write_static_data(const Particles& p, int gzip) {
     const hid_t f = file.get();
     flatten(p.X, 3, run_format::pack_vec, buf);
-    write_static(f, "/X", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, particles, 3, 8, buf.data(), gzip,
-                 tmp);
+    write_static(f, "/X", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, particles, 3, 8, buf.data(), gzip, tmp,
+                 "m");
     write_static(f, "/mass", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, particles, 1, 8, p.mass.data(),
-                 gzip, tmp);
+                 gzip, tmp, "kg");
     write_static(f, "/volume", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, particles, 1, 8, p.vol0.data(),
-                 gzip, tmp);
+                 gzip, tmp, "m^3");
     write_static(f, "/material", H5T_STD_U16LE, H5T_NATIVE_UINT16, particles, 1, 2,
-                 p.material.data(), gzip, tmp);
+                 p.material.data(), gzip, tmp, "1");
     write_static(f, "/object", H5T_STD_U16LE, H5T_NATIVE_UINT16, particles, 1, 2, p.object.data(),
-                 gzip, tmp);
+                 gzip, tmp, "1");
   }
 
   void create_frame_datasets(int gzip) {
@@ -181,9 +189,11 @@ struct RunWriter::Impl {
       const hsize_t w = kFields[k].width;
       fields[k] = create_dataset(file.get(), kFields[k].name, H5T_IEEE_F64LE, {0, particles, w},
                                  {1, chunk_rows(particles, w * 8), w}, true, gzip, tmp);
+      h5::write_attribute(fields[k].get(), "units", std::string(kFields[k].units), tmp);
     }
     time =
         create_dataset(file.get(), "/frames/time", H5T_IEEE_F64LE, {0}, {kTimeChunk}, true, 0, tmp);
+    h5::write_attribute(time.get(), "units", std::string("s"), tmp);
   }
 
   void write_frame(const Particles& p, double t) {
@@ -244,6 +254,7 @@ RunWriter::RunWriter(const std::string& path, const Particles& p, const SimSetti
     if (ec)
       nsf::fail(path, ": cannot create the directory ", dir.string(), " (", ec.message(), ")");
   }
+  w.registration = TempFileRegistration(w.tmp);
   w.file = Handle(h5::check(H5Fcreate(w.tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
                             w.tmp, "cannot create file"),
                   H5Fclose);
@@ -275,6 +286,7 @@ void RunWriter::write_frame(const Particles& p, double time) {
   w.write_frame(p, time);
   w.broken = false;
   ++w.frames;
+  w.times.push_back(time);
 }
 
 namespace {
@@ -294,8 +306,8 @@ void RunWriter::write_table(const std::string& name, size_t rows, size_t cols, c
       nsf::fail(w.path, ": dataset '", name, "' is part of the run layout, written by RunWriter");
   if (rows == 0 || cols == 0) nsf::fail(w.path, ": table '", name, "' is empty");
   h5::QuietErrors quiet;
-  write_static(w.file.get(), name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, rows, cols, 8, data, 0,
-               w.tmp);
+  write_static(w.file.get(), name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, rows, cols, 8, data, 0, w.tmp,
+               "");
 }
 
 void RunWriter::set_attribute(const std::string& name, double value) {
@@ -326,9 +338,15 @@ void RunWriter::finish() {
   for (Handle& h : w.fields) closed = h.reset() && closed;
   closed = w.file.reset() && closed;  // flushes everything to disk
   if (!closed) h5::fail(w.tmp, "closing the file failed (disk full?)");
+  // The sidecar first: a run never appears without it, and one left by a failed rename below
+  // describes a run that is not there (harmless; the next run of that name replaces it).
+  const std::string xdmf = xdmf_path_for(w.path);
+  write_file_atomic(xdmf, run_xdmf(fs::path(w.path).filename().string(),
+                                   static_cast<size_t>(w.particles), w.times));
   std::error_code ec;
   fs::rename(w.tmp, w.path, ec);
   if (ec) nsf::fail(w.path, ": cannot move ", w.tmp, " into place: ", ec.message());
+  w.registration.release();
   w.finished = true;
 }
 

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/json_parse.h"
 
 namespace nsf {
 
@@ -56,8 +57,7 @@ std::optional<double> plane_floor(const Json& scene) {
 
 SceneHints scene_hints(const std::string& scene_json, double dx) {
   SceneHints h;
-  const Json scene = Json::parse(scene_json, nullptr, /*allow_exceptions=*/false,
-                                 /*ignore_comments=*/true);
+  const Json scene = json::parse_bounded_or_discarded(scene_json, "the run's stored scene");
   if (scene.is_discarded()) return h;
   const Json* sim = find(scene, "simulation");
   const double ppc = sim ? number(find(*sim, "ppc"), 2) : 2;

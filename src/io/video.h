@@ -3,10 +3,9 @@
 // keeps libav* out of the build; without ffmpeg the frames are still there to view or encode.
 #include <string>
 
-namespace nsf {
+#include "core/process.h"  // find_on_path, for callers looking for ffmpeg
 
-// Full path of an executable found on PATH, or "" when there is none.
-std::string find_on_path(const std::string& name);
+namespace nsf {
 
 struct VideoJob {
   std::string pattern;  // printf pattern of the frames, e.g. "out/frame_%04d.png", numbered from 0

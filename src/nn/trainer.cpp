@@ -19,6 +19,7 @@
 #include "io/run_reader.h"
 #include "nn/basis_fit.h"
 #include "nn/dataset.h"
+#include "nn/loss_plot.h"
 #include "nn/model.h"
 #include "nn/runtime.h"
 #include "rom/latent_inversion.h"
@@ -626,46 +627,13 @@ void Trainer::write_loss_curves(TrainReport& report) const {
         << smooth << "," << r.lr << "\n";
   }
   csv.close();
-  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
-    say("note: gnuplot not found, loss curves only as CSV (" + report.loss_csv + ")");
-    return;
-  }
   const std::string png = fs::path(report.loss_csv).replace_extension(".png").string();
-  const std::string script = report.loss_csv + ".gp";
-  {
-    std::ofstream gp(script);
-    gp << "set terminal pngcairo size 900,500 noenhanced\n"
-       << "set output '" << png << "'\n"
-       << "set datafile separator ','\n"
-       << "set logscale y\nset grid\nset key top right\n"
-       << "set xlabel 'optimiser step'\nset ylabel 'normalised MSE'\n"
-       << "set title 'nsf train: " << model_.scene.scene_name << "'\n"
-       << "f = '" << report.loss_csv << "'\n"
-       << "plot f every ::1 using 3:($1==1?$5:1/0) with lines lw 2 title 'g (deformation + e)', "
-          "\\\n"
-       << "     f every ::1 using 3:($1==2?$5:1/0) with lines lw 2 title 'h (stress)', \\\n"
-       << "     f every ::1 using 3:($1==3?$5:1/0) with lines lw 2 title 'l (affine)'\n";
-  }
-  const std::string cmd = "gnuplot '" + script + "' 2>&1";
-  if (std::system(cmd.c_str()) == 0) {
+  const std::string no_plot =
+      plot_loss_curves(report.loss_csv, png, "nsf train: " + model_.scene.scene_name);
+  if (no_plot.empty())
     report.loss_png = png;
-  } else {
-    // pngcairo is missing in some gnuplot builds; the plain png terminal always exists.
-    std::string text;
-    {
-      std::ifstream in(script);
-      std::stringstream ss;
-      ss << in.rdbuf();
-      text = ss.str();
-    }
-    text.replace(text.find("pngcairo"), 8, "png");
-    std::ofstream(script) << text;
-    if (std::system(cmd.c_str()) == 0)
-      report.loss_png = png;
-    else
-      say("note: gnuplot failed, loss curves only as CSV (" + report.loss_csv + ")");
-  }
-  fs::remove(script);
+  else
+    say("note: " + no_plot + ", loss curves only as CSV (" + report.loss_csv + ")");
 }
 
 TrainReport Trainer::run() {

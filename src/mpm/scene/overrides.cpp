@@ -3,6 +3,7 @@
 #include <cctype>
 
 #include "core/error.h"
+#include "core/json_parse.h"
 #include "core/json_util.h"
 #include "mpm/scene/scene.h"
 #include "mpm/scene/scene_keys.h"
@@ -43,7 +44,9 @@ std::vector<Step> parse_path(const std::string& path, const std::string& what) {
       std::string digits = path.substr(i + 1, close - i - 1);
       if (!std::all_of(digits.begin(), digits.end(), [](char c) { return std::isdigit(c); }))
         bad("non-numeric [index]");
-      steps.push_back({true, "", std::stoul(digits)});
+      // An index past any array is an error at set_at; one past size_t would overflow here.
+      if (digits.size() > 18) bad("[index] too large");
+      steps.push_back({true, "", static_cast<size_t>(std::stoull(digits))});
       i = close + 1;
     }
     if (i < path.size()) {
@@ -56,9 +59,10 @@ std::vector<Step> parse_path(const std::string& path, const std::string& what) {
 }
 
 // A value that is not valid JSON is taken as a bare string, so "contact=slip" works unquoted.
-Json parse_value(const std::string& text) {
+// `what` names the override in a depth error.
+Json parse_value(const std::string& text, const std::string& what) {
   try {
-    return Json::parse(text);
+    return json::parse_bounded(text, what);
   } catch (const Json::parse_error&) {
     return text;
   }
@@ -120,7 +124,7 @@ void apply_overrides(Json& scene, const std::vector<std::string>& overrides) {
     if (eq == std::string::npos)
       fail("override '", ov, "' must look like path=value, e.g. simulation.dt=1e-4");
     std::vector<Step> steps = parse_path(ov.substr(0, eq), ov);
-    Json value = parse_value(ov.substr(eq + 1));
+    Json value = parse_value(ov.substr(eq + 1), "the value of override '" + ov.substr(0, eq) + "'");
     if (steps[0].is_index) fail("override '", ov, "': a path must start with a key");
 
     if (broadcasts_to_objects(scene, steps[0].key)) {

@@ -1,8 +1,10 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 #include "core/error.h"
+#include "core/json_parse.h"
 #include "mpm/scene/scene.h"
 
 namespace nsf {
@@ -33,6 +35,10 @@ std::string parse_detail(const std::string& what) {
 }  // namespace
 
 nlohmann::json read_scene_json(const std::string& path, const std::vector<std::string>& overrides) {
+  // A directory opens as a stream that reads nothing, which would come out as "not valid JSON".
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    fail("scene file '", path, "' is a directory, not a JSON file");
   std::ifstream in(path, std::ios::binary);
   if (!in) fail("scene file '", path, "' cannot be opened (missing or unreadable)");
   std::stringstream buf;
@@ -42,7 +48,7 @@ nlohmann::json read_scene_json(const std::string& path, const std::vector<std::s
   nlohmann::json j;
   try {
     // Comments are allowed so example scenes can explain themselves.
-    j = nlohmann::json::parse(text, nullptr, true, /*ignore_comments=*/true);
+    j = json::parse_bounded(text, "scene file '" + path + "'", /*ignore_comments=*/true);
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte is one past the offending character.
     fail("scene file '", path, "' is not valid JSON at ",

@@ -74,9 +74,11 @@ ShapePtr parse_csg(CsgOp op, size_t min_children, const Json& j, const std::stri
   if (!c.is_array() || c.size() < min_children)
     fail("scene: '", cpath, "' must be an array of at least ", min_children, " shapes, got ",
          c.dump());
+  ShapeContext inner = context;
+  ++inner.depth;
   std::vector<ShapePtr> children;
   for (size_t i = 0; i < c.size(); ++i)
-    children.push_back(parse_shape(c[i], js::child(cpath, i), context));
+    children.push_back(parse_shape(c[i], js::child(cpath, i), inner));
   return make_csg(op, std::move(children));
 }
 
@@ -148,6 +150,9 @@ const std::map<std::string, Parser>& parsers() {
 }  // namespace
 
 ShapePtr parse_shape(const Json& j, const std::string& path, const ShapeContext& context) {
+  if (context.depth > kMaxShapeDepth)
+    fail("scene: '", path, "' nests CSG shapes more than ", kMaxShapeDepth,
+         " levels deep, the most nsf accepts");
   js::require_object(j, path);
   std::string type = js::get_string(j, path, "type");
   auto it = parsers().find(type);

@@ -1,0 +1,59 @@
+// A disk that fills up while `nsf simulate` writes its run: the command must stop with a message
+// about the failed write, leave neither the run nor its .tmp behind, and exit normally. Before,
+// it printed the message and then crashed (SIGSEGV) in HDF5's shutdown at exit. The full disk is
+// a file-size limit (RLIMIT_FSIZE, with SIGXFSZ ignored so a write past it fails with EFBIG).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_child.h"
+#include "cli_runner.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kTinyScene = R"({
+  "name": "tiny",
+  "simulation": {"domain_lo": [0,0,0], "domain_hi": [0.5,0.5,0.5], "dx": 0.03125, "dt": 5e-4,
+                 "frames": 3, "substeps": 4},
+  "objects": [{"shape": {"type": "box", "min": [0.15,0.15,0.15], "max": [0.3,0.3,0.3]},
+               "material": {"type": "fixed_corotated", "E": 1e4, "nu": 0.3}}]
+})";
+
+bool mentions_write_failure(const std::string& out) {
+  for (const char* part : {"disk full", "No space left", "File too large", "write failed"})
+    if (out.find(part) != std::string::npos) return true;
+  return false;
+}
+
+TEST(FullDisk, SimulateStopsWithAMessageAndNoCrashNoFile) {
+  const fs::path dir = nsf::testing::fresh_dir("full_disk");
+  std::ofstream(dir / "scene.json") << kTinyScene;
+  // One frame of this scene is 729 particles x 30 doubles = 175 KB: the limits run out while the
+  // static data, the first frames and the last frame are written.
+  for (rlim_t limit : {rlim_t(16) << 10, rlim_t(200) << 10, rlim_t(600) << 10}) {
+    SCOPED_TRACE("file size limit " + std::to_string(limit) + " bytes");
+    const fs::path out = dir / "run.h5", log = dir / "log.txt";
+    const pid_t pid = nsf::testing::spawn_cli(
+        {"simulate", (dir / "scene.json").string(), "--out", out.string(), "-q", "-j", "1"},
+        log.string(), [limit] {
+          ::signal(SIGXFSZ, SIG_IGN);
+          const rlimit r{limit, limit};
+          ::setrlimit(RLIMIT_FSIZE, &r);
+        });
+    ASSERT_GT(pid, 0);
+    const int status = nsf::testing::wait_child(pid);
+    const std::string output = nsf::testing::read_text(log.string());
+    ASSERT_TRUE(WIFEXITED(status)) << "ended by signal " << WTERMSIG(status) << ": " << output;
+    EXPECT_NE(WEXITSTATUS(status), 0) << output;
+    EXPECT_TRUE(mentions_write_failure(output)) << output;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_FALSE(fs::exists(out.string() + ".tmp"));
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
