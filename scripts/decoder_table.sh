@@ -2,7 +2,9 @@
 # Both decoder families on the scenes named, side by side: for each SCENE, the dataset
 # data/SCENE (nsf sweep, unless it exists), the paper's MLP fields models/SCENE.nsf and the
 # per-point bases models/SCENE_basis.nsf (nsf train, unless they exist), then `nsf eval` of each
-# on the held-out runs, written to docs/results/eval/SCENE_mlp.json and SCENE_basis.json. These
+# on the held-out runs, written to docs/results/eval/SCENE_mlp.json and SCENE_basis.json. Both
+# evaluate h and l at latents refined as training refined them and as the ROM's inversion finds
+# them (--refine 10); the JSON also holds δ at the encoder's own latents (delta_encoded). These
 # rows make the table of docs/TRAINING.md, "Decoder families". TRAIN_FLAGS go to both trainings,
 # BASIS_FLAGS to the basis one (e.g. "--modes 32,64,64"). Uses build/nsf (scripts/build.sh).
 #
@@ -27,6 +29,6 @@ for scene in "$@"; do
   for family in mlp basis; do
     model=models/$scene.nsf
     [ $family = basis ] && model=models/${scene}_basis.nsf
-    "$nsf" eval "$model" "data/$scene" --json "docs/results/eval/${scene}_$family.json"
+    "$nsf" eval "$model" "data/$scene" --refine 10 --json "docs/results/eval/${scene}_$family.json"
   done
 done

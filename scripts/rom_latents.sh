@@ -2,7 +2,7 @@
 # Runs the reduced-order model MODEL at the μ of every training run of the dataset DATA and writes
 # each output under the training run's file name into OUT: the directory that
 #   nsf train DATA -o NEW.nsf --base-model MODEL --rom-latents OUT
-# reads (docs/TRAINING.md, "h and l on the ROM's own latents"). Each ROM run is compared with its
+# reads (docs/experiments/2026-11-25-rom-latents.md). Each ROM run is compared with its
 # training run (--truth), and its δ is printed as it finishes; its full output is OUT/<run>.log.
 # JOBS runs at a time (default 2), one thread each. Uses build/nsf of this checkout (build it
 # first: scripts/build.sh).

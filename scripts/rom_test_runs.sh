@@ -5,7 +5,7 @@
 # ground truths (a run beyond the training range, say) come as FILE:MU in EXTRA. JOBS runs at a
 # time (default 2), one thread each; each run's whole output is in OUT (default a temporary
 # directory). Uses build/nsf of this checkout (build it first: scripts/build.sh). The tables of
-# docs/ROM.md, "Latent prior", were made this way:
+# docs/experiments/2026-11-25-latent-prior.md were made this way:
 #
 #   EXTRA=data/sand_paper44.h5:44 scripts/rom_test_runs.sh models/sand_paper.nsf \
 #       scenes/paper/sand_paper.json data/sand_paper -- --quadrature 1 --latent-prior 0.001

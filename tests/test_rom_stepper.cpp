@@ -804,6 +804,10 @@ TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
   const nsf::RunReader run(out);
   EXPECT_EQ(run.frame_count(), 13u);
   EXPECT_EQ(run.attribute_int("rom"), 1);
+  // Provenance a reader elsewhere can use: the model's absolute path, and what μ is.
+  EXPECT_EQ(run.attribute_string("rom_model"), fs::absolute(model()).lexically_normal().string());
+  EXPECT_EQ(run.attribute_string("sweep_parameter"),
+            nsf::RunReader(truth()).attribute_string("sweep_parameter"));
   EXPECT_FALSE(fs::exists(out + ".tmp"));
   // The latent trajectory beside the frames: one row of r = 4 per written frame.
   const std::vector<nsf::Latent> z = written_latents(out);

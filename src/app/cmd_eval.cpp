@@ -50,7 +50,9 @@ void write_json(const EvalArgs& a, const std::vector<EvalRow>& rows) {
   j["data"] = a.data;
   j["split"] = a.opt.split;
   j["latent_dim"] = nf.latent_dim();
+  j["refine_iterations"] = a.opt.refine_iterations;
   j["delta"] = mean(&EvalRow::delta);
+  j["delta_encoded"] = mean(&EvalRow::delta_encoded);
   j["stress_error"] = mean(&EvalRow::stress_error);
   j["affine_error"] = mean(&EvalRow::affine_error);
   j["force_error"] = mean(&EvalRow::force_error);
@@ -59,11 +61,16 @@ void write_json(const EvalArgs& a, const std::vector<EvalRow>& rows) {
     j["projection_bound"] = {{"delta", mean(&EvalRow::projection_delta)},
                              {"stress_error", mean(&EvalRow::projection_stress)},
                              {"affine_error", mean(&EvalRow::projection_affine)}};
-  j["command"] = "nsf eval " + a.model + " " + a.data + " --json " + a.json;
+  j["command"] =
+      "nsf eval " + a.model + " " + a.data +
+      (a.opt.refine_iterations > 0 ? " --refine " + std::to_string(a.opt.refine_iterations)
+                                   : std::string()) +
+      " --json " + a.json;
   for (const EvalRow& r : rows) {
     nlohmann::json run = {{"run", r.run},
                           {"frames", r.frames},
                           {"delta", number(r.delta)},
+                          {"delta_encoded", number(r.delta_encoded)},
                           {"stress_error", number(r.stress_error)},
                           {"affine_error", number(r.affine_error)},
                           {"force_error", number(r.force_error)}};

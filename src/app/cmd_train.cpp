@@ -30,7 +30,7 @@ struct TrainArgs {
   std::vector<int> frames, particles;
   int r = 0, depth = 0, width_g = 0, width_h = 0, width_l = 0, encoder_channels = 0,
       encoder_hidden = 0, encoder_max_length = 0;
-  bool no_mu = false, no_scene_recipe = false;
+  bool no_mu = false, no_scene_recipe = false, latent_noise_given = false;
   std::string decoder;
   std::vector<int> modes;
   int coefficient_width = 0, coefficient_depth = 0;
@@ -110,6 +110,12 @@ void run_train(TrainArgs& a) {
   if (!a.modes.empty() && a.modes.size() != 3 && a.modes.size() != 1)
     fail("--modes takes one K for all fields or three (x,tau,C), got ", a.modes.size());
   if (a.coefficient_width > 0) c.net.coefficient_width = a.coefficient_width;
+  // A basis model's own defaults for stages 2 and 3, where the command line leaves them open (a
+  // scene's recipe sizes the MLP fields' stages; its stage-1 steps still apply).
+  if (c.net.decoder == "basis") {
+    if (a.steps.empty() && a.epochs.empty()) c.steps[1] = c.steps[2] = kBasisCoefficientSteps;
+    if (!a.latent_noise_given) c.latent_noise = kBasisLatentNoise;
+  }
   if (a.coefficient_depth > 0) c.net.coefficient_depth = a.coefficient_depth;
   const bool basis_flags = !a.modes.empty() || a.coefficient_width > 0 || a.coefficient_depth > 0;
   if (basis_flags && c.net.decoder != "basis")
@@ -171,7 +177,9 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("data", a->data, "Dataset directory (manifest.json, train_k.h5, test_k.h5)")
       ->required();
   cmd->add_option("--out,-o", a->out, "Model file to write, e.g. models/NAME.nsf")->required();
-  cmd->add_option("--steps", a->steps, "Optimiser steps per stage: one value or g,h,l")
+  cmd->add_option("--steps", a->steps,
+                  "Optimiser steps per stage: one value or g,h,l (default 6000,1500,1500; "
+                  "--decoder basis: 6000,20000,20000)")
       ->delimiter(',');
   cmd->add_option("--epochs", a->epochs,
                   "Epochs per stage instead of --steps (epoch = every training point once)")
@@ -189,10 +197,12 @@ void add_nn_commands(CLI::App& app) {
                   "the encoder's latents, as in the paper)")
       ->capture_default_str()
       ->check(CLI::Range(0, 100));
-  cmd->add_option("--latent-noise", c.latent_noise,
-                  "Noise on the latents of stages 2, 3, in units of each component's spread")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 10.0));
+  auto* noise =
+      cmd->add_option("--latent-noise", c.latent_noise,
+                      "Noise on the latents of stages 2, 3, in units of each component's spread "
+                      "(--decoder basis: 0)")
+          ->capture_default_str()
+          ->check(CLI::Range(0.0, 10.0));
   cmd->add_option("--mix-frames", c.mix_frames,
                   "Probability that a stage-1 batch frame blends two runs with neighbouring mu at "
                   "the same time (0 = off)")
@@ -252,7 +262,10 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("--stop-after", a->opt.stop_after,
                   "Stop after this many steps (then continue with --resume)");
   cmd->add_flag("--quiet,-q", c.quiet, "No progress output");
-  cmd->callback([a] { run_train(*a); });
+  cmd->callback([a, noise] {
+    a->latent_noise_given = noise->count() > 0;
+    run_train(*a);
+  });
   add_eval_command(app);
 }
 

@@ -38,6 +38,13 @@ extern const char* const kStageNames[kStageCount];  // "deformation", "stress", 
 constexpr std::array<double, 5> kLearningRates = {1e-3, 5e-4, 2e-4, 1e-4, 5e-5};
 double learning_rate(long step, long total_steps);
 
+// What a basis model's stages 2 and 3 default to (nsf train --decoder basis): their coefficient
+// networks are small, so many more steps cost seconds, and noise on their latents, which keeps
+// the MLP fields tame, costs the bases accuracy at held-out μ (docs/TRAINING.md, "Decoder
+// families").
+constexpr long kBasisCoefficientSteps = 20000;
+constexpr double kBasisLatentNoise = 0.0;
+
 struct TrainConfig {
   NetConfig net;
   // Optimiser steps per stage. Defaults are sized for a 2-core CPU (docs/TRAINING.md); the paper's

@@ -83,7 +83,7 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
     EvalRow row;
     row.run = std::filesystem::path(run.path).filename().string();
     row.mu = run.mu, row.has_mu = run.has_mu, row.particles = n;
-    double ex = 0, nx = 0, px = 0;
+    double ex = 0, nx = 0, px = 0, ex_encoded = 0;
     ErrorSum stress, affine, force, stress_poly_fit, affine_poly_fit, stress_proj, affine_proj;
     const BasisDecoders* bases = nf.bases();
     // Eq. (11) sums over n = 1…N: frame 0 is the initial state, not a prediction.
@@ -93,7 +93,11 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
       std::vector<Vec3> full(P);
       for (size_t p = 0; p < P; ++p) full[p] = Vec3(f.x[3 * p], f.x[3 * p + 1], f.x[3 * p + 2]);
       Latent z = nf.encode(full);
-      if (refiner) z = refiner->refine(f.x.data(), z);
+      if (refiner) {
+        nf.deform(pts, z, x);
+        for (size_t i = 0; i < n; ++i) ex_encoded += (x[i] - full[subset[i]]).squaredNorm();
+        z = refiner->refine(f.x.data(), z);
+      }
       nf.deform(pts, z, x);
       nf.stress(pts, z, run.mu, tau);
       nf.affine(pts, z, C);
@@ -135,6 +139,7 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
     }
     // A field that is zero throughout (no stress in a rigid drop) has no relative error: NaN.
     row.delta = nx > 0 ? std::sqrt(ex / nx) : NAN;
+    row.delta_encoded = refiner ? (nx > 0 ? std::sqrt(ex_encoded / nx) : NAN) : row.delta;
     row.stress_error = stress.relative();
     row.affine_error = affine.relative();
     row.force_error = force.relative();

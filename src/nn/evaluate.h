@@ -22,7 +22,8 @@ struct EvalRow {
   double mu = 0;
   bool has_mu = false;
   size_t frames = 0, particles = 0;
-  double delta = 0;         // eq. (11): √(Σ‖g(X,ẑ_n) − x_n‖² / Σ‖x_n‖²)
+  double delta = 0;          // eq. (11): √(Σ‖g(X,ẑ_n) − x_n‖² / Σ‖x_n‖²)
+  double delta_encoded = 0;  // the same at the encoder's latents (= delta unless refined)
   double stress_error = 0;  // √(Σ‖h − τ‖²_F / Σ‖τ‖²_F), full 3×3 Frobenius norms
   double affine_error = 0;  // same for l and C
   // Yardsticks (nn/field_checks.h): the stress error of the forces h puts on the grid, and the

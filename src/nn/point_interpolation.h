@@ -2,7 +2,7 @@
 // Fields that live on the particles (a basis model's modes), read at other rest positions: the
 // ROM's output points of Fig. 6 (`nsf rom --upsample`) and any point a host asks for. Each point
 // becomes a short list of particles and weights, f(X) = Σ w_i f_i, computed once.
-// Two schemes (docs/TRAINING.md measures them at held-out particles):
+// Two schemes:
 //   nearest: the nearest particle's value;
 //   mls: moving least squares, linear, with a cubic-spline weight over the k nearest particles:
 //        exact for fields affine in X, and the weights still sum to 1.

@@ -50,8 +50,8 @@ struct LossRow {
 constexpr int kTargetDim[kStageCount] = {3, 6, 9};
 constexpr const char* kNetworkNames[kStageCount] = {"g", "h", "l"};
 // Latent rows per optimiser step of a basis model's stages 2 and 3: a row is one frame's whole
-// field, so a few dozen make a batch.
-constexpr int64_t kBasisRows = 64;
+// field, and a small scene has a few hundred frames.
+constexpr int64_t kBasisRows = 256;
 // τ's Frobenius norm counts its off-diagonal entries twice (xx yy zz xy yz xz).
 const std::vector<double> kBasisWeights[kStageCount] = {
     {1, 1, 1}, {1, 1, 1, M_SQRT2, M_SQRT2, M_SQRT2}, std::vector<double>(9, 1.0)};

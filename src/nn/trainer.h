@@ -26,7 +26,7 @@ struct TrainOptions {
   // at the run's μ with a model of base_model's encoder and g: each frame's ROM latent, paired
   // with the run's τ and C of that frame, joins the training latents of stages 2 and 3. The ROM's
   // latents drift from the encoder's along directions g barely sees; h and l learn what those
-  // latents mean (docs/ROM.md).
+  // latents mean (docs/experiments/2026-11-25-delta-floor-and-stress.md).
   std::vector<std::string> rom_latents;
 };
 

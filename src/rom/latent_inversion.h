@@ -83,7 +83,7 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
 
 // A whole frame's latent as the ROM's inversion would find it: Gauss–Newton from a start (the
 // encoder's latent) on up to 1,024 particles spread evenly over P. Training fits h and l on these
-// latents and `nsf eval --refine` measures them (docs/TRAINING.md, "latent mismatch").
+// latents and `nsf eval --refine` measures them (docs/TRAINING.md, "Latents for h and l").
 class FrameLatentRefiner {
  public:
   FrameLatentRefiner(NeuralModel& model, const std::vector<Vec3>& rest, int iterations);

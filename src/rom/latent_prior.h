@@ -3,9 +3,10 @@
 // (`nsf rom --latent-prior ε`, docs/ROM.md "Latent prior"). Each training run traces a curve
 // ẑ(t) through latent space; the runs, in order of μ, span a surface over (μ, t), here the
 // triangulated grid of their frames. The inversion may drift along latent directions that hardly
-// move the sample particles but move h and l a lot (docs/ROM.md, "What δ ≤ 0.8 % means here");
-// the distance to this surface, in units of each component's training spread, penalises that.
-// Torch-free: the stepper hands it the model's stored latents.
+// move the sample particles but move h and l a lot
+// (docs/experiments/2026-11-25-delta-floor-and-stress.md); the distance to this surface, in units
+// of each component's training spread, penalises that. Torch-free: the stepper hands it the model's
+// stored latents.
 #include <Eigen/Core>
 #include <vector>
 

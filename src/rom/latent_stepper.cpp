@@ -88,7 +88,8 @@ struct LatentStepper::Impl {
     if (!(opt.flip >= 0 && opt.flip <= 1)) fail("rom: --flip must lie in [0, 1], got ", opt.flip);
     // Not capped at the full-order CFL bound: the stress on N comes from h at ẑ, not from F
     // integrated over the step, so the grid's elastic waves do not set the ROM's stability
-    // limit (sand_paper runs at 4Δt, 3.7 times the bound; docs/ROM.md, "Larger ROM steps").
+    // limit (sand_paper runs at 4Δt, 3.7 times the bound;
+    // docs/experiments/2026-11-25-larger-rom-steps.md).
     per_frame = std::max(1, int(std::lround(s.substeps / opt.dt_ratio)));
     dt = s.substeps * s.dt / per_frame;
     T = s.frames * s.substeps * s.dt;

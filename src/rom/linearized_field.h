@@ -1,6 +1,6 @@
 #pragma once
-// The ROM's "tangent cache" lever (docs/ROM.md): one decoder (g, h or l) replaced, per particle,
-// by its first-order expansion in ẑ about an anchor latent ẑa,
+// The ROM's "tangent cache" lever (docs/experiments/2026-11-22-tangent-cache.md): one decoder (g, h
+// or l) replaced, per particle, by its first-order expansion in ẑ about an anchor latent ẑa,
 //     f(X_p, ẑ) ≈ f(X_p, ẑa) + ∂f/∂ẑ(X_p, ẑa) (ẑ − ẑa),
 // so that a step costs an r-term product per particle instead of a network evaluation. ẑ moves
 // slowly, so the expansions are recomputed only when ẑ leaves a ball around the anchor; the

@@ -13,7 +13,7 @@ struct GaussNewtonOptions {
   double tolerance = 1e-5;  // stop when ‖Δẑ‖ ≤ tolerance · (1 + ‖ẑ‖)
   bool taylor = false;      // one linearised step at ẑ_n (first-order Taylor, Chen et al. 2023a)
   // BLAS threads of the fit (0 = those of the rest of the step). Its GEMMs are |S| points wide,
-  // a few hundred, too small to split across threads (docs/ROM.md, "Threads of the inversion").
+  // a few hundred, too small to split across threads (docs/experiments/2026-11-23-gn-threads.md).
   int threads = 1;
   // A pull toward the latents h and l were trained on (rom/latent_prior.h): the fit minimises
   // Σ_S ‖g(X_p, ẑ) − x_p‖² + |S| ε² d(ẑ)², d the distance to the training runs' latent surface
@@ -24,9 +24,9 @@ struct GaussNewtonOptions {
 };
 
 // Where the step's fields come from, by source name (rom/field_source.h; `nsf rom --help` and
-// docs/ROM.md list them). Empty: the model's own decoders ("network" for the paper's MLP fields,
-// "basis" for per-point bases), and for C, "none" when the stress is CROM's (the baseline has no
-// affine field).
+// docs/ROM.md, "Field sources", list them). Empty: the model's own decoders ("network" for the
+// paper's MLP fields, "basis" for per-point bases), and for C, "none" when the stress is CROM's
+// (the baseline has no affine field).
 struct FieldChoice {
   std::string deformation;  // g on the candidates: network, basis, tangent
   std::string stress;       // τ on N: network, basis, tangent, crom, tracked
@@ -37,7 +37,8 @@ struct RomOptions {
   // ROM step over the scene's Δt, rounded so that a frame is a whole number of ROM steps; a
   // scene's "rom" section may set its own (rom/rom_section.h). The paper uses 1.5. What suits a
   // scene is measured, not derived: on metal_small 1.5 gave δ 3.3 %, 1.0 gave 1.5 %; on the
-  // paper-size sand 4 gives 3.6 % against 5.2 % at 1.0 (docs/ROM.md, "Larger ROM steps").
+  // paper-size sand 4 gives 3.6 % against 5.2 % at 1.0
+  // (docs/experiments/2026-11-25-larger-rom-steps.md).
   double dt_ratio = 1.0;
   // Share of the transfer's smoothing loss given back to the sample particles each step
   // (FLIP-style: x_S += Δt · flip · (v_S − the velocity P2G then G2P alone hands back)).

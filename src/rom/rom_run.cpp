@@ -60,6 +60,7 @@ nlohmann::json scene_at_mu(const RomRunOptions& o, const NeuralFields& fields, R
     apply_overrides(js, sweep_overrides(spec, *o.mu));
     rep.mu = *o.mu;
     rep.has_mu = true;
+    rep.sweep_parameter = spec.parameter;
     if (*o.mu < fields.mu_min() || *o.mu > fields.mu_max()) {
       std::ostringstream w;
       w << "mu = " << *o.mu << " lies outside the training range [" << fields.mu_min() << ", "
@@ -142,7 +143,10 @@ RomReport run_rom(const RomRunOptions& o) {
     rep.peak_reset = reset_peak_rss();
     Simulation sim(build_scene(js, base_dir));
     RunWriter writer(path, sim.particles(), settings, scene.name, js.dump());
-    if (rep.has_mu) writer.set_attribute("mu", rep.mu);
+    if (rep.has_mu) {
+      writer.set_attribute("mu", rep.mu);
+      writer.set_attribute("sweep_parameter", rep.sweep_parameter);
+    }
     writer.write_frame(sim.particles(), sim.time());
     Progress progress("full order", settings.frames, "frames");
     for (int f = 1; f <= settings.frames; ++f) {
@@ -230,13 +234,18 @@ RomReport run_rom(const RomRunOptions& o) {
   if (!o.out_path.empty()) {
     writer = std::make_unique<RunWriter>(o.out_path, out_points, settings, rep.scene, js.dump());
     writer->set_attribute("rom", 1);
-    writer->set_attribute("rom_model", o.model_path);
+    // Absolute, so that the file still names its model when read from elsewhere.
+    writer->set_attribute("rom_model",
+                          std::filesystem::absolute(o.model_path).lexically_normal().string());
     writer->set_attribute("rom_fields",
                           "x and v from the neural deformation field, " + rep.field_sources +
                               " (what the ROM step uses, at each frame's latent); F is not "
                               "computed (identity); /rom/latent: the latent of each frame "
                               "(frames x r)");
-    if (rep.has_mu) writer->set_attribute("mu", rep.mu);
+    if (rep.has_mu) {
+      writer->set_attribute("mu", rep.mu);
+      writer->set_attribute("sweep_parameter", rep.sweep_parameter);
+    }
   }
   output(0);
   Progress progress("reduced order", settings.frames, "frames");

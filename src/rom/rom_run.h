@@ -33,6 +33,7 @@ struct RomReport {
   std::string scene;
   double mu = 0;
   bool has_mu = false;
+  std::string sweep_parameter;  // what μ is (the scene's sweep.parameter)
   size_t particles = 0, output_points = 0;
   int latent_dim = 0, frames = 0, rom_steps_per_frame = 0, fom_steps_per_frame = 0;
   double gamma = 0;  // 3|P|/r

@@ -10,6 +10,9 @@ namespace nsf {
 
 namespace {
 
+// Below this many points a parallel loop costs more than it saves.
+constexpr int64_t kParallelPoints = 512;
+
 const BasisDecoders& bases_of(const FieldContext& c) {
   if (!c.fields.bases())
     fail(
@@ -55,8 +58,11 @@ class BasisDeformation final : public DeformationSource {
                  std::vector<Vec3>& x) override {
     const Eigen::VectorXf c = bases_.deformation_coefficients(z);
     x.resize(ids.size());
-    float d[3];
-    for (size_t k = 0; k < ids.size(); ++k) {
+    const int64_t n = int64_t(ids.size());
+    // Each point on its own: any thread count gives the same bits.
+#pragma omp parallel for schedule(static) if (n > kParallelPoints)
+    for (int64_t k = 0; k < n; ++k) {
+      float d[3];
       rows_.value(ids[k], c, d);
       x[k] = c_.points.X[ids[k]] + Vec3(d[0], d[1], d[2]);
     }
@@ -88,8 +94,10 @@ class BasisField final : public PointFieldSource {
     const Eigen::VectorXf c =
         stress_ ? bases_.stress_coefficients(s.z, c_.mu) : bases_.affine_coefficients(s.z);
     out.resize(ids.size());
-    float v[9];
-    for (size_t k = 0; k < ids.size(); ++k) {
+    const int64_t n = int64_t(ids.size());
+#pragma omp parallel for schedule(static) if (n > kParallelPoints)
+    for (int64_t k = 0; k < n; ++k) {
+      float v[9];
       rows_.value(ids[k], c, v);
       if (stress_)
         out[k] << v[0], v[3], v[5], v[3], v[1], v[4], v[5], v[4], v[2];
