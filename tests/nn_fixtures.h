@@ -2,6 +2,7 @@
 // A tiny synthetic dataset with a known two-dimensional latent structure, written with RunWriter
 // in the layout `nsf sweep` produces: x = X + a(t, μ)·f(X) + b(t)·k(X), τ and C linear in a, b.
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -12,6 +13,11 @@
 #include "mpm/particles.h"
 
 namespace nsf::test {
+
+// Two runs' outputs equal to the last bit.
+inline bool bit_identical(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
 
 inline Particles synthetic_particles(int n, unsigned seed) {
   std::mt19937 rng(seed);

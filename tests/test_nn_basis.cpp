@@ -35,6 +35,8 @@ using nsf::Latent;
 using nsf::NeuralFields;
 using nsf::Vec3;
 
+using nsf::test::bit_identical;
+
 namespace {
 
 // Rows: a rank-3 signal plus small noise, 40 frames of 50 points × dim values.
@@ -208,10 +210,6 @@ std::vector<double> outputs(const std::string& model, const std::string& data) {
     for (const auto& m : C) out.insert(out.end(), m.data(), m.data() + 9);
   }
   return out;
-}
-
-bool bit_identical(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
 }  // namespace

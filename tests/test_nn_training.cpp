@@ -26,6 +26,8 @@ using nsf::Latent;
 using nsf::NeuralFields;
 using nsf::Vec3;
 
+using nsf::test::bit_identical;
+
 namespace {
 
 constexpr int kParticles = 300;
@@ -62,10 +64,6 @@ std::vector<double> outputs(const std::string& model, const std::string& data) {
   for (const auto& m : tau) out.insert(out.end(), m.data(), m.data() + 9);
   for (const auto& m : C) out.insert(out.end(), m.data(), m.data() + 9);
   return out;
-}
-
-bool bit_identical(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
 struct LossCurve {

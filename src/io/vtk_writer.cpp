@@ -8,6 +8,7 @@
 #include "io/atomic_file.h"
 #include "io/binary_out.h"
 #include "io/colormap.h"
+#include "io/xml_escape.h"
 
 namespace nsf {
 
@@ -26,30 +27,6 @@ std::string num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", v);
   return buf;
-}
-
-// XML attribute text: the title comes from a scene name, which may hold anything.
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 std::string json_escape(const std::string& s) {
