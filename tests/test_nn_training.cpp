@@ -35,6 +35,7 @@ constexpr int kParticles = 300;
 nsf::TrainOptions tiny_options() {
   nsf::TrainOptions o;
   nsf::TrainConfig& c = o.config;
+  c.net.decoder = "mlp";
   c.net.latent_dim = 2;
   c.net.depth = 3;
   c.net.width_g = c.net.width_h = c.net.width_l = 32;
@@ -355,9 +356,9 @@ TEST_F(NnTraining, TrainCommandFollowsTheScenesRecipe) {
           "frames_per_batch": [2, 4, 8], "particles_per_frame": [16, 16, 16]}})");
   auto train = [&](const std::string& name, const std::string& flags, std::string& out) {
     const std::string model = (root_ / (name + ".nsf")).string();
-    return nsf::testing::run_cli(
-        "train '" + data.string() + "' --out '" + model + "' -j 1 -q --refine-latents 1 " + flags,
-        out);
+    return nsf::testing::run_cli("train '" + data.string() + "' --out '" + model +
+                                     "' -j 1 -q --decoder mlp --refine-latents 1 " + flags,
+                                 out);
   };
   auto stage_steps = [&](const std::string& name) {
     const LossCurve c = read_losses((root_ / (name + ".loss.csv")).string());

@@ -46,6 +46,7 @@ struct RandomModel {
   torch::Tensor Xn;
   static nsf::NetConfig config() {
     nsf::NetConfig c;
+    c.decoder = "mlp";
     c.latent_dim = 4;
     c.depth = 3;
     c.width_g = c.width_h = c.width_l = 32;
@@ -337,6 +338,7 @@ class RomEndToEnd : public ::testing::Test {
     nsf::run_sweep(kTinyScene, so);
     nsf::TrainOptions o;
     nsf::TrainConfig& c = o.config;
+    c.net.decoder = "mlp";
     c.net.latent_dim = 4;
     c.net.depth = 4;
     c.net.width_g = 64;
@@ -542,6 +544,25 @@ TEST_F(RomEndToEnd, SceneSetsTheSampleSeedAndTheCommandLineOverridesIt) {
   o.overrides.clear();
   o.seed = 7;
   EXPECT_EQ(nsf::run_rom(o).delta, scene_seed.delta);
+}
+
+// A scene's "rom" section sets the quadrature, the Gauss–Newton cap and the field sources; the
+// command line's own choices take precedence, field by field.
+TEST_F(RomEndToEnd, SceneSetsQuadratureAndFieldSourcesAndTheCommandLineOverridesThem) {
+  nsf::RomRunOptions o = options();
+  o.overrides = {"rom.quadrature=1", "rom.fields={\"affine\": \"none\"}"};
+  const nsf::RomReport scene = nsf::run_rom(o);
+  EXPECT_LT(scene.quadrature_points, scene.particles);
+  nsf::testing::expect_contains(scene.field_sources, "C = 0");
+  o.quadrature = 0;
+  o.rom.fields.affine = "network";
+  const nsf::RomReport given = nsf::run_rom(o);
+  EXPECT_EQ(given.quadrature_points, given.particles);
+  nsf::testing::expect_contains(given.field_sources, "C from l");
+  o.overrides.clear();
+  o.quadrature.reset();
+  o.rom.fields.affine.clear();
+  EXPECT_EQ(given.delta, nsf::run_rom(o).delta) << "the plain run differs from the overridden one";
 }
 
 // Field sources are chosen by name from a registry; an unknown name lists the known ones.

@@ -242,7 +242,9 @@ TEST(SceneValidation, TrainSectionSetsWhatTheCommandLineLeavesOpen) {
       parse_train_section(json::parse(R"({"steps": [34000, 1500, 1500], "widths": [192, 128, 128],
                       "encoder_max_length": 1024, "frames_per_batch": [16, 4, 4],
                       "particles_per_frame": [128, 512, 512]})"));
-  const TrainPlan cli{{6000, 4000, 4000}, {0, 96, 96}};
+  TrainPlan cli;
+  cli.steps = {6000, 4000, 4000};
+  cli.widths = {0, 96, 96};
   const TrainPlan scene = with_train_section(cli, t, {});
   EXPECT_EQ(scene.steps, (std::array<long, 3>{34000, 1500, 1500}));
   EXPECT_EQ(scene.widths, (std::array<int, 3>{192, 128, 128}));
@@ -306,6 +308,30 @@ TEST(SceneValidation, RomSectionTakesSamplesAndATimeStepRatio) {
   expect_rejected(j, {"rom.dt_ratio", "fast"});
   j["rom"] = {{"samples", 50}, {"step", 2}};
   expect_rejected(j, {"rom.step", "dt_ratio"});  // the unknown key, and the known ones
+}
+
+// A scene's measured ROM settings: quadrature, Gauss–Newton cap and field sources by name; each
+// malformed one is rejected with its key.
+TEST(SceneValidation, RomSectionTakesQuadratureIterationsAndFieldSources) {
+  const RomSection r = parse_rom_section(json::parse(
+      R"({"samples": 100, "quadrature": 1, "gn_iterations": 2, "fields": {"affine": "none"}})"));
+  EXPECT_EQ(r.sampling.count, 100);
+  ASSERT_TRUE(r.quadrature && r.gn_iterations);
+  EXPECT_EQ(*r.quadrature, 1);
+  EXPECT_EQ(*r.gn_iterations, 2);
+  EXPECT_EQ(r.fields.affine, "none");
+  EXPECT_EQ(r.fields.stress, "");
+  EXPECT_FALSE(parse_rom_section(json::parse(R"({"samples": 200})")).quadrature.has_value());
+
+  json j = small_scene();
+  j["rom"] = {{"quadrature", 1.5}};
+  expect_rejected(j, {"rom.quadrature", "whole number"});
+  j["rom"] = {{"gn_iterations", 0}};
+  expect_rejected(j, {"rom.gn_iterations", "1 to 100"});
+  j["rom"] = {{"fields", {{"affine", 3}}}};
+  expect_rejected(j, {"rom.fields.affine", "name"});
+  j["rom"] = {{"fields", {{"velocity", "none"}}}};
+  expect_rejected(j, {"rom.fields.velocity", "deformation, stress, affine"});
 }
 
 TEST(SceneValidation, RejectsMissingSectionsAndEmptyObjects) {

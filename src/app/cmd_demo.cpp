@@ -8,9 +8,11 @@
 #include "app/pipeline.h"
 #include "core/error.h"
 #include "core/timer.h"
+#include "data/manifest.h"
 #include "io/run_comparison.h"
 #include "nn/dataset.h"
 #include "nn/runtime.h"
+#include "rom/results_table.h"
 #include "rom/rom_run.h"
 
 namespace nsf::app {
@@ -24,7 +26,7 @@ struct DemoArgs {
   // plates, where the ROM follows the ground truth visibly and at δ ≈ 2 %.
   std::string scene = "scenes/paper/metal_small.json";
   std::string data, model, out = "out";
-  TrainPlan train{{6000, 4000, 4000}, {0, 128, 128}};
+  TrainPlan train = chain_plan();
   bool steps_given = false, widths_given = false;  // else the scene's "train" section may set them
   int samples = 0;
   int threads = 2;
@@ -70,6 +72,9 @@ void run_demo(const DemoArgs& a) {
   std::printf("  picture:   %s (top: ground truth, bottom: reduced order)\n", pics.still.c_str());
   if (!pics.video.empty()) std::printf("  animation: %s\n", pics.video.c_str());
   if (!pics.note.empty()) std::printf("  note: %s\n", pics.note.c_str());
+  const std::string row = a.out + "/demo.json";
+  write_json_atomically(row, result_json(r, a.scene, model, pics.still, "demo"));
+  std::printf("  summary row: %s\n", row.c_str());
   std::printf("  demo total: %.1f s\n", now_seconds() - start);
 }
 
@@ -83,14 +88,19 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--data", a->data, "Dataset directory (default data/<scene name>)");
   cmd->add_option("--model", a->model, "Model file (default models/<scene name>.nsf)");
   cmd->add_option("--out,-o", a->out, "Directory for the runs and pictures")->capture_default_str();
-  cmd->add_option("--steps", a->train.steps, "Training steps of the three stages, when training")
+  cmd->add_option("--steps", a->train.steps,
+                  "Training steps of the three stages, when training (a basis model's stages 2 "
+                  "and 3 default to 20000)")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--widths", a->train.widths,
-                  "Decoder widths g,h,l when training (0 = Table 1's); smaller than Table 1 by "
-                  "default so the demo trains in minutes on 2 cores")
+                  "MLP decoder widths g,h,l when training (0 = Table 1's); smaller than Table 1 "
+                  "by default so the demo trains in minutes on 2 cores")
       ->delimiter(',')
       ->capture_default_str();
+  cmd->add_option("--decoder", a->train.decoder,
+                  "Decoder family when training: basis (default) or mlp (docs/TRAINING.md)")
+      ->check(CLI::IsMember({"mlp", "basis"}));
   cmd->add_option("--samples,-k", a->samples, "Sample particles (default: the scene's)");
   cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")->capture_default_str();
   cmd->callback([a, cmd] {

@@ -23,7 +23,7 @@ struct ReportArgs {
   std::string size = "small";
   std::vector<std::string> scenes = {"bread",      "cake",  "sand",        "metal",
                                      "toothpaste", "jelly", "squishy_ball"};
-  TrainPlan train{{6000, 4000, 4000}, {0, 128, 128}};
+  TrainPlan train = chain_plan();
   bool steps_given = false, widths_given = false;  // else the scene's "train" section may set them
   bool make_missing = true;
   int threads = 2;
@@ -50,7 +50,7 @@ void report_run(const ReportArgs& a, const std::string& scene, const std::string
     tag += std::string("_flip") + f;
   }
   RomRunOptions ro;
-  ro.rom.quadrature_per_cell = a.quadrature;
+  if (a.quadrature > 0) ro.quadrature = a.quadrature;
   ro.rom.flip = a.flip;
   ro.model_path = model;
   ro.scene_path = scene;
@@ -116,9 +116,12 @@ void add_report_command(CLI::App& app) {
       "report", "The paper's Table 1 on nsf: ROM vs full order on the seven scenes");
   cmd->add_option("--size", a->size, "small or paper")->capture_default_str();
   cmd->add_option("--scenes", a->scenes, "Scenes to run (default all seven)")->delimiter(',');
+  cmd->add_option("--decoder", a->train.decoder,
+                  "Decoder family when training: basis (default) or mlp (docs/TRAINING.md)")
+      ->check(CLI::IsMember({"mlp", "basis"}));
   cmd->add_option("--steps", a->train.steps,
                   "Training steps per stage, where a model is trained (default: the scene's "
-                  "\"train\" section, else these)")
+                  "\"train\" section, else these; a basis model's stages 2 and 3: 20000)")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--widths", a->train.widths,

@@ -3,7 +3,9 @@
 #include <cstdio>
 
 #include "app/commands.h"
+#include "data/manifest.h"
 #include "rom/field_source.h"
+#include "rom/results_table.h"
 #include "rom/rom_run.h"
 
 namespace nsf::app {
@@ -20,6 +22,8 @@ struct RomArgs {
   double linearize = 0;
   bool crom = false;
   bool no_full_order = false;
+  std::string json;
+  int gn_iterations = 3, quadrature = 0;
 };
 
 }  // namespace
@@ -58,9 +62,10 @@ void add_rom_command(CLI::App& app) {
                       "spread off them costs as much as every sample this far out of place, in "
                       "metres (default: the scene's rom.latent_prior, or 0 = none, the paper)")
           ->check(CLI::Range(0.0, 1e3));
-  cmd->add_option("--gn-iterations", a->opt.rom.inversion.max_iterations,
-                  "Gauss-Newton iteration cap")
-      ->capture_default_str();
+  auto* gn_iterations =
+      cmd->add_option("--gn-iterations", a->gn_iterations,
+                      "Gauss-Newton iteration cap (default: the scene's rom.gn_iterations, or 3)")
+          ->check(CLI::Range(1, 100));
   cmd->add_option("--gn-threads", a->opt.rom.inversion.threads,
                   "BLAS threads of the Gauss-Newton fit (0 = those of -j)")
       ->capture_default_str()
@@ -82,16 +87,18 @@ void add_rom_command(CLI::App& app) {
   };
   cmd->add_option("--deformation", a->opt.rom.fields.deformation,
                   "Positions on the candidates from: " + names(deformation_source_names()) +
-                      " (default: the model's decoder g)");
+                      " (default: the scene's rom.fields, else the model's decoder g)");
   cmd->add_option(
       "--stress", a->opt.rom.fields.stress,
       "Kirchhoff stress on N from: " + names(point_field_source_names(FieldRole::stress)) +
-          " (default: the model's decoder h; crom: from dg/dX through the material; "
+          " (default: the scene's rom.fields, else the model's decoder h; crom: from dg/dX through "
+          "the material; "
           "tracked: each particle's own F and plastic state, needs --samples |P|)");
   cmd->add_option(
       "--affine", a->opt.rom.fields.affine,
       "APIC affine matrices C on N from: " + names(point_field_source_names(FieldRole::affine)) +
-          " (default: the model's decoder l, or none with --stress crom; velocity: "
+          " (default: the scene's rom.fields, else the model's decoder l, or none with "
+          "--stress crom; velocity: "
           "the gradient of the ROM's own velocity field; tracked: each particle's "
           "own G2P C, needs --samples |P|)");
   cmd->add_flag("--crom", a->crom,
@@ -103,17 +110,26 @@ void add_rom_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 100.0));
   cmd->add_option("--halo", a->opt.rom.halo, "Candidate margin around the grid nodes I, in cells")
       ->capture_default_str();
-  cmd->add_option("--quadrature", a->opt.rom.quadrature_per_cell,
-                  "Integrate the MPM step on N with this many points per grid cell of the rest "
-                  "shape, each merging a group of particles (their mass, volume, centre of "
-                  "mass); the sample particles stay themselves (0 = every particle, the paper)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 1000));
+  auto* quadrature =
+      cmd->add_option("--quadrature", a->quadrature,
+                      "Integrate the MPM step on N with this many points per grid cell of the "
+                      "rest shape, each merging a group of particles (their mass, volume, centre "
+                      "of mass); the sample particles stay themselves (0 = every particle, the "
+                      "paper; default: the scene's rom.quadrature, or 0)")
+          ->check(CLI::Range(0, 1000));
   cmd->add_flag("--verify-n", a->opt.rom.verify_integration_set,
                 "Also find N by brute force every step and count misses (slow)");
   cmd->add_option("--threads,-j", a->opt.threads, "Threads for both engines (0 = all cores)")
       ->capture_default_str();
-  cmd->callback([a, mu, samples, dt_ratio, latent_prior, seed] {
+  cmd->add_flag("--budget", a->opt.budget,
+                "Also measure the error budget on the truth's frames: the truth encoded, and the "
+                "truth's sample positions fitted by the inversion (docs/ROM.md)");
+  cmd->add_option("--json", a->json,
+                  "Also write the summary as one JSON row, the format of docs/results/*.json "
+                  "(delta, speed-up, times, memory)");
+  cmd->callback([a, mu, samples, dt_ratio, latent_prior, seed, gn_iterations, quadrature] {
+    if (*gn_iterations) a->opt.gn_iterations = a->gn_iterations;
+    if (*quadrature) a->opt.quadrature = a->quadrature;
     if (*mu) a->opt.mu = a->mu;
     if (*seed) a->opt.seed = a->seed;
     if (a->crom) a->opt.rom.fields.stress = "crom";
@@ -125,6 +141,8 @@ void add_rom_command(CLI::App& app) {
     set_threads(a->opt.threads);
     const RomReport r = run_rom(a->opt);
     std::printf("%s", format_rom_report(r).c_str());
+    if (!a->json.empty())
+      write_json_atomically(a->json, result_json(r, a->opt.scene_path, a->opt.model_path, "", ""));
   });
 }
 

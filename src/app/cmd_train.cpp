@@ -112,10 +112,7 @@ void run_train(TrainArgs& a) {
   if (a.coefficient_width > 0) c.net.coefficient_width = a.coefficient_width;
   // A basis model's own defaults for stages 2 and 3, where the command line leaves them open (a
   // scene's recipe sizes the MLP fields' stages; its stage-1 steps still apply).
-  if (c.net.decoder == "basis") {
-    if (a.steps.empty() && a.epochs.empty()) c.steps[1] = c.steps[2] = kBasisCoefficientSteps;
-    if (!a.latent_noise_given) c.latent_noise = kBasisLatentNoise;
-  }
+  apply_family_defaults(c, !a.steps.empty() || !a.epochs.empty(), a.latent_noise_given);
   if (a.coefficient_depth > 0) c.net.coefficient_depth = a.coefficient_depth;
   const bool basis_flags = !a.modes.empty() || a.coefficient_width > 0 || a.coefficient_depth > 0;
   if (basis_flags && c.net.decoder != "basis")
@@ -178,8 +175,8 @@ void add_nn_commands(CLI::App& app) {
       ->required();
   cmd->add_option("--out,-o", a->out, "Model file to write, e.g. models/NAME.nsf")->required();
   cmd->add_option("--steps", a->steps,
-                  "Optimiser steps per stage: one value or g,h,l (default 6000,1500,1500; "
-                  "--decoder basis: 6000,20000,20000)")
+                  "Optimiser steps per stage: one value or g,h,l (default 6000,20000,20000; "
+                  "--decoder mlp: 6000,1500,1500)")
       ->delimiter(',');
   cmd->add_option("--epochs", a->epochs,
                   "Epochs per stage instead of --steps (epoch = every training point once)")
@@ -200,8 +197,7 @@ void add_nn_commands(CLI::App& app) {
   auto* noise =
       cmd->add_option("--latent-noise", c.latent_noise,
                       "Noise on the latents of stages 2, 3, in units of each component's spread "
-                      "(--decoder basis: 0)")
-          ->capture_default_str()
+                      "(default 0; --decoder mlp: 0.1)")
           ->check(CLI::Range(0.0, 10.0));
   cmd->add_option("--mix-frames", c.mix_frames,
                   "Probability that a stage-1 batch frame blends two runs with neighbouring mu at "
@@ -225,9 +221,9 @@ void add_nn_commands(CLI::App& app) {
       ->check(CLI::Range(1, 4096));
   cmd->add_flag("--no-mu", a->no_mu, "Do not condition the stress field h on mu");
   cmd->add_option("--decoder", a->decoder,
-                  "Decoder family: mlp (the paper's coordinate networks) or basis (per-point "
-                  "bases of the training frames times coefficients from small networks of the "
-                  "latent; docs/TRAINING.md)")
+                  "Decoder family: basis (the default: per-point bases of the training frames "
+                  "times coefficients from small networks of the latent) or mlp (the paper's "
+                  "coordinate networks); docs/TRAINING.md")
       ->check(CLI::IsMember({"mlp", "basis"}));
   cmd->add_option("--modes", a->modes, "Basis modes K: one value or x,tau,C (default 32,64,64)")
       ->delimiter(',')

@@ -12,6 +12,13 @@
 
 namespace nsf::app {
 
+TrainPlan chain_plan() {
+  TrainPlan plan;
+  plan.steps = {6000, 4000, 4000};
+  plan.widths = {0, 128, 128};
+  return plan;
+}
+
 double ensure_dataset(const std::string& scene, const std::string& data, int threads) {
   SweepOptions so;
   so.out_dir = data;
@@ -25,6 +32,7 @@ double ensure_dataset(const std::string& scene, const std::string& data, int thr
 
 TrainPlan with_scene_recipe(TrainPlan plan, const std::string& scene, bool steps_given,
                             bool widths_given) {
+  plan.steps_given = steps_given;
   const nlohmann::json j = read_scene_json(scene);
   if (!j.contains("train")) return plan;
   GivenOnCommandLine given;
@@ -35,6 +43,7 @@ TrainPlan with_scene_recipe(TrainPlan plan, const std::string& scene, bool steps
 
 void apply_plan(const TrainPlan& plan, TrainConfig& config) {
   config.steps = plan.steps;
+  if (!plan.decoder.empty()) config.net.decoder = plan.decoder;
   int* widths[3] = {&config.net.width_g, &config.net.width_h, &config.net.width_l};
   for (int n = 0; n < 3; ++n)
     if (plan.widths[n] > 0) *widths[n] = plan.widths[n];
@@ -53,6 +62,9 @@ bool ensure_model(const std::string& data, const std::string& model, const Train
     try {
       NeuralFields f = NeuralFields::load(model);
       f.check_scene(dataset.scene_name(), dataset.rest_positions(), "dataset " + data);
+      const std::string wanted = plan.decoder.empty() ? NetConfig().decoder : plan.decoder;
+      if (f.decoder() != wanted)
+        fail("it holds ", f.decoder(), " decoders, not ", wanted, " (--decoder)");
       std::printf("   reusing %s (delete it to retrain)\n", model.c_str());
       return false;
     } catch (const Error& e) {
@@ -62,6 +74,7 @@ bool ensure_model(const std::string& data, const std::string& model, const Train
   TrainOptions to;
   to.config.net = default_net_config(dataset.scene_name());
   apply_plan(plan, to.config);
+  apply_family_defaults(to.config, plan.steps_given, false);
   to.config.threads = threads;
   to.resume = true;  // an interrupted demo or report continues where it stopped
   train_model(data, model, to);

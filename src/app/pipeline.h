@@ -8,6 +8,11 @@
 
 namespace nsf::app {
 
+// The recipe `nsf demo` and `nsf report` train with unless told: stages of 6000, 4000, 4000 steps
+// and, for the MLP fields, h and l 128 wide (smaller than Table 1, so that training takes minutes
+// on 2 cores); a basis model's stages 2 and 3 take its own defaults (nn/config.h).
+TrainPlan chain_plan();
+
 // nsf sweep <scene> --out <data>: runs what is missing; returns the seconds spent.
 double ensure_dataset(const std::string& scene, const std::string& data, int threads);
 

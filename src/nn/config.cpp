@@ -51,4 +51,10 @@ double learning_rate(long step, long total_steps) {
   return kLearningRates[std::max(0L, k)];
 }
 
+void apply_family_defaults(TrainConfig& c, bool steps_given, bool noise_given) {
+  if (c.net.decoder != "basis") return;
+  if (!steps_given) c.steps[1] = c.steps[2] = kBasisCoefficientSteps;
+  if (!noise_given) c.latent_noise = kBasisLatentNoise;
+}
+
 }  // namespace nsf

@@ -206,6 +206,8 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
     c.coefficient_depth = integer("coefficient_depth");
     for (int f = 0; f < 3; ++f)
       c.modes[f] = integer((std::string("modes_") + kBasisNames[f]).c_str());
+  } else {
+    c.decoder = "mlp";  // the only family before format version 4
   }
   SceneFingerprint s;
   s.scene_name = read_value(a, "scene_name", path).toStringRef();

@@ -450,6 +450,9 @@ long LatentStepper::step_count() const {
 const Latent& LatentStepper::latent() const {
   return impl_->z;
 }
+const GaussNewtonOptions& LatentStepper::inversion_options() const {
+  return impl_->opt.inversion;
+}
 const Latent& LatentStepper::previous_latent() const {
   return impl_->z_prev;
 }

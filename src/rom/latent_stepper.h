@@ -61,6 +61,9 @@ class LatentStepper {
   long step_count() const;
   const Latent& latent() const;
   const Latent& previous_latent() const;
+  // The Gauss–Newton options of the inversion (its latent prior included), valid while this
+  // stepper lives.
+  const GaussNewtonOptions& inversion_options() const;
 
   // x = g(X, ẑ_n) and, if v is given, v = (g(X, ẑ_n) − g(X, ẑ_{n−1}))/Δt at prepared points
   // (fields.prepare(X): the scene's particles or any other rest positions, Fig. 6).

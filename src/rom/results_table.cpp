@@ -87,6 +87,17 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   j["baseline_mib"] = r.baseline_mib;
   j["rom_steps_per_frame"] = r.rom_steps_per_frame;
   j["fom_steps_per_frame"] = r.fom_steps_per_frame;
+  j["field_sources"] = r.field_sources;
+  if (r.budget) {
+    j["delta_encoded"] = r.budget->encoded.delta;
+    j["stress_error_encoded"] = r.budget->encoded.stress;
+    j["affine_error_encoded"] = r.budget->encoded.affine;
+    j["delta_projected"] = r.budget->projected.delta;
+    j["stress_error_projected"] = r.budget->projected.stress;
+    j["affine_error_projected"] = r.budget->projected.affine;
+  }
+  j["energy_kept"] = r.energy_kept;
+  j["rom_setup_seconds"] = r.rom_setup_seconds;
   j["warnings"] = r.warnings;
   return j;
 }

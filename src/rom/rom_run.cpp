@@ -113,6 +113,14 @@ RomReport run_rom(const RomRunOptions& o) {
   ro.sampling = section.sampling;
   ro.dt_ratio = o.dt_ratio.value_or(section.dt_ratio.value_or(ro.dt_ratio));
   ro.latent_prior = o.latent_prior.value_or(section.latent_prior.value_or(ro.latent_prior));
+  ro.quadrature_per_cell =
+      o.quadrature.value_or(section.quadrature.value_or(ro.quadrature_per_cell));
+  ro.inversion.max_iterations =
+      o.gn_iterations.value_or(section.gn_iterations.value_or(ro.inversion.max_iterations));
+  for (auto [mine, scenes] : {std::pair{&ro.fields.deformation, &section.fields.deformation},
+                              std::pair{&ro.fields.stress, &section.fields.stress},
+                              std::pair{&ro.fields.affine, &section.fields.affine}})
+    if (mine->empty()) *mine = *scenes;
   if (o.samples) ro.sampling.count = *o.samples;
   if (o.seed) ro.sampling.seed = *o.seed;
 
@@ -185,6 +193,16 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.samples = rom.sample_count();
   const NeuralFields::Points boost =
       o.upsample > 1 ? fields.prepare(out_points.X) : NeuralFields::Points();
+  std::unique_ptr<ErrorBudget> budget;
+  if (o.budget) {
+    if (!truth)
+      fail("rom: the error budget (--budget) needs a ground truth (--truth or full order)");
+    GaussNewtonOptions gn = rom.inversion_options();  // the ROM's fit, latent prior included
+    gn.max_iterations = std::max(gn.max_iterations, kBudgetIterations);
+    gn.taylor = false;
+    budget = std::make_unique<ErrorBudget>(fields, truth->rest_positions(), rom.samples(), rep.mu,
+                                           gn, rom.latent());
+  }
 
   std::unique_ptr<RunWriter> writer;
   Particles frame = out_points;
@@ -208,6 +226,7 @@ RomReport run_rom(const RomRunOptions& o) {
         stress_error.add(tau[p], truth_frame.tau[p]);
         affine_error.add(C[p], truth_frame.C[p]);
       }
+      if (budget) budget->add_frame(phi, truth_frame.tau, truth_frame.C);
       rep.delta_per_frame.push_back(std::sqrt(num / den));
       delta_num += num, delta_den += den;
       rep.delta = std::sqrt(delta_num / delta_den);
@@ -281,6 +300,7 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.refreshes = d.refreshes;
   rep.linearization_anchors = d.anchors;
   rep.rom_times = d.times;
+  if (budget) rep.budget = budget->result();
   return rep;
 }
 
@@ -327,6 +347,20 @@ std::string format_rom_report(const RomReport& r) {
     };
     put("  stress error %s, affine error %s (relative, all particles and frames, vs the same file)",
         percent(r.stress_error).c_str(), percent(r.affine_error).c_str());
+    if (r.budget) {
+      auto row = [&](const char* what, const FieldErrors& e) {
+        char d[32];
+        std::snprintf(d, sizeof d, "%.3f%%", 100 * e.delta);
+        put("    %-36s %7s %9s %9s", what, e.delta >= 0 ? d : "n/a", percent(e.stress).c_str(),
+            percent(e.affine).c_str());
+      };
+      put("  error budget (docs/ROM.md):             delta    stress    affine");
+      row("representation (truth encoded)", r.budget->encoded);
+      row("projection (truth's samples fitted)", r.budget->projected);
+      row("reduced-order run", FieldErrors{r.delta, r.stress_error, r.affine_error});
+      put("    (projection: %.1f Gauss-Newton iterations per frame on average)",
+          r.budget->projection_iterations);
+    }
   }
   const double steps = double(r.frames) * r.rom_steps_per_frame;
   put("  reduced order: %.3f s for %d frames (%.2f ms/frame, %d steps/frame of %.3g x dt)",

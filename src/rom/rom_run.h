@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "rom/error_budget.h"
 #include "rom/latent_stepper.h"
 
 namespace nsf {
@@ -19,6 +20,9 @@ struct RomRunOptions {
   std::optional<uint64_t> seed;        // of the sample choice; default: the scene's, else 1
   std::optional<double> dt_ratio;      // ROM step over Δt; default: the scene's, else rom's
   std::optional<double> latent_prior;  // ε (m); default: the scene's, else rom's (0: none)
+  std::optional<int> quadrature;       // points per cell; default: the scene's, else rom's (0)
+  std::optional<int> gn_iterations;    // Gauss–Newton cap; default: the scene's, else rom's
+  // rom.fields names the sources the command line chose; each empty one takes the scene's.
   RomOptions rom;
   std::string out_path;    // ROM run file; empty: none
   std::string truth_path;  // existing ground truth; empty: the full-order run made here
@@ -27,7 +31,13 @@ struct RomRunOptions {
   int upsample = 1;        // positions of k points per particle in the output file (Fig. 6)
   int threads = 2;         // OpenMP and torch threads, for both engines alike
   bool quiet = false;
+  // Also measure the error budget on the truth's frames (rom/error_budget.h; needs a truth).
+  bool budget = false;
 };
+
+// Gauss–Newton iterations the budget's projection allows per frame: its warm start is a frame
+// (many ROM steps) old, so it runs to convergence rather than the ROM's per-step cap.
+constexpr int kBudgetIterations = 20;
 
 struct RomReport {
   std::string scene;
@@ -53,7 +63,8 @@ struct RomReport {
   // all particles and frames 1…N; < 0 without a truth (or when the truth's field is zero).
   double stress_error = -1, affine_error = -1;
   std::string field_sources;  // where τ and C come from (h and l, or what replaces them)
-  double rom_seconds = 0;     // the latent steps only
+  std::optional<ErrorBudgetResult> budget;  // with RomRunOptions::budget
+  double rom_seconds = 0;                   // the latent steps only
   double rom_setup_seconds = 0, rom_output_seconds = 0;
   RomTimes rom_times;
   double fom_seconds = -1;  // the full-order steps only; < 0 when not run

@@ -23,7 +23,36 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
     sampling.erase(key);
     return out = v.get<double>();
   };
+  const auto integer = [&](const char* key, int lo, int hi, const char* meaning) {
+    std::optional<int> out;
+    if (!rom.contains(key)) return out;
+    const nlohmann::json& v = rom.at(key);
+    if (!v.is_number_integer() || v.get<double>() < lo || v.get<double>() > hi)
+      fail("scene key 'rom.", key, "' must be a whole number from ", lo, " to ", hi, " (", meaning,
+           "), got ", v.dump());
+    sampling.erase(key);
+    return out = v.get<int>();
+  };
   s.dt_ratio = number("dt_ratio", false, "the ROM step over simulation.dt");
+  s.quadrature =
+      integer("quadrature", 0, 1000, "integration points per grid cell; 0: every particle");
+  s.gn_iterations = integer("gn_iterations", 1, 100, "the Gauss-Newton iteration cap");
+  if (rom.contains("fields")) {
+    const nlohmann::json& f = rom.at("fields");
+    if (!f.is_object()) fail("scene key 'rom.fields' must be an object, got ", f.dump());
+    for (const auto& [key, v] : f.items()) {
+      std::string* slot = key == "deformation" ? &s.fields.deformation
+                          : key == "stress"    ? &s.fields.stress
+                          : key == "affine"    ? &s.fields.affine
+                                               : nullptr;
+      if (!slot)
+        fail("scene key 'rom.fields.", key, "' is unknown (known: deformation, stress, affine)");
+      if (!v.is_string() || v.get<std::string>().empty())
+        fail("scene key 'rom.fields.", key, "' must be a field source's name, got ", v.dump());
+      *slot = v.get<std::string>();
+    }
+    sampling.erase("fields");
+  }
   s.latent_prior = number("latent_prior", true, "the latent prior's length in metres; 0: none");
   s.sampling = parse_sampling(sampling);
   return s;

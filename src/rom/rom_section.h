@@ -1,9 +1,11 @@
 #pragma once
 // A scene's optional "rom" section: the sample particles (rom/sampling.h), the ROM's own time
-// step and its latent prior. The command line overrides each of them.
+// step, its latent prior, its quadrature, its Gauss–Newton cap and its field sources — the
+// settings measured best for the scene (docs/ROM.md). The command line overrides each of them.
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "rom/rom_options.h"
 #include "rom/sampling.h"
 
 namespace nsf {
@@ -12,6 +14,9 @@ struct RomSection {
   SamplingSpec sampling;
   std::optional<double> dt_ratio;      // ROM step over the scene's Δt (RomOptions::dt_ratio)
   std::optional<double> latent_prior;  // ε of the latent prior, m (RomOptions::latent_prior)
+  std::optional<int> quadrature;       // points per cell (RomOptions::quadrature_per_cell)
+  std::optional<int> gn_iterations;    // GaussNewtonOptions::max_iterations
+  FieldChoice fields;                  // "fields": {"deformation", "stress", "affine"} by name
 };
 
 // Reads the whole section; missing keys keep their defaults, a null section gives all defaults.

@@ -56,7 +56,8 @@ SamplingSpec parse_sampling(const nlohmann::json& rom) {
                 [](const auto& a, const auto& b) { return a.fraction < b.fraction; });
     } else {
       fail("unknown scene key '", path,
-           "' (known: samples, sampling, center, sigma, seed, schedule, dt_ratio, latent_prior)");
+           "' (known: samples, sampling, center, sigma, seed, schedule, dt_ratio, latent_prior, "
+           "quadrature, gn_iterations, fields)");
     }
   }
   if (s.mode == "cluster" && s.sigma <= 0)

@@ -30,6 +30,8 @@ struct TrainPlan {
   int encoder_max_length = 0;                          // 0: App. E's
   std::array<int, 3> frames_per_batch = {0, 0, 0};     // per stage; 0: the trainer's default
   std::array<int, 3> particles_per_frame = {0, 0, 0};  // likewise
+  std::string decoder;       // the decoder family, "mlp" or "basis"; "": NetConfig's default
+  bool steps_given = false;  // a command line gave the steps (else a family may set its own)
 };
 
 // Which of a recipe's values a command line gave itself: those keep the command line's.

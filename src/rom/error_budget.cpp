@@ -1,0 +1,69 @@
+#include "rom/error_budget.h"
+
+#include <cmath>
+
+#include "nn/config.h"
+#include "nn/model.h"
+#include "rom/latent_inversion.h"
+
+namespace nsf {
+
+FieldErrors ErrorBudget::Sums::errors() const {
+  FieldErrors e;
+  if (den > 0) e.delta = std::sqrt(num / den);
+  if (stress.ref > 0) e.stress = stress.relative();
+  if (affine.ref > 0) e.affine = affine.relative();
+  return e;
+}
+
+ErrorBudget::ErrorBudget(NeuralFields& fields, const std::vector<Vec3>& X,
+                         const std::vector<uint32_t>& samples, double mu,
+                         const GaussNewtonOptions& inversion, const Latent& z0)
+    : fields_(fields),
+      points_(fields.prepare(X)),
+      samples_(samples),
+      mu_(mu),
+      inversion_(inversion),
+      g_(sample_deformation(fields.model(), X, samples)),
+      refiner_(
+          std::make_unique<FrameLatentRefiner>(fields.model(), X, TrainConfig().refine_latents)),
+      z_(z0) {}
+
+ErrorBudget::~ErrorBudget() = default;
+
+void ErrorBudget::add(Sums& sums, const Latent& z, const std::vector<Vec3>& x,
+                      const std::vector<Mat3>& tau, const std::vector<Mat3>& C) {
+  fields_.deform(points_, z, gx_);
+  fields_.stress(points_, z, mu_, tau_);
+  fields_.affine(points_, z, C_);
+  for (size_t p = 0; p < x.size(); ++p) {
+    sums.num += (gx_[p] - x[p]).squaredNorm(), sums.den += x[p].squaredNorm();
+    sums.stress.add(tau_[p], tau[p]);
+    sums.affine.add(C_[p], C[p]);
+  }
+}
+
+void ErrorBudget::add_frame(const std::vector<Vec3>& x, const std::vector<Mat3>& tau,
+                            const std::vector<Mat3>& C) {
+  std::vector<float> xf(3 * x.size());
+  for (size_t p = 0; p < x.size(); ++p)
+    for (int k = 0; k < 3; ++k) xf[3 * p + size_t(k)] = float(x[p][k]);
+  add(encoded_, refiner_->refine(xf.data(), fields_.encode(x)), x, tau, C);
+  target_.resize(samples_.size());
+  for (size_t s = 0; s < samples_.size(); ++s) target_[s] = x[samples_[s]];
+  const InversionResult r = invert_deformation(*g_, target_, z_, inversion_);
+  z_ = r.z;
+  iterations_ += r.iterations;
+  ++frames_;
+  add(projected_, z_, x, tau, C);
+}
+
+ErrorBudgetResult ErrorBudget::result() const {
+  ErrorBudgetResult r;
+  r.encoded = encoded_.errors();
+  r.projected = projected_.errors();
+  r.projection_iterations = frames_ > 0 ? double(iterations_) / double(frames_) : 0.0;
+  return r;
+}
+
+}  // namespace nsf
