@@ -6,12 +6,12 @@
 
 #include "app/commands.h"
 #include "app/pipeline.h"
+#include "app/rom_run.h"
 #include "core/error.h"
 #include "core/timer.h"
 #include "io/run_comparison.h"
 #include "nn/dataset.h"
 #include "nn/runtime.h"
-#include "rom/rom_run.h"
 
 namespace nsf::app {
 

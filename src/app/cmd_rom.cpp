@@ -3,8 +3,8 @@
 #include <cstdio>
 
 #include "app/commands.h"
+#include "app/rom_run.h"
 #include "rom/field_source.h"
-#include "rom/rom_run.h"
 
 namespace nsf::app {
 
