@@ -106,6 +106,7 @@ RomReport run_rom(const RomRunOptions& o) {
   NeuralFields fields = NeuralFields::load(o.model_path);
   const app::SceneFile file = app::read_scene_file(o.scene_path, o.overrides);
   const nlohmann::json js = scene_at_mu(o, file, fields, rep);
+  // Built once: the full-order run borrows it and hands it back at its initial state.
   Scene scene = app::build_scene_file(file, js);
   fields.check_scene(scene.name, scene.particles.X, "scene " + o.scene_path);
 
@@ -142,7 +143,8 @@ RomReport run_rom(const RomRunOptions& o) {
       scratch.path = path;
     }
     rep.peak_reset = reset_peak_rss();
-    Simulation sim(app::build_scene_file(file, js));
+    Particles initial = scene.particles;
+    Simulation sim(std::move(scene));
     RunWriter writer(path, sim.particles(), settings, rep.scene, js.dump());
     if (rep.has_mu) {
       writer.set_attribute("mu", rep.mu);
@@ -161,6 +163,10 @@ RomReport run_rom(const RomRunOptions& o) {
     if (!o.quiet) progress.finish();
     rep.fom_peak_mib = peak_rss_mib();
     if (truth_path.empty()) truth_path = path;
+    // Materials hold no state and colliders take their pose from the time they are given, so
+    // the scene with its initial particles back is the scene as built.
+    scene = std::move(sim).release_scene();
+    scene.particles = std::move(initial);
   }
   std::unique_ptr<RunReader> truth;
   if (!truth_path.empty()) {
