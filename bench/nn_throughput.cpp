@@ -11,10 +11,10 @@
 #include <cstdlib>
 #include <string>
 
+#include "nn/latent_inversion.h"
 #include "nn/model.h"
 #include "nn/networks.h"
 #include "nn/runtime.h"
-#include "rom/latent_inversion.h"
 
 namespace {
 

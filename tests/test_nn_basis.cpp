@@ -20,13 +20,13 @@
 #include "nn/basis_fit.h"
 #include "nn/dataset.h"
 #include "nn/evaluate.h"
+#include "nn/latent_inversion.h"
 #include "nn/model.h"
 #include "nn/neural_fields.h"
 #include "nn/point_interpolation.h"
 #include "nn/runtime.h"
 #include "nn/trainer.h"
 #include "nn_fixtures.h"
-#include "rom/latent_inversion.h"
 
 #include <torch/torch.h>
 

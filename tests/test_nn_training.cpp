@@ -14,12 +14,12 @@
 #include "nn/config.h"
 #include "nn/dataset.h"
 #include "nn/evaluate.h"
+#include "nn/latent_inversion.h"
 #include "nn/model.h"
 #include "nn/neural_fields.h"
 #include "nn/runtime.h"
 #include "nn/trainer.h"
 #include "nn_fixtures.h"
-#include "rom/latent_inversion.h"
 
 namespace fs = std::filesystem;
 using nsf::Latent;

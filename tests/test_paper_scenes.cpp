@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "data/sweep_spec.h"
 #include "mpm/scene/scene.h"
-#include "mpm/scene/sweep_spec.h"
 #include "mpm/simulation.h"
 
 namespace fs = std::filesystem;

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <random>
 
+#include "app/rom_run.h"
 #include "cli_runner.h"
 #include "core/error.h"
 #include "data/sweep.h"
@@ -17,17 +18,16 @@
 #include "io/run_reader.h"
 #include "mpm/simulation.h"
 #include "nn/dataset.h"
+#include "nn/latent_inversion.h"
+#include "nn/latent_prior.h"
 #include "nn/model.h"
 #include "nn/neural_fields.h"
 #include "nn/runtime.h"
 #include "nn/trainer.h"
 #include "rom/field_gradients.h"
 #include "rom/integration_set.h"
-#include "rom/latent_inversion.h"
-#include "rom/latent_prior.h"
 #include "rom/latent_stepper.h"
 #include "rom/linearized_field.h"
-#include "rom/rom_run.h"
 
 namespace fs = std::filesystem;
 using nsf::Mat3;

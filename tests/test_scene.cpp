@@ -8,11 +8,10 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "data/sweep_spec.h"
 #include "mpm/materials/param_check.h"
 #include "mpm/scene/scene.h"
 #include "mpm/scene/shape_json.h"
-#include "mpm/scene/train_section.h"
-#include "rom/rom_section.h"
 
 namespace nsf {
 namespace {
@@ -237,101 +236,17 @@ TEST(SceneValidation, RejectsUnknownKeysWrongTypesAndOutOfRangeValues) {
   expect_rejected(j, {"colliders[0].normal"});
 }
 
-TEST(SceneValidation, TrainSectionSetsWhatTheCommandLineLeavesOpen) {
-  const TrainSection t =
-      parse_train_section(json::parse(R"({"steps": [34000, 1500, 1500], "widths": [192, 128, 128],
-                      "encoder_max_length": 1024, "frames_per_batch": [16, 4, 4],
-                      "particles_per_frame": [128, 512, 512]})"));
-  TrainPlan cli;
-  cli.steps = {6000, 4000, 4000};
-  cli.widths = {0, 96, 96};
-  const TrainPlan scene = with_train_section(cli, t, {});
-  EXPECT_EQ(scene.steps, (std::array<long, 3>{34000, 1500, 1500}));
-  EXPECT_EQ(scene.widths, (std::array<int, 3>{192, 128, 128}));
-  EXPECT_EQ(scene.encoder_max_length, 1024);
-  EXPECT_EQ(scene.frames_per_batch, (std::array<int, 3>{16, 4, 4}));
-  EXPECT_EQ(scene.particles_per_frame, (std::array<int, 3>{128, 512, 512}));
-  GivenOnCommandLine flags;  // --steps and every width on the command line win
-  flags.steps = true;
-  flags.widths = {true, true, true};
-  const TrainPlan given = with_train_section(cli, t, flags);
-  EXPECT_EQ(given.steps, cli.steps);
-  EXPECT_EQ(given.widths, cli.widths);
-  EXPECT_EQ(given.encoder_max_length, 1024);
-  EXPECT_EQ(recipe_taken(t, flags),
-            "encoder_max_length 1024; frames_per_batch 16,4,4; particles_per_frame 128,512,512");
-  // One width and the batches given (nsf train --width-h, --frames-per-batch, ...): the
-  // recipe fills in the rest.
-  GivenOnCommandLine some;
-  some.widths = {false, true, false};
-  some.encoder_max_length = some.frames_per_batch = some.particles_per_frame = true;
-  const TrainPlan mixed = with_train_section(cli, t, some);
-  EXPECT_EQ(mixed.widths, (std::array<int, 3>{192, 96, 128}));
-  EXPECT_EQ(mixed.encoder_max_length, 0);
-  EXPECT_EQ(mixed.frames_per_batch, cli.frames_per_batch);
-  EXPECT_EQ(mixed.particles_per_frame, cli.particles_per_frame);
-  EXPECT_EQ(recipe_taken(t, some), "steps 34000,1500,1500; width g 192; width l 128");
-  // Keys left out keep the command's values.
-  const TrainPlan partial =
-      with_train_section(cli, parse_train_section(json::parse(R"({"steps": [1, 2, 3]})")), {});
-  EXPECT_EQ(partial.steps, (std::array<long, 3>{1, 2, 3}));
-  EXPECT_EQ(partial.widths, cli.widths);
-  EXPECT_EQ(partial.encoder_max_length, 0);
-  EXPECT_EQ(partial.frames_per_batch, (std::array<int, 3>{0, 0, 0}));
-
+// The sections the engine does not read are left to their owners: tests/test_sweep.cpp,
+// test_nn_train_section.cpp, test_rom_section.cpp, and test_app_scene_file.cpp for the commands'
+// check of the whole scene.
+TEST(SceneValidation, LeavesTheSweepRomAndTrainSectionsToTheirOwners) {
   json j = small_scene();
-  j["train"] = {{"steps", {100, 0, 100}}};
-  expect_rejected(j, {"train.steps[1]", "0"});
-  j["train"] = {{"widths", {64, 64}}};
-  expect_rejected(j, {"train.widths", "three"});
-  j["train"] = {{"particles_per_frame", {128, -1, 512}}};
-  expect_rejected(j, {"train.particles_per_frame[1]", "-1"});
-  j["train"] = {{"encoder_max_length", 3}};
-  expect_rejected(j, {"train.encoder_max_length", "3"});
-  j["train"] = {{"epochs", 5}};
-  expect_rejected(j, {"train.epochs"});
-  j["train"] = 5;
-  expect_rejected(j, {"'train'"});
-}
-
-TEST(SceneValidation, RomSectionTakesSamplesAndATimeStepRatio) {
-  const RomSection r = parse_rom_section(json::parse(R"({"samples": 200, "dt_ratio": 4})"));
-  EXPECT_EQ(r.sampling.count, 200);
-  ASSERT_TRUE(r.dt_ratio.has_value());
-  EXPECT_DOUBLE_EQ(*r.dt_ratio, 4.0);
-  EXPECT_FALSE(parse_rom_section(json::parse(R"({"samples": 200})")).dt_ratio.has_value());
-
-  json j = small_scene();
-  j["rom"] = {{"samples", 50}, {"dt_ratio", 0}};
-  expect_rejected(j, {"rom.dt_ratio", "positive"});
-  j["rom"] = {{"dt_ratio", "fast"}};
-  expect_rejected(j, {"rom.dt_ratio", "fast"});
+  j["sweep"] = {{"parameter", "E"}, {"sett", {"material.E={mu}"}}};
   j["rom"] = {{"samples", 50}, {"step", 2}};
-  expect_rejected(j, {"rom.step", "dt_ratio"});  // the unknown key, and the known ones
-}
-
-// A scene's measured ROM settings: quadrature, Gauss–Newton cap and field sources by name; each
-// malformed one is rejected with its key.
-TEST(SceneValidation, RomSectionTakesQuadratureIterationsAndFieldSources) {
-  const RomSection r = parse_rom_section(json::parse(
-      R"({"samples": 100, "quadrature": 1, "gn_iterations": 2, "fields": {"affine": "none"}})"));
-  EXPECT_EQ(r.sampling.count, 100);
-  ASSERT_TRUE(r.quadrature && r.gn_iterations);
-  EXPECT_EQ(*r.quadrature, 1);
-  EXPECT_EQ(*r.gn_iterations, 2);
-  EXPECT_EQ(r.fields.affine, "none");
-  EXPECT_EQ(r.fields.stress, "");
-  EXPECT_FALSE(parse_rom_section(json::parse(R"({"samples": 200})")).quadrature.has_value());
-
-  json j = small_scene();
-  j["rom"] = {{"quadrature", 1.5}};
-  expect_rejected(j, {"rom.quadrature", "whole number"});
-  j["rom"] = {{"gn_iterations", 0}};
-  expect_rejected(j, {"rom.gn_iterations", "1 to 100"});
-  j["rom"] = {{"fields", {{"affine", 3}}}};
-  expect_rejected(j, {"rom.fields.affine", "name"});
-  j["rom"] = {{"fields", {{"velocity", "none"}}}};
-  expect_rejected(j, {"rom.fields.velocity", "deformation, stress, affine"});
+  j["train"] = {{"epochs", 5}};
+  EXPECT_NO_THROW(build_scene(j));
+  j["rmo"] = {{"samples", 50}};  // but every top-level key is checked
+  expect_rejected(j, {"rmo"});
 }
 
 TEST(SceneValidation, RejectsMissingSectionsAndEmptyObjects) {
@@ -610,7 +525,9 @@ TEST(Docs, SceneSnippetsAreValid) {
           (fs::path(NSF_SOURCE_DIR) / "scenes" / "paper" / "cake_small.json").string());
       scene["sweep"] = j["sweep"];
       EXPECT_NO_THROW(build_scene(scene));
+      EXPECT_NO_THROW(parse_sweep(scene["sweep"], scene));
     } else if (j.contains("train")) {
+      // The section's contents: TrainSection.DocsSnippetsParse (test_nn_train_section.cpp).
       json scene = small_scene();
       scene["train"] = j["train"];
       EXPECT_NO_THROW(build_scene(scene));

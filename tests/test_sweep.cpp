@@ -8,9 +8,9 @@
 
 #include "core/error.h"
 #include "data/sweep.h"
+#include "data/sweep_spec.h"
 #include "io/run_reader.h"
 #include "mpm/scene/scene.h"
-#include "mpm/scene/sweep_spec.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -84,14 +84,16 @@ TEST(SweepTemplates, ExpandExpressions) {
   }
 }
 
-// Each broken section fails at load with a message naming the key.
-TEST(SweepSection, IsValidatedWhenTheSceneLoads) {
-  EXPECT_NO_THROW(nsf::build_scene(tiny_scene()));
+// Each broken section fails with a message naming the key. The engine's loader leaves the section
+// to its owner (the commands check it whenever they load a scene: app/scene_file.h).
+TEST(SweepSection, NamesTheKeyAtFault) {
+  EXPECT_NO_THROW(nsf::parse_sweep(tiny_scene().at("sweep"), tiny_scene()));
   auto fails_with = [](const char* key, const json& value, const char* needle) {
     json j = tiny_scene();
     j["sweep"][key] = value;
+    EXPECT_NO_THROW(nsf::build_scene(j));
     try {
-      nsf::build_scene(j);
+      nsf::parse_sweep(j.at("sweep"), j);
       ADD_FAILURE() << key << " = " << value.dump() << " was accepted";
     } catch (const nsf::Error& e) {
       EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
@@ -222,6 +224,20 @@ TEST_F(SweepRunTest, ParallelJobsGiveTheSameBits) {
   for (const char* f : {"train_0.h5", "test_1.h5"}) {
     nsf::RunReader a((dir_ / "one" / f).string()), b((dir_ / "two" / f).string());
     EXPECT_EQ(a.read_positions(2), b.read_positions(2)) << f;
+  }
+}
+
+TEST_F(SweepRunTest, BrokenSweepIsAnErrorNamingFileAndKey) {
+  json j = tiny_scene();
+  j["sweep"]["range"] = {3, 1};
+  std::ofstream(scene_) << j.dump();
+  try {
+    sweep("data");
+    ADD_FAILURE() << "a broken sweep was run";
+  } catch (const nsf::Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(scene_), std::string::npos) << what;
+    EXPECT_NE(what.find("sweep.range"), std::string::npos) << what;
   }
 }
 

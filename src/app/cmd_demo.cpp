@@ -6,14 +6,14 @@
 
 #include "app/commands.h"
 #include "app/pipeline.h"
+#include "app/results_table.h"
+#include "app/rom_run.h"
 #include "core/error.h"
 #include "core/timer.h"
 #include "data/manifest.h"
 #include "io/run_comparison.h"
 #include "nn/dataset.h"
 #include "nn/runtime.h"
-#include "rom/results_table.h"
-#include "rom/rom_run.h"
 
 namespace nsf::app {
 

@@ -7,11 +7,11 @@
 
 #include "app/commands.h"
 #include "app/pipeline.h"
+#include "app/results_table.h"
 #include "core/error.h"
 #include "data/manifest.h"
 #include "io/run_comparison.h"
 #include "nn/dataset.h"
-#include "rom/results_table.h"
 
 namespace nsf::app {
 

@@ -3,10 +3,10 @@
 #include <cstdio>
 
 #include "app/commands.h"
+#include "app/results_table.h"
+#include "app/rom_run.h"
 #include "data/manifest.h"
 #include "rom/field_source.h"
-#include "rom/results_table.h"
-#include "rom/rom_run.h"
 
 namespace nsf::app {
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/scene_file.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/progress.h"
@@ -89,7 +90,8 @@ void write_filmstrip(const Simulation& sim, const std::vector<std::vector<Vec3>>
 
 void run_simulate(const SimulateArgs& a) {
   const int threads = set_threads(a.threads);
-  Scene scene = load_scene(a.scene, a.overrides);
+  // The whole scene is checked, also the sections only other commands read (app/scene_file.h).
+  Scene scene = build_scene_file(read_scene_file(a.scene, a.overrides));
   const std::string name = scene.name;
   Simulation sim(std::move(scene));
   const SimSettings& s = sim.settings();

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/scene_file.h"
 #include "core/progress.h"
 #include "data/sweep.h"
 
@@ -37,7 +38,8 @@ void run_sweep_command(const SweepArgs& a) {
                  opt.threads, cores);
   std::fprintf(stderr, "nsf sweep: %s -> %s, %d jobs x %d threads\n", a.scene.c_str(),
                a.out.c_str(), opt.jobs, opt.threads);
-  const SweepSummary s = run_sweep(a.scene, opt);
+  const SceneFile scene = read_scene_file(a.scene, a.overrides);
+  const SweepSummary s = run_sweep(scene.json, scene.sections.sweep, scene.path, opt);
   std::printf("sweep: %d runs, %d simulated, %d already complete, %s; manifest %s/manifest.json\n",
               s.planned, s.ran, s.skipped, Progress::format_seconds(s.seconds).c_str(),
               a.out.c_str());

@@ -11,10 +11,10 @@
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/progress.h"
-#include "mpm/scene/train_section.h"
 #include "nn/config.h"
 #include "nn/dataset.h"
 #include "nn/runtime.h"
+#include "nn/train_section.h"
 #include "nn/trainer.h"
 
 namespace nsf::app {

@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "app/scene_file.h"
 #include "core/error.h"
 #include "data/sweep.h"
-#include "mpm/scene/scene.h"
 #include "nn/dataset.h"
 #include "nn/neural_fields.h"
 #include "nn/trainer.h"
@@ -24,7 +24,8 @@ double ensure_dataset(const std::string& scene, const std::string& data, int thr
   so.out_dir = data;
   so.jobs = std::max(1, threads);
   so.threads = 1;
-  const SweepSummary s = run_sweep(scene, so);
+  const SceneFile file = read_scene_file(scene);
+  const SweepSummary s = run_sweep(file.json, file.sections.sweep, file.path, so);
   std::printf("   %s: %d runs (%d simulated now, %d reused) in %.1f s\n", data.c_str(), s.planned,
               s.ran, s.skipped, s.seconds);
   return s.seconds;
@@ -33,12 +34,12 @@ double ensure_dataset(const std::string& scene, const std::string& data, int thr
 TrainPlan with_scene_recipe(TrainPlan plan, const std::string& scene, bool steps_given,
                             bool widths_given) {
   plan.steps_given = steps_given;
-  const nlohmann::json j = read_scene_json(scene);
-  if (!j.contains("train")) return plan;
+  const std::optional<TrainSection> train = read_scene_file(scene).sections.train;
+  if (!train) return plan;
   GivenOnCommandLine given;
   given.steps = steps_given;
   given.widths.fill(widths_given);
-  return with_train_section(plan, parse_train_section(j.at("train")), given);
+  return with_train_section(plan, *train, given);
 }
 
 void apply_plan(const TrainPlan& plan, TrainConfig& config) {

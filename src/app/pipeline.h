@@ -3,8 +3,8 @@
 // model unless a usable one exists. Each step is resumable on its own (sweep, train --resume).
 #include <string>
 
-#include "mpm/scene/train_section.h"
 #include "nn/config.h"
+#include "nn/train_section.h"
 
 namespace nsf::app {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "mpm/scene/sweep_spec.h"
+#include "data/sweep_spec.h"
 
 namespace nsf {
 

@@ -14,7 +14,6 @@
 #include "data/run_to_file.h"
 #include "io/run_reader.h"
 #include "mpm/scene/settings_json.h"
-#include "mpm/scene/sweep_spec.h"
 #include "mpm/simulation.h"
 
 namespace nsf {
@@ -106,17 +105,26 @@ bool is_complete_run(const std::string& path, const std::string& scene_json, int
 }
 
 SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& opt) {
+  const nlohmann::json scene = read_scene_json(scene_path, opt.overrides);
+  std::optional<SweepSpec> spec;
+  try {
+    if (scene.is_object() && scene.contains("sweep")) spec = parse_sweep(scene.at("sweep"), scene);
+  } catch (const Error& e) {
+    fail(scene_path, ": ", e.what());
+  }
+  return run_sweep(scene, spec, scene_path, opt);
+}
+
+SweepSummary run_sweep(const nlohmann::json& base, const std::optional<SweepSpec>& sweep,
+                       const std::string& scene_path, const SweepOptions& opt) {
   if (!opt.only.empty() && opt.only != "train" && opt.only != "test")
     fail("sweep: --only must be 'train' or 'test', got '", opt.only, "'");
   if (opt.jobs < 1 || opt.threads < 1) fail("sweep: jobs and threads must be at least 1");
-  const nlohmann::json base = read_scene_json(scene_path, opt.overrides);
-  if (!base.is_object() || !base.contains("sweep"))
-    fail(scene_path, ": the scene has no 'sweep' section (docs/SCENES.md, \"Sweeps\")");
+  if (!sweep) fail(scene_path, ": the scene has no 'sweep' section (docs/SCENES.md, \"Sweeps\")");
+  const SweepSpec& spec = *sweep;
   const std::string scene_dir = fs::path(scene_path).parent_path().string();
-  SweepSpec spec;
   try {
-    build_scene(base, scene_dir);  // validates everything once, with the file's own μ
-    spec = parse_sweep(base.at("sweep"), base);
+    build_scene(base, scene_dir);  // validates what the engine reads once, with the file's own μ
   } catch (const Error& e) {
     fail(scene_path, ": ", e.what());
   }

@@ -2,8 +2,12 @@
 // `nsf sweep`: every training and test simulation of a scene's "sweep" section (docs/SCENES.md),
 // written as <out>/<split>_<k>.h5 plus <out>/manifest.json (docs/DATASETS.md). Resumable: a run
 // whose file is already complete for the same scene and μ is not redone.
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "data/sweep_spec.h"
 
 namespace nsf {
 
@@ -23,7 +27,14 @@ struct SweepSummary {
   double seconds = 0;
 };
 
+// Reads the scene file (options.overrides applied), parses its "sweep" section and runs it.
 SweepSummary run_sweep(const std::string& scene_path, const SweepOptions& options);
+
+// The same for a scene its caller has read from `scene_path` (options.overrides already applied;
+// the manifest records them) and whose "sweep" section it has parsed: `spec`, none when the scene
+// has no such section (an error).
+SweepSummary run_sweep(const nlohmann::json& scene, const std::optional<SweepSpec>& spec,
+                       const std::string& scene_path, const SweepOptions& options);
 
 // True if `path` is a complete run file of this scene JSON (μ applied): it opens, holds
 // frames + 1 frames and stores the same scene, up to the keys that do not change the simulation

@@ -43,6 +43,9 @@ class Simulation {
   double time() const { return time_; }
   long step_count() const { return steps_; }
   const Scene& scene() const { return scene_; }
+  // Hands the scene back, its particles as the last step left them and its colliders at the last
+  // step's time; the simulation is left without one.
+  Scene release_scene() && { return std::move(scene_); }
   const SimSettings& settings() const { return scene_.settings; }
   Particles& particles() { return scene_.particles; }
   const Particles& particles() const { return scene_.particles; }

@@ -8,9 +8,9 @@
 #include "nn/basis_decoders.h"
 #include "nn/dataset.h"
 #include "nn/field_checks.h"
+#include "nn/latent_inversion.h"
 #include "nn/model.h"
 #include "nn/neural_fields.h"
-#include "rom/latent_inversion.h"
 
 namespace nsf {
 

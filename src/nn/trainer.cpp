@@ -19,10 +19,10 @@
 #include "io/run_reader.h"
 #include "nn/basis_fit.h"
 #include "nn/dataset.h"
+#include "nn/latent_inversion.h"
 #include "nn/loss_plot.h"
 #include "nn/model.h"
 #include "nn/runtime.h"
-#include "rom/latent_inversion.h"
 
 #include <torch/optim/adam.h>
 

@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "nn/config.h"
+#include "nn/latent_inversion.h"
 #include "nn/model.h"
-#include "rom/latent_inversion.h"
 
 namespace nsf {
 

@@ -2,7 +2,7 @@
 // Where a reduced-order run's error comes from (docs/ROM.md, "Error budget"), measured on the
 // ground truth's own frames next to the run:
 //   representation: each truth frame through the encoder, ẑ = e(xⁿ) refined on positions as
-//                   training refines the latents h and l learn from (rom/latent_inversion.h,
+//                   training refines the latents h and l learn from (nn/latent_inversion.h,
 //                   FrameLatentRefiner), then the decoders — the model's best without dynamics;
 //   projection:     the truth's sample positions pushed through the ROM's inversion (the same
 //                   samples and Gauss–Newton, warm-started frame to frame) — what the samples

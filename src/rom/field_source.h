@@ -69,7 +69,7 @@ class DeformationSource {
     positions(ids, s.z, s.z, x);
     positions(ids, s.z_prev, s.z, x_prev);
   }
-  // The exact g and ∂g/∂ẑ at the sample particles `S`, for Gauss–Newton (rom/latent_inversion.h).
+  // The exact g and ∂g/∂ẑ at the sample particles `S`, for Gauss–Newton (nn/latent_inversion.h).
   virtual std::unique_ptr<SampleDeformation> samples(const std::vector<uint32_t>& S) = 0;
   virtual long anchors() const { return 0; }  // re-anchorings of an expansion so far
   // True when positions() is g itself, so that positions g gave elsewhere at the same latent

@@ -9,12 +9,12 @@
 
 #include "core/error.h"
 #include "mpm/simulation.h"
+#include "nn/latent_inversion.h"
+#include "nn/latent_prior.h"
 #include "nn/model.h"
 #include "nn/runtime.h"
 #include "rom/field_source.h"
 #include "rom/integration_set.h"
-#include "rom/latent_inversion.h"
-#include "rom/latent_prior.h"
 #include "rom/quadrature.h"
 #include "rom/tracked_particles.h"
 

@@ -33,7 +33,7 @@ struct RomDiagnostics {
   long integration_misses = 0;    // with verify_integration_set: particles of N not found
   double last_residual = 0;       // rms ‖g − x‖ on S after the last inversion (m)
   // How far ẑ_n is from the latents the model was trained on (the surface its training runs span
-  // over μ and time; rom/latent_prior.h), in training spreads; −1 for a model that does not store
+  // over μ and time; nn/latent_prior.h), in training spreads; −1 for a model that does not store
   // them. Far from it, h and l answer for states they never saw.
   double training_distance = -1;
   // Σ over steps of the samples' kinetic energy the inversion keeps, over Σ of what the MPM step

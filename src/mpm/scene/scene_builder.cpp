@@ -6,14 +6,13 @@
 #include "mpm/scene/scene.h"
 #include "mpm/scene/scene_keys.h"
 #include "mpm/scene/settings_json.h"
-#include "mpm/scene/sweep_spec.h"
-#include "mpm/scene/train_section.h"
-#include "rom/rom_section.h"
 
 namespace nsf {
 
 Scene build_scene(const nlohmann::json& j, const std::string& base_dir) {
   namespace js = nsf::json;
+  // Every top-level key is known here; the sections the engine does not read ("sweep", "rom",
+  // "train") are their owners' to parse (scene.h).
   js::check_keys(j, "", top_level_keys());
   Scene scene;
   scene.source = j;
@@ -39,10 +38,6 @@ Scene build_scene(const nlohmann::json& j, const std::string& base_dir) {
     for (size_t i = 0; i < colliders.size(); ++i)
       scene.colliders.push_back(make_collider(colliders[i], js::child("colliders", i)));
   }
-  // Checked here so that every scene load catches a broken sweep, not only `nsf sweep`.
-  if (j.contains("sweep")) parse_sweep(j.at("sweep"), j);
-  if (j.contains("rom")) parse_rom_section(j.at("rom"));
-  if (j.contains("train")) parse_train_section(j.at("train"));
   scene.camera = parse_camera(j);
   return scene;
 }

@@ -3,8 +3,8 @@
 // a thinned quadrature stands for its group, so its rows are the group's mass-weighted blend.
 #include "core/error.h"
 #include "nn/basis_decoders.h"
+#include "nn/latent_inversion.h"
 #include "rom/fields/sources.h"
-#include "rom/latent_inversion.h"
 
 namespace nsf {
 

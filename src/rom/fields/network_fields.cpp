@@ -4,8 +4,8 @@
 #include <torch/torch.h>
 
 #include "core/error.h"
+#include "nn/latent_inversion.h"
 #include "nn/model.h"
-#include "rom/latent_inversion.h"
 
 namespace nsf {
 

@@ -3,9 +3,9 @@
 #include <torch/torch.h>
 
 #include "core/error.h"
+#include "nn/latent_inversion.h"
 #include "nn/model.h"
 #include "rom/fields/network_fields.h"
-#include "rom/latent_inversion.h"
 #include "rom/linearized_field.h"
 
 namespace nsf {

@@ -1,4 +1,4 @@
-#include "mpm/scene/sweep_spec.h"
+#include "data/sweep_spec.h"
 
 #include <cmath>
 #include <cstdlib>

@@ -1,4 +1,4 @@
-#include "rom/rom_run.h"
+#include "app/rom_run.h"
 
 #include <malloc.h>
 #include <omp.h>
@@ -10,16 +10,15 @@
 #include <random>
 #include <sstream>
 
+#include "app/scene_file.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/progress.h"
 #include "io/run_reader.h"
 #include "io/run_writer.h"
-#include "mpm/scene/sweep_spec.h"
 #include "mpm/simulation.h"
 #include "nn/field_checks.h"
 #include "nn/runtime.h"
-#include "rom/rom_section.h"
 
 namespace nsf {
 
@@ -49,11 +48,13 @@ Particles upsampled_points(const Particles& P, int k) {
   return out;
 }
 
-// Makes the scene JSON of the run: overrides, then μ through the scene's sweep templates.
-nlohmann::json scene_at_mu(const RomRunOptions& o, const NeuralFields& fields, RomReport& rep) {
-  nlohmann::json js = read_scene_json(o.scene_path, o.overrides);
-  if (js.contains("sweep")) {
-    const SweepSpec spec = parse_sweep(js["sweep"], js);
+// Makes the scene JSON of the run: the file's (overrides applied), then μ through the scene's
+// sweep templates.
+nlohmann::json scene_at_mu(const RomRunOptions& o, const app::SceneFile& file,
+                           const NeuralFields& fields, RomReport& rep) {
+  nlohmann::json js = file.json;
+  if (file.sections.sweep) {
+    const SweepSpec& spec = *file.sections.sweep;
     if (!o.mu)
       fail("rom: scene ", o.scene_path, " varies '", spec.parameter, "' over [", spec.lo, ", ",
            spec.hi, "]; give its value with --mu");
@@ -103,13 +104,14 @@ RomReport run_rom(const RomRunOptions& o) {
   if (o.threads > 0) omp_set_num_threads(o.threads);
   set_nn_threads(o.threads);
   NeuralFields fields = NeuralFields::load(o.model_path);
-  const nlohmann::json js = scene_at_mu(o, fields, rep);
-  const std::string base_dir = std::filesystem::path(o.scene_path).parent_path().string();
-  Scene scene = build_scene(js, base_dir);
+  const app::SceneFile file = app::read_scene_file(o.scene_path, o.overrides);
+  const nlohmann::json js = scene_at_mu(o, file, fields, rep);
+  // Built once: the full-order run borrows it and hands it back at its initial state.
+  Scene scene = app::build_scene_file(file, js);
   fields.check_scene(scene.name, scene.particles.X, "scene " + o.scene_path);
 
   RomOptions ro = o.rom;
-  const RomSection section = parse_rom_section(js.contains("rom") ? js["rom"] : nlohmann::json());
+  const RomSection& section = file.sections.rom;
   ro.sampling = section.sampling;
   ro.dt_ratio = o.dt_ratio.value_or(section.dt_ratio.value_or(ro.dt_ratio));
   ro.latent_prior = o.latent_prior.value_or(section.latent_prior.value_or(ro.latent_prior));
@@ -149,8 +151,9 @@ RomReport run_rom(const RomRunOptions& o) {
       scratch.path = path;
     }
     rep.peak_reset = reset_peak_rss();
-    Simulation sim(build_scene(js, base_dir));
-    RunWriter writer(path, sim.particles(), settings, scene.name, js.dump());
+    Particles initial = scene.particles;
+    Simulation sim(std::move(scene));
+    RunWriter writer(path, sim.particles(), settings, rep.scene, js.dump());
     if (rep.has_mu) {
       writer.set_attribute("mu", rep.mu);
       writer.set_attribute("sweep_parameter", rep.sweep_parameter);
@@ -168,6 +171,10 @@ RomReport run_rom(const RomRunOptions& o) {
     if (!o.quiet) progress.finish();
     rep.fom_peak_mib = peak_rss_mib();
     if (truth_path.empty()) truth_path = path;
+    // Materials hold no state and colliders take their pose from the time they are given, so
+    // the scene with its initial particles back is the scene as built.
+    scene = std::move(sim).release_scene();
+    scene.particles = std::move(initial);
   }
   std::unique_ptr<RunReader> truth;
   if (!truth_path.empty()) {

@@ -2,7 +2,8 @@
 // Network inversion (§5.3, eq. 10): ẑ_{n+1} = argmin_ẑ Σ_{p∈S} ‖g(X_p, ẑ) − x_p^{n+1}‖², by
 // Gauss–Newton warm-started from ẑ_n, with ∂g/∂ẑ from reverse-mode autodiff (3 backward
 // passes over |S| points: each point's output depends only on its own copy of ẑ).
-// Torch level: used by the stepper and its tests, not part of the public runtime header.
+// Torch level: used by the reduced-order stepper (src/rom), by training's latent refinement and by
+// their tests; not part of the public runtime header.
 #include <torch/types.h>
 
 #include <Eigen/Core>
@@ -11,7 +12,7 @@
 
 #include "core/types.h"
 #include "nn/basis_decoders.h"
-#include "rom/rom_options.h"
+#include "nn/gauss_newton.h"
 
 namespace nsf {
 
@@ -28,7 +29,7 @@ struct InversionResult {
 };
 
 // g on a fixed set of sample points, as the fit needs it: the deformation sources of the
-// stepper (rom/field_source.h) hand one out for S.
+// reduced-order stepper (src/rom) hand one out for S.
 class SampleDeformation {
  public:
   virtual ~SampleDeformation() = default;

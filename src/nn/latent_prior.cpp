@@ -2,7 +2,7 @@
 // dynamic-size products (in the intrinsics headers, not in this code).
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
-#include "rom/latent_prior.h"
+#include "nn/latent_prior.h"
 
 #include <Eigen/QR>
 #include <algorithm>

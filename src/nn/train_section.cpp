@@ -1,4 +1,4 @@
-#include "mpm/scene/train_section.h"
+#include "nn/train_section.h"
 
 #include <sstream>
 

@@ -1,4 +1,4 @@
-#include "rom/results_table.h"
+#include "app/results_table.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,7 +1,7 @@
 // docs/RESULTS.md is rebuilt from stored rows: every measured figure and the paper's appear.
 #include <gtest/gtest.h>
 
-#include "rom/results_table.h"
+#include "app/results_table.h"
 
 namespace {
 

@@ -2,7 +2,7 @@
 // dynamic-size products (in the intrinsics headers, not in this code).
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
-#include "rom/latent_inversion.h"
+#include "nn/latent_inversion.h"
 
 #include <torch/autograd.h>
 
@@ -13,9 +13,9 @@
 
 #include "core/error.h"
 #include "nn/basis_runtime.h"
+#include "nn/latent_prior.h"
 #include "nn/model.h"
 #include "nn/runtime.h"
-#include "rom/latent_prior.h"
 
 namespace nsf {
 

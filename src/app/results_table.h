@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "rom/rom_run.h"
+#include "app/rom_run.h"
 
 namespace nsf {
 

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# The layers of src/ point one way: core -> mpm -> io, data, nn -> rom -> app. Fails, listing each
+# offending line, when a file includes a header of a layer it may not use:
+#   core  only itself
+#   mpm   core
+#   io, data, nn   core, mpm and one another; not rom or app
+#   rom   core, mpm, data, nn; not io (files are the harness's job) or app
+#   app   anything
+# Usage: tests/check_layers.sh [SRC_DIR] (default: the src/ next to this script). Run by ctest.
+set -euo pipefail
+src="${1:-$(dirname "$0")/../src}"
+[[ -d "$src/core" && -d "$src/app" ]] || { echo "check_layers: no src tree at $src" >&2; exit 2; }
+
+allowed() {
+  case "$1" in
+    core) echo "core" ;;
+    mpm) echo "core mpm" ;;
+    io | data | nn) echo "core mpm io data nn" ;;
+    rom) echo "core mpm data nn rom" ;;
+    app) echo "core mpm io data nn rom app" ;;
+    *) return 1 ;;
+  esac
+}
+
+bad=0
+for layer_dir in "$src"/*/; do
+  layer=$(basename "$layer_dir")
+  if ! ok=$(allowed "$layer"); then
+    echo "check_layers: src/$layer is in no layer; add it to tests/check_layers.sh" >&2
+    bad=1
+    continue
+  fi
+  # Quoted includes of another directory of src/: #include "dir/...".
+  while IFS=: read -r file line target; do
+    if [[ " $ok " != *" $target "* ]]; then
+      echo "${file#"$src"/}:$line: $layer may not include $target/ (allowed: $ok)"
+      bad=1
+    fi
+  done < <(grep -rnE --include='*.h' --include='*.cpp' '^[[:space:]]*#[[:space:]]*include[[:space:]]*"[a-z_]+/' \
+             "$layer_dir" | sed -E 's/^([^:]+):([0-9]+):.*#[[:space:]]*include[[:space:]]*"([a-z_]+)\/.*/\1:\2:\3/')
+done
+if ((bad)); then
+  echo "check_layers: includes point the wrong way (core -> mpm -> io/data/nn -> rom -> app)" >&2
+  exit 1
+fi
+echo "check_layers: every include in $src points down the layers"

@@ -1,0 +1,105 @@
+// A scene's "train" section (nn/train_section.h): the training recipe, what the command line
+// keeps, and the errors that name the key at fault.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "nn/train_section.h"
+
+namespace nsf {
+namespace {
+
+using nlohmann::json;
+
+// Parses `train` expecting an nsf::Error whose message contains every needle.
+void expect_rejected(const json& train, std::initializer_list<std::string> needles) {
+  try {
+    parse_train_section(train);
+    ADD_FAILURE() << "accepted " << train.dump();
+  } catch (const Error& e) {
+    for (const auto& n : needles)
+      EXPECT_NE(std::string(e.what()).find(n), std::string::npos)
+          << "'" << n << "' not in: " << e.what();
+  }
+}
+
+TEST(TrainSection, SetsWhatTheCommandLineLeavesOpen) {
+  const TrainSection t =
+      parse_train_section(json::parse(R"({"steps": [34000, 1500, 1500], "widths": [192, 128, 128],
+                      "encoder_max_length": 1024, "frames_per_batch": [16, 4, 4],
+                      "particles_per_frame": [128, 512, 512]})"));
+  TrainPlan cli;
+  cli.steps = {6000, 4000, 4000};
+  cli.widths = {0, 96, 96};
+  const TrainPlan scene = with_train_section(cli, t, {});
+  EXPECT_EQ(scene.steps, (std::array<long, 3>{34000, 1500, 1500}));
+  EXPECT_EQ(scene.widths, (std::array<int, 3>{192, 128, 128}));
+  EXPECT_EQ(scene.encoder_max_length, 1024);
+  EXPECT_EQ(scene.frames_per_batch, (std::array<int, 3>{16, 4, 4}));
+  EXPECT_EQ(scene.particles_per_frame, (std::array<int, 3>{128, 512, 512}));
+  GivenOnCommandLine flags;  // --steps and every width on the command line win
+  flags.steps = true;
+  flags.widths = {true, true, true};
+  const TrainPlan given = with_train_section(cli, t, flags);
+  EXPECT_EQ(given.steps, cli.steps);
+  EXPECT_EQ(given.widths, cli.widths);
+  EXPECT_EQ(given.encoder_max_length, 1024);
+  EXPECT_EQ(recipe_taken(t, flags),
+            "encoder_max_length 1024; frames_per_batch 16,4,4; particles_per_frame 128,512,512");
+  // One width and the batches given (nsf train --width-h, --frames-per-batch, ...): the
+  // recipe fills in the rest.
+  GivenOnCommandLine some;
+  some.widths = {false, true, false};
+  some.encoder_max_length = some.frames_per_batch = some.particles_per_frame = true;
+  const TrainPlan mixed = with_train_section(cli, t, some);
+  EXPECT_EQ(mixed.widths, (std::array<int, 3>{192, 96, 128}));
+  EXPECT_EQ(mixed.encoder_max_length, 0);
+  EXPECT_EQ(mixed.frames_per_batch, cli.frames_per_batch);
+  EXPECT_EQ(mixed.particles_per_frame, cli.particles_per_frame);
+  EXPECT_EQ(recipe_taken(t, some), "steps 34000,1500,1500; width g 192; width l 128");
+  // Keys left out keep the command's values.
+  const TrainPlan partial =
+      with_train_section(cli, parse_train_section(json::parse(R"({"steps": [1, 2, 3]})")), {});
+  EXPECT_EQ(partial.steps, (std::array<long, 3>{1, 2, 3}));
+  EXPECT_EQ(partial.widths, cli.widths);
+  EXPECT_EQ(partial.encoder_max_length, 0);
+  EXPECT_EQ(partial.frames_per_batch, (std::array<int, 3>{0, 0, 0}));
+}
+
+TEST(TrainSection, NamesTheKeyAtFault) {
+  expect_rejected({{"steps", {100, 0, 100}}}, {"train.steps[1]", "0"});
+  expect_rejected({{"widths", {64, 64}}}, {"train.widths", "three"});
+  expect_rejected({{"particles_per_frame", {128, -1, 512}}},
+                  {"train.particles_per_frame[1]", "-1"});
+  expect_rejected({{"encoder_max_length", 3}}, {"train.encoder_max_length", "3"});
+  expect_rejected({{"epochs", 5}}, {"train.epochs"});
+  expect_rejected(5, {"'train'"});
+}
+
+// Every "train" snippet in docs/SCENES.md parses (tests/test_scene.cpp checks the other kinds).
+TEST(TrainSection, DocsSnippetsParse) {
+  std::ifstream in(std::filesystem::path(NSF_SOURCE_DIR) / "docs" / "SCENES.md");
+  ASSERT_TRUE(in);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string doc = ss.str();
+  size_t checked = 0;
+  for (size_t at = doc.find("```json\n"); at != std::string::npos;
+       at = doc.find("```json\n", at + 1)) {
+    const size_t begin = at + 8, end = doc.find("```", begin);
+    const std::string text = doc.substr(begin, end - begin);
+    json j = json::parse(text, nullptr, false);
+    if (j.is_discarded()) j = json::parse("{" + text + "}");  // a "key": value fragment
+    if (!j.contains("train")) continue;
+    SCOPED_TRACE(text);
+    EXPECT_NO_THROW(parse_train_section(j["train"]));
+    ++checked;
+  }
+  EXPECT_GE(checked, 1u);
+}
+
+}  // namespace
+}  // namespace nsf

@@ -1,0 +1,62 @@
+// A scene's "rom" section (rom/rom_section.h): the sample particles, the ROM's time step, its
+// latent prior, quadrature, Gauss–Newton cap and field sources, and the errors that name the key
+// at fault.
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "rom/rom_section.h"
+
+namespace nsf {
+namespace {
+
+using nlohmann::json;
+
+// Parses `rom` expecting an nsf::Error whose message contains every needle.
+void expect_rejected(const json& rom, std::initializer_list<std::string> needles) {
+  try {
+    parse_rom_section(rom);
+    ADD_FAILURE() << "accepted " << rom.dump();
+  } catch (const Error& e) {
+    for (const auto& n : needles)
+      EXPECT_NE(std::string(e.what()).find(n), std::string::npos)
+          << "'" << n << "' not in: " << e.what();
+  }
+}
+
+TEST(RomSection, TakesSamplesAndATimeStepRatio) {
+  const RomSection r = parse_rom_section(json::parse(R"({"samples": 200, "dt_ratio": 4})"));
+  EXPECT_EQ(r.sampling.count, 200);
+  ASSERT_TRUE(r.dt_ratio.has_value());
+  EXPECT_DOUBLE_EQ(*r.dt_ratio, 4.0);
+  EXPECT_FALSE(parse_rom_section(json::parse(R"({"samples": 200})")).dt_ratio.has_value());
+  EXPECT_EQ(parse_rom_section(json()).sampling.count, SamplingSpec().count);  // no section
+
+  expect_rejected({{"samples", 50}, {"dt_ratio", 0}}, {"rom.dt_ratio", "positive"});
+  expect_rejected({{"dt_ratio", "fast"}}, {"rom.dt_ratio", "fast"});
+  // The unknown key, and the known ones.
+  expect_rejected({{"samples", 50}, {"step", 2}}, {"rom.step", "dt_ratio"});
+  expect_rejected(5, {"'rom'"});
+}
+
+// A scene's measured ROM settings: quadrature, Gauss–Newton cap and field sources by name; each
+// malformed one is rejected with its key.
+TEST(RomSection, TakesQuadratureIterationsAndFieldSources) {
+  const RomSection r = parse_rom_section(json::parse(
+      R"({"samples": 100, "quadrature": 1, "gn_iterations": 2, "fields": {"affine": "none"}})"));
+  EXPECT_EQ(r.sampling.count, 100);
+  ASSERT_TRUE(r.quadrature && r.gn_iterations);
+  EXPECT_EQ(*r.quadrature, 1);
+  EXPECT_EQ(*r.gn_iterations, 2);
+  EXPECT_EQ(r.fields.affine, "none");
+  EXPECT_EQ(r.fields.stress, "");
+  EXPECT_FALSE(parse_rom_section(json::parse(R"({"samples": 200})")).quadrature.has_value());
+
+  expect_rejected({{"quadrature", 1.5}}, {"rom.quadrature", "whole number"});
+  expect_rejected({{"gn_iterations", 0}}, {"rom.gn_iterations", "1 to 100"});
+  expect_rejected({{"fields", {{"affine", 3}}}}, {"rom.fields.affine", "name"});
+  expect_rejected({{"fields", {{"velocity", "none"}}}},
+                  {"rom.fields.velocity", "deformation, stress, affine"});
+}
+
+}  // namespace
+}  // namespace nsf
