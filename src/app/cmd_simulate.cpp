@@ -7,12 +7,14 @@
 #include "app/commands.h"
 #include "core/error.h"
 #include "core/memory.h"
+#include "core/path_clash.h"
 #include "core/progress.h"
 #include "data/run_to_file.h"
 #include "io/collider_shapes.h"
 #include "io/image.h"
 #include "io/png_render.h"
 #include "io/text.h"
+#include "io/xdmf_writer.h"
 #include "mpm/simulation.h"
 
 namespace nsf::app {
@@ -88,6 +90,9 @@ void write_filmstrip(const Simulation& sim, const std::vector<std::vector<Vec3>>
 }
 
 void run_simulate(const SimulateArgs& a) {
+  refuse_path_clash(
+      {{"--out", a.out}, {"the XDMF sidecar of --out", xdmf_path_for(a.out)}, {"--png", a.png}},
+      {{"the scene", a.scene}});
   const int threads = set_threads(a.threads);
   Scene scene = load_scene(a.scene, a.overrides);
   const std::string name = scene.name;
