@@ -487,6 +487,12 @@ TEST_F(RomEndToEnd, TimeStepRatioIsTakenAsAskedEvenBeyondTheCflBound) {
                                   nsf::LatentStepper(f, nsf::load_scene(kTinyScene), test_mu(), o);
                                 }),
                                 "time-step ratio must be positive");
+  // Fewer than one ROM step per frame is refused; it used to be clamped to one without a word.
+  o.dt_ratio = scene.settings.substeps + 1;
+  nsf::testing::expect_contains(nsf::testing::error_of([&] {
+                                  nsf::LatentStepper(f, nsf::load_scene(kTinyScene), test_mu(), o);
+                                }),
+                                "steps per frame; at most that");
 }
 
 TEST_F(RomEndToEnd, SceneSetsTheTimeStepRatioAndTheCommandLineOverridesIt) {

@@ -5,6 +5,7 @@
 
 #include "app/commands.h"
 #include "core/error.h"
+#include "core/path_clash.h"
 #include "io/contact_sheet.h"
 
 namespace nsf::app {
@@ -39,6 +40,9 @@ void add_contact_sheet_command(CLI::App& app) {
     if (std::sscanf(a->size.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 16 ||
         o.height < 16 || o.width > 8192 || o.height > 8192)
       fail("--size must be WIDTHxHEIGHT between 16 and 8192, got '", a->size, "'");
+    std::vector<NamedPath> runs;
+    for (const std::string& r : a->runs) runs.push_back({"the run", r});
+    refuse_path_clash({{"--out", a->out}}, runs);
     write_png(contact_sheet(a->runs, a->columns, o), a->out);
     std::printf("wrote %s (%zu runs)\n", a->out.c_str(), a->runs.size());
   });

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
 #include "app/pipeline.h"
 #include "app/results_table.h"
 #include "app/rom_run.h"
@@ -92,17 +93,22 @@ void add_demo_command(CLI::App& app) {
                   "Training steps of the three stages, when training (a basis model's stages 2 "
                   "and 3 default to 20000)")
       ->delimiter(',')
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range<long>(1, 1000000000));
   cmd->add_option("--widths", a->train.widths,
                   "MLP decoder widths g,h,l when training (0 = Table 1's); smaller than Table 1 "
                   "by default so the demo trains in minutes on 2 cores")
       ->delimiter(',')
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0, 65536));
   cmd->add_option("--decoder", a->train.decoder,
                   "Decoder family when training: basis (default) or mlp (docs/TRAINING.md)")
       ->check(CLI::IsMember({"mlp", "basis"}));
-  cmd->add_option("--samples,-k", a->samples, "Sample particles (default: the scene's)");
-  cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--samples,-k", a->samples, "Sample particles (default: the scene's)")
+      ->check(in_range(1, 100000000));
+  cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")
+      ->capture_default_str()
+      ->check(in_range(0, 1024));
   cmd->callback([a, cmd] {
     a->steps_given = cmd->count("--steps") > 0;
     a->widths_given = cmd->count("--widths") > 0;

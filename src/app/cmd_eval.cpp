@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
+#include "core/path_clash.h"
 #include "core/timer.h"
 #include "io/atomic_file.h"
 #include "nn/evaluate.h"
@@ -144,23 +146,34 @@ void add_eval_command(CLI::App& app) {
   cmd->add_option("model", a->model, "Model file (nsf train)")->required();
   cmd->add_option("data", a->data, "Dataset directory")->required();
   cmd->add_option("--split", a->opt.split, "test, train or all")->capture_default_str();
-  cmd->add_option("--every", a->opt.frame_stride, "Use every k-th frame")->capture_default_str();
+  cmd->add_option("--every", a->opt.frame_stride, "Use every k-th frame")
+      ->capture_default_str()
+      ->check(in_range<long>(1, 1000000));
   cmd->add_option("--particles", a->opt.max_particles,
                   "Evaluate an evenly spaced subset of this many particles (0 = all)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range<long>(0, 1000000000));
   cmd->add_option("--refine", a->opt.refine_iterations,
                   "Refine each encoded latent by this many Gauss-Newton iterations on 1,024 "
                   "particles, as the ROM's inversion would (0 = off)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 100));
+      ->check(in_range(0, 100));
   cmd->add_option("--poly-degree", a->opt.poly_degree,
                   "Degree of the per-frame polynomial fits (poly columns)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 8));
+      ->check(in_range(0, 8));
   cmd->add_option("--json", a->json,
                   "Also write the means and each run's row as JSON (docs/results/eval/)");
-  cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")->capture_default_str();
-  cmd->callback([a] { run_eval(*a); });
+  cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")
+      ->capture_default_str()
+      ->check(in_range(0, 1024));
+  cmd->add_flag("--allow-incomplete", a->opt.allow_incomplete,
+                "Evaluate on a dataset an interrupted or partial sweep left incomplete, with a "
+                "warning, instead of refusing it");
+  cmd->callback([a] {
+    refuse_path_clash({{"--json", a->json}}, {{"the model", a->model}});
+    run_eval(*a);
+  });
 }
 
 }  // namespace nsf::app

@@ -10,6 +10,7 @@
 
 #include "app/commands.h"
 #include "core/error.h"
+#include "core/path_clash.h"
 #include "core/progress.h"
 #include "io/frame_range.h"
 #include "io/ply_writer.h"
@@ -56,6 +57,7 @@ void remove_stale_temp_files(const std::string& dir, const std::string& run_name
 void run_export(const ExportArgs& a) {
   if (a.format != "ply" && a.format != "vtk" && a.format != "vtu")
     fail("--format '", a.format, "' is not an export format; use ply, vtk or vtu");
+  refuse_path_clash({{"--out", a.out}}, {{"the run", a.run}});
   const RunReader run(a.run);
   const std::vector<size_t> frames = parse_frame_range(a.frames, run.frame_count());
   std::error_code ec;

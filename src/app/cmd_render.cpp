@@ -11,8 +11,10 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
 #include "core/error.h"
 #include "core/omp_errors.h"
+#include "core/path_clash.h"
 #include "core/progress.h"
 #include "io/frame_range.h"
 #include "io/run_reader.h"
@@ -49,6 +51,7 @@ void parse_range(const std::string& s, double& lo, double& hi) {
 // All argument checks and the plan come before anything is written, so a bad option leaves no
 // half-made output directory behind.
 void run_render(const RenderArgs& a) {
+  refuse_path_clash({{"--out", a.out}}, {{"the run", a.run}});
   const int threads = set_threads(a.threads);
   RunRenderOptions o;
   o.color = parse_color_by(a.color);
@@ -139,7 +142,7 @@ void add_render_command(CLI::App& app) {
                   "camera if it has one, else iso)");
   cmd->add_option("--fov", args->fov,
                   "Field of view of --view framings, degrees (0 = orthographic)")
-      ->check(CLI::Range(0.0, 120.0))
+      ->check(in_range(0.0, 120.0))
       ->capture_default_str();
   cmd->add_option("--size", args->size, "Picture size WIDTHxHEIGHT")->capture_default_str();
   cmd->add_option("--frames", args->frames, "Frames a:b:step, Python slice rules (default: all)");

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
 #include "app/pipeline.h"
 #include "app/results_table.h"
 #include "core/error.h"
@@ -123,15 +124,19 @@ void add_report_command(CLI::App& app) {
                   "Training steps per stage, where a model is trained (default: the scene's "
                   "\"train\" section, else these; a basis model's stages 2 and 3: 20000)")
       ->delimiter(',')
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range<long>(1, 1000000000));
   cmd->add_option("--widths", a->train.widths,
                   "Decoder widths g,h,l where a model is trained (0 = Table 1's; default: the "
                   "scene's \"train\" section, else these)")
       ->delimiter(',')
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0, 65536));
   cmd->add_flag("!--no-make", a->make_missing,
                 "Skip scenes without a dataset and model instead of making them");
-  cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")
+      ->capture_default_str()
+      ->check(in_range(0, 1024));
   cmd->add_option("--docs", a->docs, "Where RESULTS.md and results/ go")->capture_default_str();
   cmd->add_option("--out", a->out, "Where the runs and animations go")->capture_default_str();
   cmd->add_option("--quadrature", a->quadrature,
@@ -144,12 +149,13 @@ void add_report_command(CLI::App& app) {
                   "ROM with this share of the transfer's smoothing given back (nsf rom --flip); "
                   "rows are labelled with it and kept beside the others")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(in_range(0.0, 1.0));
   cmd->add_flag("--page-only", a->page_only,
                 "Run nothing: rebuild RESULTS.md from the rows stored in docs/results/");
   cmd->add_option("--sand-extrapolation", a->sand_extrapolation,
                   "Friction angle of the App. B extrapolation run (deg)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0.0, 90.0));
   cmd->callback([a, cmd] {
     a->steps_given = cmd->count("--steps") > 0;
     a->widths_given = cmd->count("--widths") > 0;

@@ -1,11 +1,15 @@
 // `nsf rom models/NAME.nsf scene.json --mu V --samples K`: a reduced-order run at parameter μ,
 // timed against the full-order engine on the same scene in the same process.
 #include <cstdio>
+#include <limits>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
 #include "app/results_table.h"
 #include "app/rom_run.h"
+#include "core/path_clash.h"
 #include "data/manifest.h"
+#include "io/xdmf_writer.h"
 #include "rom/field_source.h"
 
 namespace nsf::app {
@@ -36,13 +40,15 @@ void add_rom_command(CLI::App& app) {
   cmd->add_option("scene", a->opt.scene_path, "Scene JSON (the model's scene)")->required();
   auto* mu = cmd->add_option("--mu", a->mu,
                              "The scene's sweep parameter (e.g. friction angle), applied "
-                             "through its \"sweep\" templates");
+                             "through its \"sweep\" templates")
+                 ->check(in_range(-1e300, 1e300));
   cmd->add_option("--set", a->opt.overrides, "Scene override key.path=value (repeatable)");
-  auto* samples =
-      cmd->add_option("--samples,-k", a->samples,
-                      "Sample particles |S| (default: the scene's rom.samples, or 256)");
+  auto* samples = cmd->add_option("--samples,-k", a->samples,
+                                  "Sample particles |S| (default: the scene's rom.samples, or 256)")
+                      ->check(in_range(1, 100000000));
   auto* seed = cmd->add_option("--seed", a->seed,
-                               "Seed of the sample choice (default: the scene's rom.seed, or 1)");
+                               "Seed of the sample choice (default: the scene's rom.seed, or 1)")
+                   ->check(in_range<long long>(0, std::numeric_limits<long long>::max()));
   cmd->add_option("--out,-o", a->opt.out_path,
                   "Write the ROM run here (HDF5, nsf simulate layout)");
   cmd->add_option("--truth", a->opt.truth_path,
@@ -52,33 +58,37 @@ void add_rom_command(CLI::App& app) {
                 "Skip the full-order run (no speed-up; delta only with --truth)");
   cmd->add_option("--upsample", a->opt.upsample,
                   "Write k points per particle, queried from g (Fig. 6)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(1, 64));
   auto* dt_ratio = cmd->add_option("--dt-ratio", a->dt_ratio,
                                    "ROM time step over the scene's dt (default: the scene's "
-                                   "rom.dt_ratio, or 1)");
+                                   "rom.dt_ratio, or 1; at most the scene's substeps per frame)")
+                       ->check(in_range(1e-3, 1e4));
   auto* latent_prior =
       cmd->add_option("--latent-prior", a->latent_prior,
                       "Hold the inversion near the training runs' latents: a latent one training "
                       "spread off them costs as much as every sample this far out of place, in "
                       "metres (default: the scene's rom.latent_prior, or 0 = none, the paper)")
-          ->check(CLI::Range(0.0, 1e3));
+          ->check(in_range(0.0, 1e3));
   auto* gn_iterations =
       cmd->add_option("--gn-iterations", a->gn_iterations,
                       "Gauss-Newton iteration cap (default: the scene's rom.gn_iterations, or 3)")
-          ->check(CLI::Range(1, 100));
+          ->check(in_range(1, 1000));
   cmd->add_option("--gn-threads", a->opt.rom.inversion.threads,
                   "BLAS threads of the Gauss-Newton fit (0 = those of -j)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 256));
+      ->check(in_range(0, 256));
   cmd->add_option("--gn-tolerance", a->opt.rom.inversion.tolerance,
                   "Stop when |dz| <= tol (1 + |z|)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0.0, 1.0));
   cmd->add_flag("--taylor", a->opt.rom.inversion.taylor,
                 "First-order Taylor inversion: one linearised step per time step");
   cmd->add_option("--flip", a->opt.rom.flip,
                   "Share of the grid transfer's smoothing given back to the samples each step "
                   "(FLIP-style, 0-1)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0.0, 1.0));
   // Field sources by name (rom/field_registry.cpp); each option lists the registered ones.
   const auto names = [](const std::vector<std::string>& v) {
     std::string out;
@@ -107,20 +117,22 @@ void add_rom_command(CLI::App& app) {
                   "Tangent cache: g, h, l by per-particle first-order expansions in z, re-anchored "
                   "when z moves this far (in latent spreads; 0 = the decoders every step)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(in_range(0.0, 100.0));
   cmd->add_option("--halo", a->opt.rom.halo, "Candidate margin around the grid nodes I, in cells")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(2, 64));
   auto* quadrature =
       cmd->add_option("--quadrature", a->quadrature,
                       "Integrate the MPM step on N with this many points per grid cell of the "
                       "rest shape, each merging a group of particles (their mass, volume, centre "
                       "of mass); the sample particles stay themselves (0 = every particle, the "
                       "paper; default: the scene's rom.quadrature, or 0)")
-          ->check(CLI::Range(0, 1000));
+          ->check(in_range(0, 1000));
   cmd->add_flag("--verify-n", a->opt.rom.verify_integration_set,
                 "Also find N by brute force every step and count misses (slow)");
   cmd->add_option("--threads,-j", a->opt.threads, "Threads for both engines (0 = all cores)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range(0, 1024));
   cmd->add_flag("--budget", a->opt.budget,
                 "Also measure the error budget on the truth's frames: the truth encoded, and the "
                 "truth's sample positions fitted by the inversion (docs/ROM.md)");
@@ -138,6 +150,16 @@ void add_rom_command(CLI::App& app) {
     if (*dt_ratio) a->opt.dt_ratio = a->dt_ratio;
     if (*latent_prior) a->opt.latent_prior = a->latent_prior;
     a->opt.full_order = !a->no_full_order;
+    const RomRunOptions& o = a->opt;
+    refuse_path_clash(
+        {{"--out", o.out_path},
+         {"the XDMF sidecar of --out",
+          o.out_path.empty() ? std::string() : xdmf_path_for(o.out_path)},
+         {"--fom-out", o.fom_out},
+         {"the XDMF sidecar of --fom-out",
+          o.fom_out.empty() ? std::string() : xdmf_path_for(o.fom_out)},
+         {"--json", a->json}},
+        {{"the model", o.model_path}, {"the scene", o.scene_path}, {"--truth", o.truth_path}});
     set_threads(a->opt.threads);
     const RomReport r = run_rom(a->opt);
     std::printf("%s", format_rom_report(r).c_str());

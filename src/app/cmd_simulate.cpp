@@ -8,12 +8,14 @@
 #include "app/scene_file.h"
 #include "core/error.h"
 #include "core/memory.h"
+#include "core/path_clash.h"
 #include "core/progress.h"
 #include "data/run_to_file.h"
 #include "io/collider_shapes.h"
 #include "io/image.h"
 #include "io/png_render.h"
 #include "io/text.h"
+#include "io/xdmf_writer.h"
 #include "mpm/simulation.h"
 
 namespace nsf::app {
@@ -89,6 +91,9 @@ void write_filmstrip(const Simulation& sim, const std::vector<std::vector<Vec3>>
 }
 
 void run_simulate(const SimulateArgs& a) {
+  refuse_path_clash(
+      {{"--out", a.out}, {"the XDMF sidecar of --out", xdmf_path_for(a.out)}, {"--png", a.png}},
+      {{"the scene", a.scene}});
   const int threads = set_threads(a.threads);
   // The whole scene is checked, also the sections only other commands read (app/scene_file.h).
   Scene scene = build_scene_file(read_scene_file(a.scene, a.overrides));

@@ -1,15 +1,19 @@
 // `nsf train data/NAME --out models/NAME.nsf`: train e, g, h, l on a dataset (docs/TRAINING.md).
 // Also registers `nsf eval` (cmd_eval.cpp), so commands.h needs one line for both.
 #include <cstdio>
+#include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
 #include "app/pipeline.h"
 #include "core/error.h"
 #include "core/memory.h"
+#include "core/path_clash.h"
 #include "core/progress.h"
 #include "nn/config.h"
 #include "nn/dataset.h"
@@ -71,12 +75,33 @@ std::string apply_recipe(const TrainSection& t, const TrainArgs& a, TrainConfig&
   return recipe_taken(t, given);
 }
 
+// The model, its checkpoint and loss curves must not replace a file training reads: `nsf train d
+// --out d/train_0.h5` destroyed a run of the dataset.
+void refuse_overwriting_inputs(const TrainArgs& a, const Dataset& data) {
+  std::vector<NamedPath> inputs = {
+      {"the dataset's manifest", (std::filesystem::path(a.data) / "manifest.json").string()},
+      {"--base-model", a.opt.base_model}};
+  for (const auto* runs : {&data.train(), &data.test()})
+    for (const SimulationFile& run : *runs) inputs.push_back({"the dataset's run", run.path});
+  const std::string csv = loss_csv_path_for(a.out);
+  refuse_path_clash(
+      {{"--out", a.out},
+       {"the checkpoint of --out", checkpoint_path_for(a.out)},
+       {"the loss curves of --out", csv},
+       {"the loss plot of --out", std::filesystem::path(csv).replace_extension(".png").string()}},
+      inputs);
+}
+
 void run_train(TrainArgs& a) {
   TrainConfig& c = a.opt.config;
   const int threads = set_nn_threads(c.threads);
   std::string row;
   {
-    const Dataset data(a.data);
+    const Dataset data(a.data, a.opt.allow_incomplete);
+    if (!data.incomplete().empty())
+      std::fprintf(stderr, "WARNING: %s\n  --allow-incomplete: training on the runs it has\n",
+                   data.incomplete().c_str());
+    refuse_overwriting_inputs(a, data);
     c.net = default_net_config(data.scene_name(), &row);
     std::fprintf(stderr,
                  "nsf train: %s, scene '%s', %zu particles, %zu training runs, %zu test "
@@ -177,48 +202,56 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("--steps", a->steps,
                   "Optimiser steps per stage: one value or g,h,l (default 6000,20000,20000; "
                   "--decoder mlp: 6000,1500,1500)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(in_range<long>(1, 1000000000));
   cmd->add_option("--epochs", a->epochs,
                   "Epochs per stage instead of --steps (epoch = every training point once)")
-      ->delimiter(',');
-  cmd->add_option("--frames-per-batch", a->frames,
-                  "Frames per batch: one value or g,h,l (default 4)")
       ->delimiter(',')
-      ->check(CLI::PositiveNumber);
+      ->check(in_range(1e-3, 1e5));
+  cmd->add_option("--frames-per-batch", a->frames,
+                  "Frames per batch: one value or g,h,l (default 4; at most the dataset's "
+                  "training frames)")
+      ->delimiter(',')
+      ->check(in_range(1, 1000000));
   cmd->add_option("--particles-per-frame", a->particles,
                   "Particles sampled per batch frame: one value or g,h,l (default 512)")
       ->delimiter(',')
-      ->check(CLI::PositiveNumber);
+      ->check(in_range(1, 10000000));
   cmd->add_option("--refine-latents", c.refine_latents,
                   "Gauss-Newton iterations refining each frame's latent before stages 2, 3 (0 = "
                   "the encoder's latents, as in the paper)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 100));
+      ->check(in_range(0, 100));
   auto* noise =
       cmd->add_option("--latent-noise", c.latent_noise,
                       "Noise on the latents of stages 2, 3, in units of each component's spread "
                       "(default 0; --decoder mlp: 0.1)")
-          ->check(CLI::Range(0.0, 10.0));
+          ->check(in_range(0.0, 10.0));
   cmd->add_option("--mix-frames", c.mix_frames,
                   "Probability that a stage-1 batch frame blends two runs with neighbouring mu at "
                   "the same time (0 = off)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--latent-dim,-r", a->r, "Latent dimension r (default: Table 1 for the scene)");
-  cmd->add_option("--depth", a->depth, "Hidden layers per decoder (default 5)");
-  cmd->add_option("--width-g", a->width_g, "Hidden width of g (default: Table 1)");
-  cmd->add_option("--width-h", a->width_h, "Hidden width of h (default: Table 1)");
-  cmd->add_option("--width-l", a->width_l, "Hidden width of l (default: Table 1)");
+      ->check(in_range(0.0, 1.0));
+  cmd->add_option("--latent-dim,-r", a->r, "Latent dimension r (default: Table 1 for the scene)")
+      ->check(in_range(1, 1024));
+  cmd->add_option("--depth", a->depth, "Hidden layers per decoder (default 5)")
+      ->check(in_range(1, 64));
+  cmd->add_option("--width-g", a->width_g, "Hidden width of g (default: Table 1)")
+      ->check(in_range(1, 65536));
+  cmd->add_option("--width-h", a->width_h, "Hidden width of h (default: Table 1)")
+      ->check(in_range(1, 65536));
+  cmd->add_option("--width-l", a->width_l, "Hidden width of l (default: Table 1)")
+      ->check(in_range(1, 65536));
   cmd->add_option("--encoder-channels", a->encoder_channels,
                   "Output channels of each encoder convolution (default: 3, App. E)")
-      ->check(CLI::Range(1, 64));
+      ->check(in_range(1, 64));
   cmd->add_option("--encoder-max-length", a->encoder_max_length,
                   "Encoder convolutions continue while the length exceeds this (default: 12, "
                   "App. E)")
-      ->check(CLI::Range(5, 1 << 20));
+      ->check(in_range(5, 1 << 20));
   cmd->add_option("--encoder-hidden", a->encoder_hidden,
                   "Width of the encoder's hidden Linear layer (default: 32, App. E)")
-      ->check(CLI::Range(1, 4096));
+      ->check(in_range(1, 4096));
   cmd->add_flag("--no-mu", a->no_mu, "Do not condition the stress field h on mu");
   cmd->add_option("--decoder", a->decoder,
                   "Decoder family: basis (the default: per-point bases of the training frames "
@@ -227,25 +260,31 @@ void add_nn_commands(CLI::App& app) {
       ->check(CLI::IsMember({"mlp", "basis"}));
   cmd->add_option("--modes", a->modes, "Basis modes K: one value or x,tau,C (default 32,64,64)")
       ->delimiter(',')
-      ->check(CLI::Range(1, 4096));
+      ->check(in_range(1, 4096));
   cmd->add_option("--coefficient-width", a->coefficient_width,
                   "Hidden width of the basis coefficient networks (default 128)")
-      ->check(CLI::Range(1, 4096));
+      ->check(in_range(1, 4096));
   cmd->add_option("--coefficient-depth", a->coefficient_depth,
                   "Hidden layers of the basis coefficient networks (default 3)")
-      ->check(CLI::Range(1, 16));
+      ->check(in_range(1, 16));
   cmd->add_flag("--no-scene-recipe", a->no_scene_recipe,
                 "Ignore the scene's \"train\" section (steps, widths, encoder length, batches) and "
                 "use the defaults: Table 1's widths, the documented steps");
   cmd->add_option("--seed", c.seed, "Random seed (initialisation and batches)")
-      ->capture_default_str();
-  cmd->add_option("--threads,-j", c.threads, "Threads (0 = all cores)")->capture_default_str();
-  cmd->add_option("--checkpoint-every", c.checkpoint_every, "Steps between checkpoints")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(in_range<long long>(0, std::numeric_limits<long long>::max()));
+  cmd->add_option("--threads,-j", c.threads, "Threads (0 = all cores)")
+      ->capture_default_str()
+      ->check(in_range(0, 1024));
+  cmd->add_option("--checkpoint-every", c.checkpoint_every,
+                  "Steps between checkpoints (0 = only at the end of each stage)")
+      ->capture_default_str()
+      ->check(in_range<long>(0, 1000000000));
   cmd->add_option("--memory-budget", c.memory_budget_gib,
                   "GiB of training frames kept in RAM; larger datasets are streamed from disk "
-                  "(0 = half the available memory, at least 2)")
-      ->capture_default_str();
+                  "(0 = half the available memory, at least 2); batches must fit it too")
+      ->capture_default_str()
+      ->check(in_range(0.0, 1e6));
   cmd->add_option("--base-model", a->opt.base_model,
                   "Keep this model's encoder and g (no stage 1); train h and l afresh")
       ->check(CLI::ExistingFile);
@@ -254,9 +293,17 @@ void add_nn_commands(CLI::App& app) {
                   "join the training latents of h and l (needs --base-model; repeatable)")
       ->check(CLI::ExistingDirectory)
       ->needs("--base-model");
-  cmd->add_flag("--resume", a->opt.resume, "Continue from <out>.ckpt if it exists");
+  auto* resume = cmd->add_flag("--resume", a->opt.resume, "Continue from <out>.ckpt if it exists");
+  cmd->add_flag("--fresh", a->opt.fresh,
+                "Delete a checkpoint <out>.ckpt of an interrupted run and start over (without "
+                "--resume or --fresh, such a checkpoint is refused)")
+      ->excludes(resume);
+  cmd->add_flag("--allow-incomplete", a->opt.allow_incomplete,
+                "Train on a dataset an interrupted or partial sweep left incomplete (missing or "
+                "unfinished runs), with a warning, instead of refusing it");
   cmd->add_option("--stop-after", a->opt.stop_after,
-                  "Stop after this many steps (then continue with --resume)");
+                  "Stop after this many steps (then continue with --resume)")
+      ->check(in_range<long>(0, std::numeric_limits<long>::max()));
   cmd->add_flag("--quiet,-q", c.quiet, "No progress output");
   cmd->callback([a, noise] {
     a->latent_noise_given = noise->count() > 0;

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "mpm/scene/settings_json.h"
+#include "nn/dataset_gaps.h"
 
 namespace nsf {
 
@@ -41,7 +42,7 @@ std::string entry_file(const nlohmann::json& e, const std::string& manifest) {
 }
 
 void read_manifest(const fs::path& path, std::vector<std::string>& train,
-                   std::vector<std::string>& test) {
+                   std::vector<std::string>& test, PlannedRuns& planned) {
   std::ifstream in(path);
   nlohmann::json j;
   try {
@@ -49,6 +50,7 @@ void read_manifest(const fs::path& path, std::vector<std::string>& train,
   } catch (const nlohmann::json::exception& e) {
     fail(path.string(), ": not valid JSON (", e.what(), ")");
   }
+  planned = planned_in_manifest(j);
   for (auto [key, out] : {std::pair{"train", &train}, std::pair{"test", &test}})
     if (j.contains(key) && j[key].is_array())
       for (const auto& e : j[key]) out->push_back(entry_file(e, path.string()));
@@ -80,31 +82,73 @@ Vec3 run_domain_lo(const RunReader& r) {
   return parse_settings(j["simulation"]).domain_lo;
 }
 
+// The frames a sweep's run holds when complete: its scene's simulation.frames + 1; 0 when unknown
+// (a run not made by `nsf sweep`).
+size_t planned_frames(const RunReader& r) {
+  if (!r.has_attribute("sweep_parameter")) return 0;
+  const nlohmann::json j = nlohmann::json::parse(r.scene_json(), nullptr, false);
+  if (!j.is_object() || !j.contains("simulation") || !j["simulation"].is_object()) return 0;
+  const nlohmann::json& f = j["simulation"].value("frames", nlohmann::json());
+  return f.is_number_integer() && f.get<long>() > 0 ? size_t(f.get<long>()) + 1 : 0;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
 }  // namespace
 
-Dataset::Dataset(const std::string& dir) : dir_(dir) {
+Dataset::Dataset(const std::string& dir, bool allow_incomplete) : dir_(dir) {
   const fs::path root(dir);
   if (!fs::is_directory(root)) fail("dataset directory ", dir, " does not exist");
   std::vector<std::string> train, test;
+  PlannedRuns planned;
   const fs::path manifest = root / "manifest.json";
-  if (fs::exists(manifest)) read_manifest(manifest, train, test);
+  const bool has_manifest = fs::exists(manifest);
+  if (has_manifest) read_manifest(manifest, train, test, planned);
   if (train.empty() && test.empty()) {
     train = glob_runs(root, "train");
     test = glob_runs(root, "test");
   }
-  if (train.empty())
-    fail("dataset ", dir,
-         " has no training runs (expected manifest.json or train_<k>.h5 files; "
-         "make one with `nsf sweep`)");
+  // What an interrupted or partial sweep left out (nn/dataset_gaps.h): listed runs without a
+  // file, runs the plan has and the list lacks, runs killed mid-write, runs short of frames.
+  std::vector<std::string> missing, unfinished = interrupted_runs(root);
+  const auto path_of = [&](const std::string& name) {
+    return fs::path(name).is_absolute() ? fs::path(name) : root / name;
+  };
+  for (std::vector<std::string>* names : {&train, &test})
+    names->erase(std::remove_if(names->begin(), names->end(),
+                                [&](const std::string& n) {
+                                  if (fs::exists(path_of(n))) return false;
+                                  missing.push_back(n);
+                                  return true;
+                                }),
+                 names->end());
+  if (!has_manifest && !train.empty()) {  // a sweep killed before it wrote its manifest
+    const RunReader first(path_of(train.front()).string());
+    if (first.has_attribute("sweep_parameter")) planned = planned_in_scene(first.scene_json());
+  }
+  std::vector<std::string> listed = train;
+  listed.insert(listed.end(), test.begin(), test.end());
+  for (const std::string& n : unlisted_runs(planned, listed))
+    if (std::find(missing.begin(), missing.end(), n) == missing.end()) missing.push_back(n);
 
   std::vector<Vec3> X0;
   std::string first;
   auto open = [&](const std::string& name, std::vector<SimulationFile>& out) {
-    const fs::path p = fs::path(name).is_absolute() ? fs::path(name) : root / name;
+    const fs::path p = path_of(name);
     auto r = std::make_unique<RunReader>(p.string());
     SimulationFile s;
     s.path = p.string();
     s.frames = r->frame_count();
+    const size_t want = planned_frames(*r);
+    if (want > 0 && s.frames < want) {
+      unfinished.push_back(name + " (" + std::to_string(s.frames) + " of " + std::to_string(want) +
+                           " frames)");
+      return;
+    }
     s.has_mu = r->has_attribute("mu");
     if (s.has_mu) s.mu = r->attribute_double("mu");
     if (readers_.empty()) {
@@ -130,6 +174,21 @@ Dataset::Dataset(const std::string& dir) : dir_(dir) {
   };
   for (const auto& n : train) open(n, train_);
   for (const auto& n : test) open(n, test_);
+
+  if (!missing.empty() || !unfinished.empty()) {
+    std::string what;
+    if (!missing.empty()) what += "\n  missing: " + joined(missing);
+    if (!unfinished.empty()) what += "\n  unfinished: " + joined(unfinished);
+    incomplete_ = "dataset " + dir + " is incomplete (an interrupted or partial sweep?):" + what;
+    if (!allow_incomplete)
+      fail(incomplete_, "\nfinish it with `nsf sweep SCENE --out ", dir,
+           "` (it resumes where it stopped), or give --allow-incomplete to use the ", train_.size(),
+           " training and ", test_.size(), " test runs it has");
+  }
+  if (train_.empty())
+    fail("dataset ", dir,
+         " has no training runs (expected manifest.json or train_<k>.h5 files; "
+         "make one with `nsf sweep`)");
 }
 
 Dataset::~Dataset() = default;

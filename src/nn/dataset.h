@@ -30,12 +30,17 @@ class Dataset {
   // "runs" of {"file", "split"} objects), or, without a manifest, <dir>/train_*.h5 and
   // <dir>/test_*.h5. Checks that all runs share one scene (particle count and rest positions)
   // and that either all or none carry `mu`.
-  explicit Dataset(const std::string& dir);
+  // Refuses an incomplete dataset (nn/dataset_gaps.h: a killed or partial sweep), naming the
+  // missing and unfinished runs; with allow_incomplete it opens the runs there are, and
+  // incomplete() says what is missing.
+  explicit Dataset(const std::string& dir, bool allow_incomplete = false);
   ~Dataset();
   Dataset(Dataset&&) noexcept;
   Dataset& operator=(Dataset&&) noexcept;
 
   const std::string& dir() const { return dir_; }
+  // Empty for a complete dataset; else what is missing (allow_incomplete).
+  const std::string& incomplete() const { return incomplete_; }
   const std::string& scene_name() const { return scene_name_; }
   size_t particle_count() const { return X_.size(); }
   const std::vector<Vec3>& rest_positions() const { return X_; }
@@ -57,7 +62,7 @@ class Dataset {
  private:
   const RunReader& reader(const SimulationFile& sim) const;
 
-  std::string dir_, scene_name_;
+  std::string dir_, scene_name_, incomplete_;
   std::vector<Vec3> X_;
   std::vector<double> volume_;
   std::vector<uint16_t> object_;

@@ -1,6 +1,7 @@
 #include "nn/evaluate.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 
@@ -46,7 +47,10 @@ Mat3 symmetric(const float* s) {
 std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::string& data_dir,
                                     const EvalOptions& o) {
   NeuralFields nf = NeuralFields::load(model_path);
-  const Dataset data(data_dir);
+  const Dataset data(data_dir, o.allow_incomplete);
+  if (!data.incomplete().empty())
+    std::fprintf(stderr, "WARNING: %s\n  --allow-incomplete: evaluating on the runs it has\n",
+                 data.incomplete().c_str());
   nf.check_scene(data.scene_name(), data.rest_positions(), "dataset " + data_dir);
 
   std::vector<SimulationFile> runs;

@@ -14,7 +14,8 @@ struct EvalOptions {
   // > 0: refine each encoded latent by this many Gauss–Newton iterations on 1,024 evenly spaced
   // particles, as the ROM's inversion would (are h and l accurate on the latents the ROM sees?).
   int refine_iterations = 0;
-  int poly_degree = 4;  // degree of the per-frame polynomial fits (poly columns)
+  int poly_degree = 4;            // degree of the per-frame polynomial fits (poly columns)
+  bool allow_incomplete = false;  // evaluate on a dataset an interrupted sweep left incomplete
 };
 
 struct EvalRow {

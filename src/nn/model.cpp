@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "nn/checked_archive.h"
 
 namespace nsf {
 
@@ -270,25 +271,24 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
 }
 
 void NeuralModel::save(const std::string& path) const {
-  const std::string tmp = path + ".tmp";
+  torch::serialize::OutputArchive a;
   try {
-    torch::serialize::OutputArchive a;
     write(a);
-    a.save_to(tmp);
   } catch (const c10::Error& e) {
-    std::filesystem::remove(tmp);
     fail("cannot write model ", path, ": ", e.what_without_backtrace());
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) fail("cannot write model ", path, ": ", ec.message());
+  save_checked_archive(a, path, "model file");  // atomic, with a checksum
 }
 
 NeuralModel NeuralModel::load(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) fail("model file ", path, " does not exist");
+  torch::serialize::InputArchive a;
+  if (!load_checked_archive(a, path, "model file"))
+    std::fprintf(stderr,
+                 "nsf: note: model file %s has no checksum (written before nsf stored one); "
+                 "its contents are not verified\n",
+                 path.c_str());
   try {
-    torch::serialize::InputArchive a;
-    a.load_from(path);
     NeuralModel m = read(a, path);
     m.set_eval_mode();
     return m;

@@ -18,6 +18,8 @@
 #include "core/timer.h"
 #include "io/run_reader.h"
 #include "nn/basis_fit.h"
+#include "nn/batch_budget.h"
+#include "nn/checked_archive.h"
 #include "nn/dataset.h"
 #include "nn/latent_inversion.h"
 #include "nn/loss_plot.h"
@@ -62,6 +64,23 @@ double memory_budget_gib(double requested) {
   return std::max(2.0, 0.5 * available_memory_mib() / 1024.0);
 }
 
+// The memory budget, once the batches are checked against it and the dataset: before the frames
+// are read, and before a batch is allocated (nn/batch_budget.h).
+double checked_budget(const Dataset& data, const TrainConfig& c) {
+  size_t frames = 0;
+  for (const SimulationFile& r : data.train()) frames += r.frames;
+  const double budget = memory_budget_gib(c.memory_budget_gib);
+  check_batch_sizes(c, frames, data.particle_count(), budget);
+  if (!c.quiet && c.net.decoder != "basis")
+    for (int s = 0; s < kStageCount; ++s)
+      if (size_t(c.particles_per_frame[s]) > data.particle_count())
+        std::fprintf(stderr,
+                     "note: --particles-per-frame %d (stage %d) is more than the dataset's %zu "
+                     "particles: each batch frame uses all of them\n",
+                     c.particles_per_frame[s], s + 1, data.particle_count());
+  return budget;
+}
+
 class Trainer {
  public:
   Trainer(const std::string& data_dir, const std::string& out, const TrainOptions& o)
@@ -69,8 +88,8 @@ class Trainer {
         cfg_(o.config),
         out_(out),
         ckpt_(checkpoint_path_for(out)),
-        data_(data_dir),
-        store_(data_, memory_budget_gib(cfg_.memory_budget_gib)),
+        data_(data_dir, o.allow_incomplete),
+        store_(data_, checked_budget(data_, cfg_)),
         model_(cfg_.net, SceneFingerprint::of(data_.scene_name(), data_.rest_positions()),
                data_.has_mu()),
         rng_(cfg_.seed) {
@@ -559,18 +578,13 @@ void Trainer::save_checkpoint() const {
     h[i][0] = r.stage, h[i][1] = double(r.step), h[i][2] = r.loss, h[i][3] = r.lr;
   }
   a.write("history", h, true);
-  const std::string tmp = ckpt_ + ".tmp";
-  a.save_to(tmp);
-  fs::rename(tmp, ckpt_);  // atomic: a kill mid-write leaves the previous checkpoint intact
+  // Atomic (a kill mid-write leaves the previous checkpoint intact), with a checksum.
+  save_checked_archive(a, ckpt_, "checkpoint");
 }
 
 void Trainer::load_checkpoint() {
   torch::serialize::InputArchive a, m;
-  try {
-    a.load_from(ckpt_);
-  } catch (const c10::Error& e) {
-    fail("cannot read checkpoint ", ckpt_, ": ", e.what_without_backtrace());
-  }
+  load_checked_archive(a, ckpt_, "checkpoint");
   c10::IValue v;
   a.read("config_key", v);
   if (v.toStringRef() != config_key())
@@ -752,6 +766,16 @@ TrainReport Trainer::run() {
 
 TrainReport train_model(const std::string& data_dir, const std::string& out_path,
                         const TrainOptions& options) {
+  const std::string ckpt = checkpoint_path_for(out_path);
+  if (options.resume && options.fresh) fail("--resume and --fresh exclude each other");
+  if (!options.resume && fs::exists(ckpt)) {
+    if (!options.fresh)
+      fail(ckpt, " holds the checkpoint of an interrupted training run of ", out_path,
+           ": continue it with --resume, or give --fresh to delete it and start over");
+    if (!options.config.quiet)
+      std::fprintf(stderr, "--fresh: deleting the checkpoint %s and starting over\n", ckpt.c_str());
+    fs::remove(ckpt);
+  }
   if (fs::path(out_path).has_parent_path())
     fs::create_directories(fs::path(out_path).parent_path());
   seed_torch(options.config.seed);

@@ -13,6 +13,11 @@ namespace nsf {
 struct TrainOptions {
   TrainConfig config;
   bool resume = false;  // continue from "<out>.ckpt" when it exists
+  // Without resume, a checkpoint "<out>.ckpt" left by an interrupted run is refused (it may hold
+  // hours of training); fresh deletes it and starts over.
+  bool fresh = false;
+  // Train on a dataset an interrupted sweep left incomplete (nn/dataset.h), instead of refusing.
+  bool allow_incomplete = false;
   // Stop (as if killed) after this many optimiser steps in this process; < 0 = never. For tests
   // and time-boxed runs: a later --resume continues from the last checkpoint.
   long stop_after = -1;

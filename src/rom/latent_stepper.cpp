@@ -85,6 +85,12 @@ struct LatentStepper::Impl {
     const double cfl_bound = cfl_time_step_bound(scene);
     const SimSettings& s = scene.settings;
     if (!(opt.dt_ratio > 0)) fail("rom: the time-step ratio must be positive, got ", opt.dt_ratio);
+    // A frame holds a whole number of ROM steps, at least one: a larger ratio was clamped
+    // without a word.
+    if (opt.dt_ratio > s.substeps)
+      fail("rom: the time-step ratio (--dt-ratio or the scene's rom.dt_ratio) ", opt.dt_ratio,
+           " is more than the scene's ", s.substeps,
+           " steps per frame; at most that (one ROM step per frame)");
     if (!(opt.flip >= 0 && opt.flip <= 1)) fail("rom: --flip must lie in [0, 1], got ", opt.flip);
     // Not capped at the full-order CFL bound: the stress on N comes from h at ẑ, not from F
     // integrated over the step, so the grid's elastic waves do not set the ROM's stability

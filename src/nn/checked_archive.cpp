@@ -1,0 +1,96 @@
+#include "nn/checked_archive.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include "core/error.h"
+#include "io/atomic_file.h"
+
+namespace nsf {
+
+namespace {
+
+// The zip's end-of-central-directory record: 22 bytes, the last two the comment's length.
+constexpr size_t kEndRecord = 22;
+constexpr const char kEndSignature[] = "PK\x05\x06";
+constexpr const char kTag[] = "nsf-crc32 ";
+constexpr size_t kCommentLength = sizeof(kTag) - 1 + 8;
+
+uint32_t crc_of(const std::string& bytes, size_t count) {
+  uLong crc = crc32(0L, Z_NULL, 0);
+  const auto* p = reinterpret_cast<const Bytef*>(bytes.data());
+  constexpr size_t kChunk = size_t(1) << 30;  // crc32 takes a uInt length
+  for (size_t done = 0; done < count; done += kChunk)
+    crc = crc32(crc, p + done, static_cast<uInt>(std::min(kChunk, count - done)));
+  return static_cast<uint32_t>(crc);
+}
+
+std::string hex32(uint32_t v) {
+  char buf[9];
+  std::snprintf(buf, sizeof buf, "%08x", static_cast<unsigned>(v));
+  return buf;
+}
+
+}  // namespace
+
+void save_checked_archive(torch::serialize::OutputArchive& a, const std::string& path,
+                          const std::string& what) {
+  std::string bytes;
+  try {
+    a.save_to([&](const void* data, size_t n) {
+      bytes.append(static_cast<const char*>(data), n);
+      return n;
+    });
+  } catch (const c10::Error& e) {
+    fail("cannot write ", what, " ", path, ": ", e.what_without_backtrace());
+  }
+  const size_t end = bytes.size() >= kEndRecord ? bytes.size() - kEndRecord : 0;
+  if (bytes.size() < kEndRecord || bytes.compare(end, 4, kEndSignature) != 0 ||
+      bytes[bytes.size() - 2] != 0 || bytes[bytes.size() - 1] != 0)
+    fail("internal error: the archive for ", what, " ", path,
+         " does not end in a zip end record without comment");
+  const std::string comment = kTag + hex32(crc_of(bytes, bytes.size() - 2));
+  bytes[bytes.size() - 2] = static_cast<char>(kCommentLength & 0xff);
+  bytes[bytes.size() - 1] = static_cast<char>(kCommentLength >> 8);
+  bytes += comment;
+  write_file_atomic(path, bytes);
+}
+
+bool load_checked_archive(torch::serialize::InputArchive& a, const std::string& path,
+                          const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail("cannot open ", what, " ", path);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) fail("cannot read ", what, " ", path);
+  const size_t n = bytes.size();
+  // A checksummed file ends in the end record and the comment "nsf-crc32 xxxxxxxx".
+  const bool checked =
+      n >= kEndRecord + kCommentLength &&
+      bytes.compare(n - kCommentLength - kEndRecord, 4, kEndSignature) == 0 &&
+      static_cast<unsigned char>(bytes[n - kCommentLength - 2]) == (kCommentLength & 0xff) &&
+      static_cast<unsigned char>(bytes[n - kCommentLength - 1]) == (kCommentLength >> 8) &&
+      bytes.compare(n - kCommentLength, sizeof(kTag) - 1, kTag) == 0;
+  if (checked) {
+    const std::string stored = bytes.substr(n - 8);
+    const std::string actual = hex32(crc_of(bytes, n - kCommentLength - 2));
+    if (stored != actual)
+      fail(what, " ", path, " is damaged: its checksum does not match (stored CRC-32 ", stored,
+           ", the bytes give ", actual,
+           "); it was changed after nsf wrote it. Copy it again "
+           "or retrain");
+  }
+  try {
+    a.load_from(bytes.data(), bytes.size());
+  } catch (const c10::Error& e) {
+    fail("cannot read ", what, " ", path, " (not an nsf ", what,
+         ", or damaged): ", e.what_without_backtrace());
+  }
+  return checked;
+}
+
+}  // namespace nsf
