@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <random>
 
 #include "app/rom_run.h"
@@ -840,15 +841,47 @@ TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
   const std::vector<nsf::Latent> z = written_latents(out);
   ASSERT_EQ(z.size(), 13u);
   for (const nsf::Latent& row : z) EXPECT_EQ(row.size(), 4);
+  const std::string row = (root_ / "rom_row.json").string();
   const auto held = nsf::testing::run_cli("rom '" + model() + "' '" + kTinyScene +
                                           "' --mu 1.0 --threads 2 --no-full-order --truth '" +
-                                          truth() + "' --latent-prior 0.002");
+                                          truth() + "' --latent-prior 0.002 --json '" + row + "'");
   ASSERT_EQ(held.exit_code, 0) << held.output;
   EXPECT_THAT(held.output, HasSubstr("(latent prior, epsilon = 2 mm)"));
+  // --json: the printed summary as a docs/results row.
+  std::ifstream in(row);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  char printed[64];
+  std::snprintf(printed, sizeof printed, "%.3f%%", 100 * j.at("delta").get<double>());
+  EXPECT_THAT(held.output, HasSubstr(printed));
+  EXPECT_EQ(j.at("latent_prior").get<double>(), 0.002);
+  EXPECT_EQ(j.at("field_sources").get<std::string>(), "x from g, tau from h, C from l");
   const auto bad = nsf::testing::run_cli("rom '" + model() + "' '" + kTinyScene +
                                          "' --mu 1.0 --no-full-order --latent-prior -1");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_THAT(bad.output, HasSubstr("--latent-prior"));
+}
+
+// The error budget against a truth that lies on the model's own manifold — a ROM run of the same
+// model and μ — must find nothing: the encoder refined and the samples' fit both recover each
+// frame's latent, and the run itself reproduces the file bit for bit.
+TEST_F(RomEndToEnd, BudgetOfARunOnTheModelsOwnManifoldIsZero) {
+  nsf::RomRunOptions o = options();
+  o.out_path = (root_ / "manifold.h5").string();
+  nsf::run_rom(o);
+  o.truth_path = o.out_path;
+  o.out_path.clear();
+  o.budget = true;
+  const nsf::RomReport r = nsf::run_rom(o);
+  ASSERT_TRUE(r.budget.has_value());
+  EXPECT_EQ(r.delta, 0.0);
+  EXPECT_LT(r.budget->projected.delta, 1e-6);
+  EXPECT_LT(r.budget->projected.stress, 1e-4);
+  EXPECT_LT(r.budget->projected.affine, 1e-4);
+  EXPECT_LT(r.budget->encoded.delta, 1e-4);
+  EXPECT_GT(r.budget->projection_iterations, 0.0);
+  // Without a truth there is nothing to measure against.
+  o.truth_path.clear();
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "--budget");
 }
 
 // Relative error of h's stress at the latents ROM runs wrote against the truth's τ of the same
