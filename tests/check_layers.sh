@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# The layers of src/ point one way: core -> mpm -> io, data, nn -> rom -> app. Fails, listing each
-# offending line, when a file includes a header of a layer it may not use:
+# The layers of src/ point one way: core -> mpm -> io, data, nn -> rom -> runtime -> app. Fails,
+# listing each offending line, when a file includes a header of a layer it may not use:
 #   core  only itself
 #   mpm   core
 #   io, data, nn   core, mpm and one another; not rom or app
 #   rom   core, mpm, data, nn; not io (files are the harness's job) or app
+#   runtime   core, mpm, data, nn, rom (the embedding API; it writes no files either)
 #   app   anything
+# The embedding API's public header, include/nsf/runtime.h, includes nothing of src/ at all.
 # Usage: tests/check_layers.sh [SRC_DIR] (default: the src/ next to this script). Run by ctest.
 set -euo pipefail
 src="${1:-$(dirname "$0")/../src}"
@@ -17,7 +19,8 @@ allowed() {
     mpm) echo "core mpm" ;;
     io | data | nn) echo "core mpm io data nn" ;;
     rom) echo "core mpm data nn rom" ;;
-    app) echo "core mpm io data nn rom app" ;;
+    runtime) echo "core mpm data nn rom runtime" ;;
+    app) echo "core mpm io data nn rom runtime app" ;;
     *) return 1 ;;
   esac
 }
@@ -39,8 +42,13 @@ for layer_dir in "$src"/*/; do
   done < <(grep -rnE --include='*.h' --include='*.cpp' '^[[:space:]]*#[[:space:]]*include[[:space:]]*"[a-z_]+/' \
              "$layer_dir" | sed -E 's/^([^:]+):([0-9]+):.*#[[:space:]]*include[[:space:]]*"([a-z_]+)\/.*/\1:\2:\3/')
 done
+public="$src/../include/nsf"
+if [[ -d "$public" ]] && grep -rnE '^[[:space:]]*#[[:space:]]*include[[:space:]]*"' "$public"; then
+  echo "check_layers: the public headers in include/nsf include headers of src/ (above)"
+  bad=1
+fi
 if ((bad)); then
-  echo "check_layers: includes point the wrong way (core -> mpm -> io/data/nn -> rom -> app)" >&2
+  echo "check_layers: includes point the wrong way (core -> mpm -> io/data/nn -> rom -> runtime -> app)" >&2
   exit 1
 fi
 echo "check_layers: every include in $src points down the layers"

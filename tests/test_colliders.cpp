@@ -150,6 +150,33 @@ TEST(ColliderMotion, KeyframesInterpolateCentreAndRotation) {
   expect_vec(rigid->pose().velocity, Vec3::Zero());
 }
 
+TEST(ColliderMotion, HostDrivenPoseReplacesTheScriptAndMovesOnWithItsVelocities) {
+  auto c = collider(R"({"type": "box", "center": [0.5, 0.5, 0.5], "size": [0.2, 0.2, 0.2],
+                        "contact": "sticky", "motion": {"velocity": [1, 0, 0]}})");
+  auto* rigid = dynamic_cast<RigidCollider*>(c.get());
+  EXPECT_FALSE(rigid->driven());
+  RigidPose host;
+  host.center = Vec3(0.4, 0.3, 0.5);
+  host.velocity = Vec3(0, 2, 0);
+  host.angular_velocity = Vec3(0, 0, 1);
+  rigid->drive(host, 0.1);
+  EXPECT_TRUE(rigid->driven());
+  expect_vec(rigid->pose().center, host.center);  // now, not at the script's 0.6
+
+  c->set_time(0.15);  // the next step: moved on by v·Δt and turned by ω·Δt, the script ignored
+  expect_vec(rigid->pose().center, Vec3(0.4, 0.4, 0.5));
+  EXPECT_NEAR(std::atan2(rigid->pose().rotation(1, 0), rigid->pose().rotation(0, 0)), 0.05, 1e-12);
+  // The contact sees the host's velocities: v + ω × (x − c).
+  expect_vec(applied(*c, Vec3(0.4, 0.45, 0.5), Vec3(5, 5, 5)), Vec3(-0.05, 2, 0));
+
+  host.center = Vec3(0.2, 0.3, 0.5);  // the next frame: the host's pose again
+  host.velocity = host.angular_velocity = Vec3::Zero();
+  rigid->drive(host, 0.2);
+  c->set_time(0.3);
+  expect_vec(rigid->pose().center, host.center);
+  expect_vec(applied(*c, Vec3(0.2, 0.3, 0.5), Vec3(5, 5, 5)), Vec3::Zero());
+}
+
 TEST(ColliderMotion, GripsPullingApartMoveOppositeWays) {
   const char* grip = R"({"type": "box", "center": [%g, 0.5, 0.5], "size": [0.1, 0.2, 0.2],
                          "contact": "sticky", "motion": {"velocity": [%g, 0, 0], "end": 1}})";

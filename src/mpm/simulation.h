@@ -1,6 +1,7 @@
 #pragma once
 // The full-order explicit MPM engine (§3.3 of the paper): P2G, grid update, G2P, return map.
 #include <algorithm>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,8 @@ class Simulation {
   const SimSettings& settings() const { return scene_.settings; }
   Particles& particles() { return scene_.particles; }
   const Particles& particles() const { return scene_.particles; }
+  // The scene's colliders, for a host that moves them between steps (RigidCollider::drive).
+  std::vector<std::unique_ptr<Collider>>& colliders() { return scene_.colliders; }
   const Grid& grid() const { return grid_; }
   const StepTimes& times() const { return times_; }
 

@@ -459,6 +459,9 @@ const Latent& LatentStepper::latent() const {
 const GaussNewtonOptions& LatentStepper::inversion_options() const {
   return impl_->opt.inversion;
 }
+std::vector<std::unique_ptr<Collider>>& LatentStepper::colliders() {
+  return impl_->sim->colliders();
+}
 const Latent& LatentStepper::previous_latent() const {
   return impl_->z_prev;
 }

@@ -2,8 +2,8 @@
 // The reduced-order simulator (§5): time-stepping in the latent space of a trained model. One
 // step = (1) infer x, v, τ, C on the integration particles N, (2) one MPM step on N with the
 // full-order engine's own transfers (G2P on the sample particles S only), (3) Gauss–Newton
-// inversion of g on S for ẑ_{n+1}. The public runtime header: no torch types, so a game engine
-// or VR client can embed it with the model file and a scene.
+// inversion of g on S for ẑ_{n+1}. No torch types; a host program embeds it through the
+// embedding API (include/nsf/runtime.h, src/runtime/), which hides it and its Eigen types.
 #include <memory>
 #include <string>
 #include <vector>
@@ -80,6 +80,9 @@ class LatentStepper {
   // N of the last step; with a thinned quadrature, ids ≥ particle_count() are merged points.
   const std::vector<uint32_t>& integration_particles() const;
   RomDiagnostics diagnostics() const;
+  // The scene's colliders, which the MPM step on N sets to its time: a host moves one between
+  // steps with RigidCollider::drive.
+  std::vector<std::unique_ptr<Collider>>& colliders();
 
  private:
   struct Impl;

@@ -9,8 +9,15 @@ namespace nsf {
 
 class RigidCollider : public Collider {
  public:
-  void set_time(double t) override { pose_ = motion_.at(t); }
+  // The scripted pose at t, or, once a host drives the collider, the driven pose moved on to t.
+  void set_time(double t) override;
   void apply(const Vec3& x, Vec3& v) const override;
+
+  // Hands the collider to a host (a game engine moving it each frame): from now on its scripted
+  // motion is ignored; at time t it is at `pose`, and it moves on rigidly with the pose's
+  // velocity and angular velocity until the next call. The contact sees those velocities.
+  void drive(const RigidPose& pose, double t);
+  bool driven() const { return driven_; }
 
   // World-frame queries at the current pose (tests, rendering).
   double signed_distance(const Vec3& x) const { return body_sdf(to_body(x)); }
@@ -33,6 +40,9 @@ class RigidCollider : public Collider {
   ContactRule contact_;
   RigidMotion motion_;
   RigidPose pose_;
+  bool driven_ = false;
+  RigidPose driven_pose_;  // the host's pose at driven_time_
+  double driven_time_ = 0;
 };
 
 }  // namespace nsf

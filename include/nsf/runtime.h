@@ -1,0 +1,87 @@
+#pragma once
+// nsf's embedding API: runs a trained reduced-order model (a .nsf file) on its scene, frame by
+// frame, inside a host program (a game engine, a VR client, a design tool). docs/EMBEDDING.md.
+//
+// The interface holds only standard C++ types: no Eigen, JSON or torch type crosses it, and the
+// library keeps every other symbol to itself, so a host may be built with other compiler flags
+// (-march, -O) than the library was. Errors throw std::runtime_error naming the problem.
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#if defined(__GNUC__)
+#define NSF_API __attribute__((visibility("default")))
+#else
+#define NSF_API
+#endif
+
+namespace nsf {
+
+// How a run is set up; every field may be left as it is.
+struct RuntimeOptions {
+  // The scene's sweep parameter μ (its "sweep" section says what it sets). Required when the
+  // scene has one, refused when it has none.
+  std::optional<double> mu;
+  // Sample particles |S| of the latent fit; 0: the scene's "rom" section, else the default.
+  int samples = 0;
+  // Threads for the MPM step and the networks; 0: all cores.
+  int threads = 0;
+  // "a.b.c=value" overrides of the scene, as `nsf rom --set` takes them.
+  std::vector<std::string> overrides;
+};
+
+// A rigid collider's pose in the world frame.
+struct ColliderPose {
+  std::array<double, 3> position{};                           // its reference point, m
+  std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};  // body → world, row-major
+  std::array<double, 3> velocity{};                           // of that point, m/s
+  std::array<double, 3> angular_velocity{};                   // rad/s, about that point
+};
+
+// The reduced-order simulator of one scene at one μ. Not copyable; movable.
+class NSF_API Runtime {
+ public:
+  // Loads the model and the scene it was trained on (same particles; checked), applies μ and
+  // the overrides, and sets up the latent stepper at the scene's initial state.
+  Runtime(const std::string& model_path, const std::string& scene_path,
+          const RuntimeOptions& options = {});
+  ~Runtime();
+  Runtime(Runtime&&) noexcept;
+  Runtime& operator=(Runtime&&) noexcept;
+  Runtime(const Runtime&) = delete;
+  Runtime& operator=(const Runtime&) = delete;
+
+  std::size_t particle_count() const;
+  int frame_count() const;    // the scene's frames (the run may go on past them)
+  double frame_time() const;  // seconds per frame
+  int steps_per_frame() const;
+  double time() const;  // simulated seconds so far
+
+  void advance_frame();  // steps_per_frame() steps
+  void step();           // one reduced-order step
+
+  // Positions (x0 y0 z0 x1 …, metres) of every particle into out[0, 3·particle_count());
+  // throws if `size` (in floats) is less.
+  void positions(float* out, std::size_t size) const;
+  std::vector<float> positions() const;
+  // Velocities, the same way (m/s): the backward difference of the last step.
+  void velocities(float* out, std::size_t size) const;
+
+  // The scene's colliders, in the order of its "colliders" list.
+  std::size_t collider_count() const;
+  std::string collider_type(std::size_t i) const;   // "box", "cylinder", "plane"
+  ColliderPose collider_pose(std::size_t i) const;  // now
+  // The host takes collider i over: it is at `pose` now and moves on with the pose's velocities
+  // until the next call (its scripted motion is ignored from now on). Call it before each step
+  // or frame; the velocities are what the material in contact feels.
+  void set_collider_pose(std::size_t i, const ColliderPose& pose);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace nsf

@@ -1,0 +1,163 @@
+// The embedding API (include/nsf/runtime.h) over the latent stepper. Everything but the facade is
+// hidden in the shared library, so none of the Eigen, JSON or torch code it holds meets the
+// host's own instantiations of them.
+#include <nsf/runtime.h>
+#include <omp.h>
+
+#include <Eigen/Geometry>
+#include <stdexcept>
+
+#include "core/error.h"
+#include "mpm/colliders/rigid_collider.h"
+#include "nn/runtime.h"
+#include "rom/latent_stepper.h"
+#include "runtime/rom_setup.h"
+
+namespace nsf {
+
+namespace {
+
+// Runs `f`, turning the library's own errors into std::runtime_error, the one type a host needs.
+template <typename F>
+auto guarded(const char* what, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("nsf::Runtime::") + what + ": " + e.what());
+  }
+}
+
+void to_floats(const std::vector<Vec3>& v, float* out, std::size_t size, const char* what) {
+  if (size < 3 * v.size())
+    fail(what, ": the buffer holds ", size, " floats, ", 3 * v.size(), " are needed");
+  for (std::size_t p = 0; p < v.size(); ++p)
+    for (int k = 0; k < 3; ++k) out[3 * p + k] = float(v[p][k]);
+}
+
+Vec3 vec(const std::array<double, 3>& a) {
+  return Vec3(a[0], a[1], a[2]);
+}
+std::array<double, 3> arr(const Vec3& v) {
+  return {v[0], v[1], v[2]};
+}
+
+}  // namespace
+
+struct Runtime::Impl {
+  NeuralFields fields;
+  int frames = 0;
+  double frame_time = 0;
+  std::unique_ptr<LatentStepper> stepper;  // holds a reference to `fields`
+
+  Impl(const std::string& model_path, const std::string& scene_path, const RuntimeOptions& o)
+      : fields(NeuralFields::load(model_path)) {
+    RomSetup s = rom_setup(fields, scene_path, o.mu, o.overrides, o.samples);
+    frames = s.scene.settings.frames;
+    frame_time = s.scene.settings.substeps * s.scene.settings.dt;
+    stepper = std::make_unique<LatentStepper>(fields, std::move(s.scene), s.mu, s.options);
+  }
+
+  RigidCollider& collider(std::size_t i) const {
+    auto& all = stepper->colliders();
+    if (i >= all.size()) fail("collider ", i, " does not exist: the scene has ", all.size());
+    auto* rigid = dynamic_cast<RigidCollider*>(all[i].get());
+    if (!rigid) fail("collider ", i, " (", all[i]->type(), ") is not a rigid collider");
+    return *rigid;
+  }
+};
+
+Runtime::Runtime(const std::string& model_path, const std::string& scene_path,
+                 const RuntimeOptions& options) {
+  guarded("Runtime", [&] {
+    if (options.threads < 0) fail("threads must be 0 (all cores) or more, got ", options.threads);
+    if (options.threads > 0) omp_set_num_threads(options.threads);
+    set_nn_threads(options.threads);
+    impl_ = std::make_unique<Impl>(model_path, scene_path, options);
+  });
+}
+Runtime::~Runtime() = default;
+Runtime::Runtime(Runtime&&) noexcept = default;
+Runtime& Runtime::operator=(Runtime&&) noexcept = default;
+
+std::size_t Runtime::particle_count() const {
+  return impl_->stepper->particle_count();
+}
+int Runtime::frame_count() const {
+  return impl_->frames;
+}
+double Runtime::frame_time() const {
+  return impl_->frame_time;
+}
+int Runtime::steps_per_frame() const {
+  return impl_->stepper->steps_per_frame();
+}
+double Runtime::time() const {
+  return impl_->stepper->time();
+}
+
+void Runtime::advance_frame() {
+  guarded("advance_frame", [&] { impl_->stepper->advance_frame(); });
+}
+void Runtime::step() {
+  guarded("step", [&] { impl_->stepper->step(); });
+}
+
+void Runtime::positions(float* out, std::size_t size) const {
+  guarded("positions", [&] {
+    std::vector<Vec3> x;
+    impl_->stepper->particle_state(x, nullptr);
+    to_floats(x, out, size, "positions");
+  });
+}
+std::vector<float> Runtime::positions() const {
+  std::vector<float> out(3 * particle_count());
+  positions(out.data(), out.size());
+  return out;
+}
+void Runtime::velocities(float* out, std::size_t size) const {
+  guarded("velocities", [&] {
+    std::vector<Vec3> x, v;
+    impl_->stepper->particle_state(x, &v);
+    to_floats(v, out, size, "velocities");
+  });
+}
+
+std::size_t Runtime::collider_count() const {
+  return impl_->stepper->colliders().size();
+}
+std::string Runtime::collider_type(std::size_t i) const {
+  return guarded("collider_type", [&] { return impl_->collider(i).type(); });
+}
+ColliderPose Runtime::collider_pose(std::size_t i) const {
+  return guarded("collider_pose", [&] {
+    RigidCollider& c = impl_->collider(i);
+    c.set_time(time());  // the next step sets it to this time too
+    const RigidPose& p = c.pose();
+    ColliderPose out;
+    out.position = arr(p.center);
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) out.rotation[3 * r + k] = p.rotation(r, k);
+    out.velocity = arr(p.velocity);
+    out.angular_velocity = arr(p.angular_velocity);
+    return out;
+  });
+}
+void Runtime::set_collider_pose(std::size_t i, const ColliderPose& pose) {
+  guarded("set_collider_pose", [&] {
+    RigidPose p;
+    p.center = vec(pose.position);
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) p.rotation(r, k) = pose.rotation[3 * r + k];
+    p.velocity = vec(pose.velocity);
+    p.angular_velocity = vec(pose.angular_velocity);
+    if (!p.center.allFinite() || !p.rotation.allFinite() || !p.velocity.allFinite() ||
+        !p.angular_velocity.allFinite())
+      fail("the pose of collider ", i, " holds a value that is not finite");
+    if ((p.rotation.transpose() * p.rotation - Mat3::Identity()).norm() > 1e-4 ||
+        p.rotation.determinant() < 0)
+      fail("the rotation of collider ", i, " is not a rotation matrix (orthonormal, det +1)");
+    impl_->collider(i).drive(p, time());
+  });
+}
+
+}  // namespace nsf

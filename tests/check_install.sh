@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# The installed package as a host uses it (docs/EMBEDDING.md). Installs BUILD_DIR into a scratch
+# prefix; checks that the public header compiles alone, with no flag of the library, reaching no
+# torch, Eigen or JSON header, and that the library exports none of their symbols; trains a tiny
+# model with the installed nsf; builds examples/embed against the prefix with the host's default
+# flags and with -march=native; runs each with the collider raised by the host and held still.
+# Usage: tests/check_install.sh BUILD_DIR SOURCE_DIR. Run by ctest (install_and_embed).
+set -euo pipefail
+build=$(cd "$1" && pwd)
+src=$(cd "$2" && pwd)
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/nsf_install.XXXXXX")
+trap 'rm -rf "$tmp"' EXIT
+die() {
+  echo "check_install: $*" >&2
+  exit 1
+}
+step() { echo "== $* ($SECONDS s)"; }
+
+prefix="$tmp/prefix"
+step "install into $prefix"
+cmake --install "$build" --prefix "$prefix" >/dev/null
+lib=$(ls "$prefix"/lib*/libnsf_runtime.so) || die "no libnsf_runtime.so installed"
+[[ -x "$prefix/bin/nsf" ]] || die "no bin/nsf installed"
+extra=$(cd "$prefix/include" && find . -type f ! -path './nsf/*')
+[[ -z "$extra" ]] || die "headers installed outside include/nsf: $extra"
+
+step "the public header alone"
+echo '#include <nsf/runtime.h>' >"$tmp/header_only.cpp"
+c++ -std=c++17 -fsyntax-only -H -I "$prefix/include" "$tmp/header_only.cpp" 2>"$tmp/included.txt"
+if grep -Ei 'torch|c10|eigen|nlohmann|/src/' "$tmp/included.txt"; then
+  die "the public header reaches the headers above"
+fi
+if nm -DC --defined-only "$lib" | grep -E ' (Eigen|at|c10|torch|nlohmann)::'; then
+  die "libnsf_runtime.so exports the symbols above"
+fi
+
+step "a tiny model, trained by the installed nsf"
+scene="$src/scenes/examples/rom_tiny.json"
+"$prefix/bin/nsf" sweep "$scene" --out "$tmp/data" -J 2 -j 1 -q >/dev/null
+"$prefix/bin/nsf" train "$tmp/data" --out "$tmp/tiny.nsf" -r 2 --depth 2 --width-g 32 \
+  --width-h 16 --width-l 16 --encoder-hidden 8 --steps 100,50,50 --refine-latents 0 -j 2 -q \
+  --frames-per-batch 2 --particles-per-frame 64 >/dev/null
+
+for flags in "" "-march=native"; do
+  name=host${flags:+_native}
+  step "examples/embed against the prefix, CXXFLAGS='$flags'"
+  cmake -S "$src/examples/embed" -B "$tmp/$name" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_CXX_FLAGS="$flags" >/dev/null
+  cmake --build "$tmp/$name" >/dev/null
+  "$tmp/$name/embed" "$tmp/tiny.nsf" "$scene" 1.0 0.5 >"$tmp/$name.moved" ||
+    die "$name: the example failed (raised collider)"
+  "$tmp/$name/embed" "$tmp/tiny.nsf" "$scene" 1.0 0 >"$tmp/$name.still" ||
+    die "$name: the example failed (still collider)"
+done
+cat "$tmp/host.moved"
+
+step "what the runs printed"
+frames=$(grep -c '^frame' "$tmp/host.moved")
+((frames == 12)) || die "the example printed $frames frames, the scene has 12"
+grep -q '^frame 12 .* x0 [-0-9.]\+ [-0-9.]\+ [-0-9.]\+$' "$tmp/host.moved" || die "no positions"
+# The collider's pose, echoed back: raised by 0.5 m/s over 12 frames of 15 ms.
+y_moved=$(awk '/^frame 12/ {print $7}' "$tmp/host.moved")
+y_still=$(awk '/^frame 12/ {print $7}' "$tmp/host.still")
+awk -v a="$y_moved" -v b="$y_still" 'BEGIN { exit !(a - b > 0.089 && a - b < 0.091) }' ||
+  die "the collider is at y $y_moved raised, $y_still still: not 0.09 m apart"
+# The material feels it.
+cmp -s <(awk '/^frame/ {print $10, $13}' "$tmp/host.moved") \
+  <(awk '/^frame/ {print $10, $13}' "$tmp/host.still") &&
+  die "moving the collider changed no position"
+# The host's flags change nothing.
+cmp "$tmp/host.moved" "$tmp/host_native.moved" || die "-march=native host printed otherwise"
+cmp "$tmp/host.still" "$tmp/host_native.still" || die "-march=native host printed otherwise"
+step "check_install: the installed package builds and runs a host, with either flags"
