@@ -110,19 +110,12 @@ RomReport run_rom(const RomRunOptions& o) {
   Scene scene = app::build_scene_file(file, js);
   fields.check_scene(scene.name, scene.particles.X, "scene " + o.scene_path);
 
-  RomOptions ro = o.rom;
-  const RomSection& section = file.sections.rom;
-  ro.sampling = section.sampling;
-  ro.dt_ratio = o.dt_ratio.value_or(section.dt_ratio.value_or(ro.dt_ratio));
-  ro.latent_prior = o.latent_prior.value_or(section.latent_prior.value_or(ro.latent_prior));
-  ro.quadrature_per_cell =
-      o.quadrature.value_or(section.quadrature.value_or(ro.quadrature_per_cell));
-  ro.inversion.max_iterations =
-      o.gn_iterations.value_or(section.gn_iterations.value_or(ro.inversion.max_iterations));
-  for (auto [mine, scenes] : {std::pair{&ro.fields.deformation, &section.fields.deformation},
-                              std::pair{&ro.fields.stress, &section.fields.stress},
-                              std::pair{&ro.fields.affine, &section.fields.affine}})
-    if (mine->empty()) *mine = *scenes;
+  // The scene's rom section, then what the command line gave.
+  RomOptions ro = with_rom_section(o.rom, file.sections.rom);
+  if (o.dt_ratio) ro.dt_ratio = *o.dt_ratio;
+  if (o.latent_prior) ro.latent_prior = *o.latent_prior;
+  if (o.quadrature) ro.quadrature_per_cell = *o.quadrature;
+  if (o.gn_iterations) ro.inversion.max_iterations = *o.gn_iterations;
   if (o.samples) ro.sampling.count = *o.samples;
   if (o.seed) ro.sampling.seed = *o.seed;
 

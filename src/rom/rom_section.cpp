@@ -1,6 +1,7 @@
 #include "rom/rom_section.h"
 
 #include <cmath>
+#include <utility>
 
 #include "core/error.h"
 
@@ -56,6 +57,19 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
   s.latent_prior = number("latent_prior", true, "the latent prior's length in metres; 0: none");
   s.sampling = parse_sampling(sampling);
   return s;
+}
+
+RomOptions with_rom_section(RomOptions o, const RomSection& s) {
+  o.sampling = s.sampling;
+  o.dt_ratio = s.dt_ratio.value_or(o.dt_ratio);
+  o.latent_prior = s.latent_prior.value_or(o.latent_prior);
+  o.quadrature_per_cell = s.quadrature.value_or(o.quadrature_per_cell);
+  o.inversion.max_iterations = s.gn_iterations.value_or(o.inversion.max_iterations);
+  for (auto [mine, scenes] : {std::pair{&o.fields.deformation, &s.fields.deformation},
+                              std::pair{&o.fields.stress, &s.fields.stress},
+                              std::pair{&o.fields.affine, &s.fields.affine}})
+    if (mine->empty()) *mine = *scenes;
+  return o;
 }
 
 }  // namespace nsf

@@ -23,4 +23,8 @@ struct RomSection {
 // Throws nsf::Error naming the key for a malformed value.
 RomSection parse_rom_section(const nlohmann::json& rom);
 
+// `options` with the section's settings: its sampling, and each other value the section gives;
+// a field source only where `options` names none (a command line's own choice wins).
+RomOptions with_rom_section(RomOptions options, const RomSection& section);
+
 }  // namespace nsf

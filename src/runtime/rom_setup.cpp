@@ -34,14 +34,8 @@ RomSetup rom_setup(const NeuralFields& fields, const std::string& scene_path,
   }
   fields.check_scene(s.scene.name, s.scene.particles.X, "scene " + scene_path);
 
-  RomOptions& o = s.options;
-  o.sampling = section.sampling;
-  if (samples > 0) o.sampling.count = samples;
-  o.dt_ratio = section.dt_ratio.value_or(o.dt_ratio);
-  o.latent_prior = section.latent_prior.value_or(o.latent_prior);
-  o.quadrature_per_cell = section.quadrature.value_or(o.quadrature_per_cell);
-  o.inversion.max_iterations = section.gn_iterations.value_or(o.inversion.max_iterations);
-  o.fields = section.fields;
+  s.options = with_rom_section(RomOptions(), section);
+  if (samples > 0) s.options.sampling.count = samples;
   return s;
 }
 
