@@ -2,7 +2,9 @@
 // Checks on the nsf::Error a call must throw: that it throws, and what its message names.
 #include <gtest/gtest.h>
 
+#include <initializer_list>
 #include <string>
+#include <utility>
 
 #include "core/error.h"
 
@@ -22,6 +24,13 @@ std::string error_of(Fn&& f) {
 
 inline void expect_contains(const std::string& msg, const std::string& part) {
   EXPECT_NE(msg.find(part), std::string::npos) << "'" << part << "' missing from: " << msg;
+}
+
+// Runs f expecting an nsf::Error whose message holds every one of `parts`.
+template <typename Fn>
+void expect_error(Fn&& f, std::initializer_list<std::string> parts) {
+  const std::string msg = error_of(std::forward<Fn>(f));
+  for (const std::string& part : parts) expect_contains(msg, part);
 }
 
 }  // namespace nsf::testing

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "error_matchers.h"
 #include "nn/train_section.h"
 
 namespace nsf {
@@ -16,14 +17,8 @@ using nlohmann::json;
 
 // Parses `train` expecting an nsf::Error whose message contains every needle.
 void expect_rejected(const json& train, std::initializer_list<std::string> needles) {
-  try {
-    parse_train_section(train);
-    ADD_FAILURE() << "accepted " << train.dump();
-  } catch (const Error& e) {
-    for (const auto& n : needles)
-      EXPECT_NE(std::string(e.what()).find(n), std::string::npos)
-          << "'" << n << "' not in: " << e.what();
-  }
+  SCOPED_TRACE(train.dump());
+  nsf::testing::expect_error([&] { parse_train_section(train); }, needles);
 }
 
 TEST(TrainSection, SetsWhatTheCommandLineLeavesOpen) {

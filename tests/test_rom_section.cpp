@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "error_matchers.h"
 #include "rom/rom_section.h"
 
 namespace nsf {
@@ -13,14 +14,8 @@ using nlohmann::json;
 
 // Parses `rom` expecting an nsf::Error whose message contains every needle.
 void expect_rejected(const json& rom, std::initializer_list<std::string> needles) {
-  try {
-    parse_rom_section(rom);
-    ADD_FAILURE() << "accepted " << rom.dump();
-  } catch (const Error& e) {
-    for (const auto& n : needles)
-      EXPECT_NE(std::string(e.what()).find(n), std::string::npos)
-          << "'" << n << "' not in: " << e.what();
-  }
+  SCOPED_TRACE(rom.dump());
+  nsf::testing::expect_error([&] { parse_rom_section(rom); }, needles);
 }
 
 TEST(RomSection, TakesSamplesAndATimeStepRatio) {
