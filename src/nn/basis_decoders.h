@@ -36,11 +36,15 @@ struct PointBasis {
   CoefficientNet net;
 
   // out[0..dim) = mean_p + B_p c, for particle p.
+  // One dot product of K per value: a dim × K product dispatched per point costs more than
+  // its arithmetic.
   void value(size_t p, const Eigen::VectorXf& c, float* out) const {
-    const float* m = &mean[p * size_t(dim)];
-    const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> B(
-        &modes[p * size_t(dim) * size_t(K)], dim, K);
-    Eigen::Map<Eigen::VectorXf>(out, dim) = Eigen::Map<const Eigen::VectorXf>(m, dim) + B * c;
+    value_of(&mean[p * size_t(dim)], &modes[p * size_t(dim) * size_t(K)], c, out);
+  }
+  // The same for rows held elsewhere (a merged point's blend): mean m (dim), modes B (dim × K).
+  void value_of(const float* m, const float* B, const Eigen::VectorXf& c, float* out) const {
+    for (int d = 0; d < dim; ++d)
+      out[d] = m[d] + Eigen::Map<const Eigen::VectorXf>(B + size_t(d) * size_t(K), K).dot(c);
   }
   // The mean and modes of a point standing for several particles, mass-weighted.
   void blend(const std::vector<std::pair<uint32_t, double>>& members, std::vector<float>& mean_out,

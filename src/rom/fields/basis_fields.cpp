@@ -36,10 +36,7 @@ class BasisRows {
   void value(uint32_t id, const Eigen::VectorXf& c, float* out) const {
     if (id < b_.points) return b_.value(id, c, out);
     const size_t j = id - b_.points, d = size_t(b_.dim);
-    const Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> B(
-        &modes_[j * d * size_t(b_.K)], b_.dim, b_.K);
-    Eigen::Map<Eigen::VectorXf>(out, b_.dim) =
-        Eigen::Map<const Eigen::VectorXf>(&mean_[j * d], b_.dim) + B * c;
+    b_.value_of(&mean_[j * d], &modes_[j * d * size_t(b_.K)], c, out);
   }
 
  private:
