@@ -10,6 +10,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev gnuplot-nox ffmpeg
   libassimp-dev
+  openmpi-bin libopenmpi-dev
 )
 
 missing=()

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 
 #include "core/error.h"
@@ -225,6 +226,93 @@ TEST_F(SweepRunTest, ParallelJobsGiveTheSameBits) {
     nsf::RunReader a((dir_ / "one" / f).string()), b((dir_ / "two" / f).string());
     EXPECT_EQ(a.read_positions(2), b.read_positions(2)) << f;
   }
+}
+
+// Two processes of one sweep (what app/sweep_ranks.cpp does over MPI), run one after the other
+// in this one: the first call's pending list decides for both, as process 0's does over MPI;
+// process 1 reports its finished runs, process 0 writes the manifest with them.
+struct TwoProcessTeam {
+  std::vector<int> pending;
+  bool decided = false;
+  std::vector<int> reported;  // by process 1
+  int manifests = 0;
+  std::vector<int> ran[2];
+
+  struct Member : nsf::SweepTeam {
+    Member(TwoProcessTeam& t, int r) : team(t), rank(r) {}
+    std::vector<int> share(const std::vector<int>& p) override {
+      if (!team.decided) team.pending = p, team.decided = true;
+      std::vector<int> mine;
+      for (size_t k = size_t(rank); k < team.pending.size(); k += 2)
+        mine.push_back(team.pending[k]);
+      return mine;
+    }
+    void collect(const std::vector<int>& done,
+                 const std::function<void(const std::vector<int>&)>& write_manifest) override {
+      team.ran[rank] = done;
+      if (rank == 1) {
+        team.reported = done;
+        return;
+      }
+      std::vector<int> all = done;
+      all.insert(all.end(), team.reported.begin(), team.reported.end());
+      write_manifest(all);
+      ++team.manifests;
+    }
+    TwoProcessTeam& team;
+    int rank;
+  };
+};
+
+std::string bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST_F(SweepRunTest, TeamSharesThePendingRunsAndWritesOneManifestOfAll) {
+  sweep("one");
+  TwoProcessTeam team;
+  TwoProcessTeam::Member p0(team, 0), p1(team, 1);
+  nsf::SweepOptions o;
+  o.out_dir = (dir_ / "two").string();
+  o.quiet = true;
+  o.team = &p1;
+  nsf::run_sweep(scene_, o);
+  EXPECT_FALSE(fs::exists(dir_ / "two" / "manifest.json")) << "process 1 wrote the manifest";
+  // A network file system may not show process 0 another host's new file yet: the manifest
+  // still lists it, because process 1 reported it.
+  fs::rename(dir_ / "two" / "train_1.h5", dir_ / "hidden.h5");
+  o.team = &p0;
+  const nsf::SweepSummary s = nsf::run_sweep(scene_, o);
+  fs::rename(dir_ / "hidden.h5", dir_ / "two" / "train_1.h5");
+
+  // Runs 0..4 pending: process 0 takes 0, 2, 4 and process 1 takes 1, 3.
+  EXPECT_EQ(team.ran[0], (std::vector<int>{0, 2, 4}));
+  EXPECT_EQ(team.ran[1], (std::vector<int>{1, 3}));
+  EXPECT_EQ(team.manifests, 1);
+  EXPECT_EQ(s.ran, 5);
+  EXPECT_EQ(manifest("two"), manifest("one"));
+  for (const char* f : {"train_0.h5", "train_1.h5", "train_2.h5", "test_0.h5", "test_1.h5"})
+    EXPECT_EQ(bytes(dir_ / "two" / f), bytes(dir_ / "one" / f)) << f;
+}
+
+TEST_F(SweepRunTest, TeamResumesOnlyWhatIsMissing) {
+  sweep("data");
+  fs::remove(dir_ / "data" / "train_2.h5");
+  fs::remove(dir_ / "data" / "test_0.h5");
+  TwoProcessTeam team;
+  TwoProcessTeam::Member p0(team, 0), p1(team, 1);
+  nsf::SweepOptions o;
+  o.out_dir = (dir_ / "data").string();
+  o.quiet = true;
+  o.team = &p1;
+  EXPECT_EQ(nsf::run_sweep(scene_, o).skipped, 3);
+  o.team = &p0;
+  const nsf::SweepSummary s = nsf::run_sweep(scene_, o);
+  EXPECT_EQ(team.ran[0], (std::vector<int>{2}));
+  EXPECT_EQ(team.ran[1], (std::vector<int>{3}));
+  EXPECT_EQ(s.ran, 2);
+  EXPECT_EQ(manifest("data")["runs"].size(), 5u);
 }
 
 TEST_F(SweepRunTest, BrokenSweepIsAnErrorNamingFileAndKey) {

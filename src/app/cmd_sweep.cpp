@@ -1,12 +1,13 @@
-// `nsf sweep scene.json --out data/NAME`: the training and test simulations of a scene's sweep.
-#include <omp.h>
-
+// `nsf sweep scene.json --out data/NAME`: the training and test simulations of a scene's sweep;
+// under `mpirun -np K`, shared by K processes (app/sweep_ranks.h).
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "app/commands.h"
 #include "app/scene_file.h"
+#include "app/sweep_ranks.h"
 #include "core/progress.h"
 #include "data/sweep.h"
 
@@ -21,8 +22,8 @@ struct SweepArgs {
   bool quiet = false;
 };
 
-void run_sweep_command(const SweepArgs& a) {
-  const int cores = omp_get_num_procs();
+void sweep(const SweepArgs& a, SweepRanks& ranks) {
+  const int cores = ranks.cores();
   SweepOptions opt;
   opt.out_dir = a.out;
   opt.overrides = a.overrides;
@@ -32,17 +33,38 @@ void run_sweep_command(const SweepArgs& a) {
   // OpenMP little work per barrier, and runs share nothing.
   opt.jobs = a.jobs > 0 ? a.jobs : cores;
   opt.threads = a.threads > 0 ? a.threads : std::max(1, cores / opt.jobs);
-  opt.quiet = a.quiet;
+  // One progress line and one summary: process 0's.
+  opt.quiet = a.quiet || ranks.rank() > 0;
+  opt.team = ranks.team();
   if (opt.jobs * opt.threads > cores)
     std::fprintf(stderr, "nsf sweep: warning: %d jobs x %d threads > %d cores\n", opt.jobs,
                  opt.threads, cores);
-  std::fprintf(stderr, "nsf sweep: %s -> %s, %d jobs x %d threads\n", a.scene.c_str(),
-               a.out.c_str(), opt.jobs, opt.threads);
+  if (ranks.size() > 1 && ranks.rank() == 0)
+    std::fprintf(stderr, "nsf sweep: %s -> %s, %d processes x %d jobs x %d threads\n",
+                 a.scene.c_str(), a.out.c_str(), ranks.size(), opt.jobs, opt.threads);
+  else if (ranks.size() == 1)
+    std::fprintf(stderr, "nsf sweep: %s -> %s, %d jobs x %d threads\n", a.scene.c_str(),
+                 a.out.c_str(), opt.jobs, opt.threads);
   const SceneFile scene = read_scene_file(a.scene, a.overrides);
   const SweepSummary s = run_sweep(scene.json, scene.sections.sweep, scene.path, opt);
+  if (ranks.rank() > 0) return;
   std::printf("sweep: %d runs, %d simulated, %d already complete, %s; manifest %s/manifest.json\n",
               s.planned, s.ran, s.skipped, Progress::format_seconds(s.seconds).c_str(),
               a.out.c_str());
+}
+
+void run_sweep_command(const SweepArgs& a) {
+  SweepRanks ranks;
+  try {
+    sweep(a, ranks);
+  } catch (const std::exception& e) {
+    if (ranks.size() == 1) throw;
+    // The other processes may be waiting for this one: end the job.
+    std::fprintf(stderr, "\nnsf: error (process %d of %d): %s\n", ranks.rank(), ranks.size(),
+                 e.what());
+    std::fflush(stderr);
+    ranks.abort(1);
+  }
 }
 
 }  // namespace

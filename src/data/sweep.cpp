@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 #include <mutex>
@@ -22,6 +23,7 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Job {
+  int plan_index = 0;  // in plan_sweep's list
   SweepRun run;
   nlohmann::json scene;  // μ applied
   std::string path;
@@ -37,6 +39,7 @@ struct Pool {
   Progress* progress = nullptr;
   long frames_done = 0;
   int runs_done = 0;
+  std::vector<int> done;  // plan indices of the runs completed
   std::string error;
 };
 
@@ -61,6 +64,7 @@ void simulate_job(const Job& job, const std::string& parameter, Pool& pool, int 
   });
   std::lock_guard<std::mutex> lock(pool.mutex);
   ++pool.runs_done;
+  pool.done.push_back(job.plan_index);
 }
 
 void worker(const std::vector<Job>& jobs, const std::string& parameter, int threads, Pool& pool) {
@@ -77,6 +81,23 @@ void worker(const std::vector<Job>& jobs, const std::string& parameter, int thre
       if (!pool.failed.exchange(true)) pool.error = e.what();
     }
   }
+}
+
+// The jobs the team gives this process out of those pending here (another process may see
+// the files differently, so they are looked up among all selected).
+std::vector<Job> team_share(SweepTeam& team, const std::vector<Job>& pending,
+                            const std::vector<Job>& selected) {
+  std::vector<int> indices;
+  for (const Job& job : pending) indices.push_back(job.plan_index);
+  std::vector<Job> mine;
+  for (int i : team.share(indices)) {
+    auto it = std::find_if(selected.begin(), selected.end(),
+                           [i](const Job& job) { return job.plan_index == i; });
+    if (it == selected.end())
+      fail("sweep: the team gave this process run ", i, ", not selected here");
+    mine.push_back(*it);
+  }
+  return mine;
 }
 
 }  // namespace
@@ -132,25 +153,27 @@ SweepSummary run_sweep(const nlohmann::json& base, const std::optional<SweepSpec
 
   const std::vector<SweepRun> plan = plan_sweep(spec);
   SweepSummary summary;
-  std::vector<Job> pending;
-  long pending_frames = 0;
-  for (const SweepRun& run : plan) {
+  std::vector<Job> selected, pending;
+  for (int i = 0; i < int(plan.size()); ++i) {
+    const SweepRun& run = plan[i];
     if (!opt.only.empty() && run.split != opt.only) continue;
     ++summary.planned;
-    Job job{run, base, (fs::path(opt.out_dir) / run.file()).string(), 0, scene_dir};
+    Job job{i, run, base, (fs::path(opt.out_dir) / run.file()).string(), 0, scene_dir};
     try {
       apply_overrides(job.scene, sweep_overrides(spec, run.mu));
       job.frames = parse_settings(job.scene.at("simulation"), "simulation").frames;
     } catch (const Error& e) {
       fail(scene_path, ": sweep run ", run.file(), " (mu = ", run.mu, "): ", e.what());
     }
-    if (is_complete_run(job.path, job.scene.dump(), job.frames)) {
+    if (is_complete_run(job.path, job.scene.dump(), job.frames))
       ++summary.skipped;
-      continue;
-    }
-    pending_frames += job.frames;
-    pending.push_back(std::move(job));
+    else
+      pending.push_back(job);
+    selected.push_back(std::move(job));
   }
+  if (opt.team) pending = team_share(*opt.team, pending, selected);
+  long pending_frames = 0;
+  for (const Job& job : pending) pending_frames += job.frames;
 
   const double start = now_seconds();
   Pool pool;
@@ -167,18 +190,33 @@ SweepSummary run_sweep(const nlohmann::json& base, const std::optional<SweepSpec
   if (!opt.quiet && !pending.empty()) progress.finish();
 
   // The manifest lists every complete run of the whole sweep, also those of an earlier
-  // `--only` pass, so train and test may be generated separately.
-  std::vector<SweepRun> complete;
-  for (const SweepRun& run : plan) {
-    nlohmann::json j = base;
-    apply_overrides(j, sweep_overrides(spec, run.mu));
-    const int frames = parse_settings(j.at("simulation"), "simulation").frames;
-    if (is_complete_run((fs::path(opt.out_dir) / run.file()).string(), j.dump(), frames))
-      complete.push_back(run);
+  // `--only` pass, so train and test may be generated separately. With a team, also every run
+  // another process reports complete: on a network file system this process may not see
+  // another host's new files yet.
+  const auto write_manifest = [&](const std::vector<int>& done) {
+    std::vector<bool> listed(plan.size(), false);
+    for (int i : done) listed.at(i) = true;
+    std::vector<SweepRun> complete;
+    for (int i = 0; i < int(plan.size()); ++i) {
+      const SweepRun& run = plan[i];
+      nlohmann::json j = base;
+      apply_overrides(j, sweep_overrides(spec, run.mu));
+      const int frames = parse_settings(j.at("simulation"), "simulation").frames;
+      if (listed[i] ||
+          is_complete_run((fs::path(opt.out_dir) / run.file()).string(), j.dump(), frames))
+        complete.push_back(run);
+    }
+    write_json_atomically((fs::path(opt.out_dir) / "manifest.json").string(),
+                          make_manifest(base.value("name", std::string()), scene_path, spec,
+                                        opt.overrides, complete));
+    summary.ran = int(done.size());
+  };
+  if (opt.team) {
+    opt.team->collect(pool.done, write_manifest);
+    summary.seconds = now_seconds() - start;  // until the last process finished
+  } else {
+    write_manifest(pool.done);
   }
-  write_json_atomically(
-      (fs::path(opt.out_dir) / "manifest.json").string(),
-      make_manifest(base.value("name", std::string()), scene_path, spec, opt.overrides, complete));
   if (pool.failed) fail("sweep stopped: ", pool.error);
   return summary;
 }

@@ -2,6 +2,7 @@
 // `nsf sweep`: every training and test simulation of a scene's "sweep" section (docs/SCENES.md),
 // written as <out>/<split>_<k>.h5 plus <out>/manifest.json (docs/DATASETS.md). Resumable: a run
 // whose file is already complete for the same scene and μ is not redone.
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -11,6 +12,22 @@
 
 namespace nsf {
 
+// Several processes running one sweep together (`mpirun -np K nsf sweep`; app/sweep_ranks.h
+// implements it over MPI, so that this layer knows no MPI). Runs are named by their index in
+// plan_sweep's list.
+class SweepTeam {
+ public:
+  virtual ~SweepTeam() = default;
+  // Gets the runs not yet complete, as this process sees them; returns the ones this process
+  // simulates. Across the team every pending run goes to exactly one process.
+  virtual std::vector<int> share(const std::vector<int>& pending) = 0;
+  // Gets the runs this process completed. Waits for every process, calls `write_manifest` with
+  // all of theirs on exactly one process, and returns only when it has returned there.
+  virtual void collect(
+      const std::vector<int>& done,
+      const std::function<void(const std::vector<int>& all_done)>& write_manifest) = 0;
+};
+
 struct SweepOptions {
   std::string out_dir;
   std::vector<std::string> overrides;  // applied to the scene before the sweep's own
@@ -18,11 +35,12 @@ struct SweepOptions {
   int jobs = 1;                        // simulations at once
   int threads = 1;                     // OpenMP threads per simulation
   bool quiet = false;                  // no progress line
+  SweepTeam* team = nullptr;           // none: this process runs everything
 };
 
 struct SweepSummary {
   int planned = 0;  // runs selected (after --only)
-  int ran = 0;      // simulated now
+  int ran = 0;      // simulated now (by the whole team, on the process that wrote the manifest)
   int skipped = 0;  // already complete
   double seconds = 0;
 };

@@ -66,6 +66,9 @@ Handle create_dataset(hid_t file_id, const std::string& name, hid_t type,
   }
   // A per-chunk checksum turns a damaged file into a read error instead of silently wrong data.
   h5::check_status(H5Pset_fletcher32(dcpl.get()), file, "checksum filter on " + name);
+  // No creation and modification times in the object header (HDF5 stores them by default): the
+  // same run gives the same bytes, whenever and wherever it is written (`mpirun nsf sweep`).
+  h5::check_status(H5Pset_obj_track_times(dcpl.get(), 0), file, "times of " + name);
   Handle lcpl(h5::check(H5Pcreate(H5P_LINK_CREATE), file, name), H5Pclose);
   h5::check_status(H5Pset_create_intermediate_group(lcpl.get(), 1), file, name);
   return Handle(h5::check(H5Dcreate2(file_id, name.c_str(), type, space.get(), lcpl.get(),

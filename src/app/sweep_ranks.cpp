@@ -1,0 +1,118 @@
+#include "app/sweep_ranks.h"
+
+// MPI's C interface only: its C++ bindings (gone from the standard) need another library.
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
+#include <mpi.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <exception>
+#include <thread>
+
+#include "core/error.h"
+
+namespace nsf::app {
+
+namespace {
+
+void check(int code, const char* what) {
+  if (code == MPI_SUCCESS) return;
+  char text[MPI_MAX_ERROR_STRING];
+  int length = 0;
+  MPI_Error_string(code, text, &length);
+  fail("MPI: ", what, ": ", std::string(text, size_t(length)));
+}
+
+// The sweep's processes over MPI_COMM_WORLD. Process 0 decides what is pending and writes the
+// manifest.
+class MpiTeam : public SweepTeam {
+ public:
+  MpiTeam(int rank, int size) : rank_(rank), size_(size) {}
+
+  std::vector<int> share(const std::vector<int>& pending) override {
+    // Process 0's view decides, so that every run goes to exactly one process even where
+    // processes see the shared folder differently (a network file system's caches).
+    int count = int(pending.size());
+    check(MPI_Bcast(&count, 1, MPI_INT, 0, MPI_COMM_WORLD), "broadcast of the pending runs");
+    std::vector<int> all = rank_ == 0 ? pending : std::vector<int>(size_t(count));
+    check(MPI_Bcast(all.data(), count, MPI_INT, 0, MPI_COMM_WORLD),
+          "broadcast of the pending runs");
+    std::vector<int> mine;
+    for (int k = rank_; k < count; k += size_) mine.push_back(all[size_t(k)]);
+    return mine;
+  }
+
+  void collect(const std::vector<int>& done,
+               const std::function<void(const std::vector<int>&)>& write_manifest) override {
+    int count = int(done.size());
+    std::vector<int> counts(size_t(size_), 0), offsets(size_t(size_), 0);
+    check(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD),
+          "gathering the finished runs");
+    for (int r = 1; r < size_; ++r)
+      offsets[size_t(r)] = offsets[size_t(r - 1)] + counts[size_t(r - 1)];
+    std::vector<int> all(rank_ == 0 ? size_t(offsets.back() + counts.back()) : 0);
+    check(MPI_Gatherv(done.data(), count, MPI_INT, all.data(), counts.data(), offsets.data(),
+                      MPI_INT, 0, MPI_COMM_WORLD),
+          "gathering the finished runs");
+    std::exception_ptr error;
+    if (rank_ == 0) {
+      std::sort(all.begin(), all.end());
+      try {
+        write_manifest(all);
+      } catch (...) {
+        error = std::current_exception();
+      }
+    }
+    // No process goes on (and may end the job on an error of its own) before the manifest is
+    // written.
+    check(MPI_Barrier(MPI_COMM_WORLD), "waiting for the manifest");
+    if (error) std::rethrow_exception(error);
+  }
+
+ private:
+  int rank_, size_;
+};
+
+}  // namespace
+
+bool launched_by_mpi() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK"})
+    if (std::getenv(name)) return true;
+  return false;
+}
+
+SweepRanks::SweepRanks() {
+  if (!launched_by_mpi()) return;
+  // Only this (the main) thread calls MPI; the simulation threads never do.
+  int provided = 0;
+  check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided), "initialisation");
+  mpi_ = true;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  MPI_Comm local;
+  check(MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &local),
+        "finding the processes on this machine");
+  MPI_Comm_size(local, &local_size_);
+  MPI_Comm_free(&local);
+  if (size_ > 1) team_ = std::make_unique<MpiTeam>(rank_, size_);
+}
+
+SweepRanks::~SweepRanks() {
+  if (mpi_) MPI_Finalize();
+}
+
+int SweepRanks::cores() const {
+  const int usable = omp_get_num_procs();  // respects the launcher's binding
+  if (local_size_ <= 1) return usable;
+  const int machine = std::max(1, int(std::thread::hardware_concurrency()));
+  return std::max(1, std::min(usable, machine / local_size_));
+}
+
+void SweepRanks::abort(int code) const {
+  if (mpi_) MPI_Abort(MPI_COMM_WORLD, code);
+  std::exit(code);
+}
+
+}  // namespace nsf::app
