@@ -10,6 +10,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libpng-dev gnuplot-nox ffmpeg
   libassimp-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-h5py
 )
 
 missing=()
