@@ -11,6 +11,7 @@ PACKAGES=(
   libpng-dev gnuplot-nox ffmpeg
   libassimp-dev
   openmpi-bin libopenmpi-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-h5py
 )
 
 missing=()

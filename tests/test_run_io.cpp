@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "io/run_format.h"
 #include "io/run_reader.h"
 #include "io/run_writer.h"
 
@@ -392,3 +394,49 @@ TEST_F(RunIo, DamagedFrameDataIsAnErrorOnRead) {
 }
 
 }  // namespace
+
+// What the Python bindings read (python/src/run.cpp): a whole field in one read, as stored, and
+// every root attribute by name and kind.
+TEST_F(RunIo, ReadsEveryFrameOfAFieldAndListsTheAttributes) {
+  const std::string path = file("all.h5");
+  write_run(path, 4, 3);
+  nsf::RunReader r(path);
+  for (const char* field : {"x", "v", "C", "F", "tau"}) {
+    const size_t width = nsf::RunReader::frame_field_width(field);
+    std::vector<double> all(3 * 4 * width);
+    r.read_all_frames(field, all.data(), all.size());
+    for (int f = 0; f < 3; ++f) {
+      const nsf::RunFrame frame = r.read_frame(f);
+      std::vector<double> want(4 * width);
+      for (int p = 0; p < 4; ++p) {
+        double* row = want.data() + p * width;
+        const std::string name = field;
+        if (name == "x") nsf::run_format::pack_vec(frame.x[p], row);
+        if (name == "v") nsf::run_format::pack_vec(frame.v[p], row);
+        if (name == "C") nsf::run_format::pack_mat(frame.C[p], row);
+        if (name == "F") nsf::run_format::pack_mat(frame.F[p], row);
+        if (name == "tau") nsf::run_format::pack_sym(frame.tau[p], row);
+      }
+      EXPECT_EQ(std::vector<double>(all.begin() + f * 4 * width, all.begin() + (f + 1) * 4 * width),
+                want)
+          << field << " frame " << f;
+    }
+  }
+  std::vector<double> short_buffer(3 * 4 * 3 - 1);
+  EXPECT_THROW(r.read_all_frames("x", short_buffer.data(), short_buffer.size()), nsf::Error);
+  EXPECT_THROW(nsf::RunReader::frame_field_width("y"), nsf::Error);
+
+  const std::vector<std::string> names = r.attribute_names();
+  for (const char* name : {"format", "format_version", "dt", "scene_json", "mu", "label", "seed"})
+    EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+  using Kind = nsf::RunReader::AttributeKind;
+  EXPECT_EQ(r.attribute_kind("mu"), Kind::Float);
+  EXPECT_EQ(r.attribute_kind("seed"), Kind::Integer);
+  EXPECT_EQ(r.attribute_kind("label"), Kind::String);
+  EXPECT_THROW(r.attribute_kind("nope"), nsf::Error);
+
+  EXPECT_TRUE(r.has_dataset("/frames/x"));
+  EXPECT_FALSE(r.has_dataset("/frames"));  // a group
+  EXPECT_FALSE(r.has_dataset("/rom/latent"));
+  EXPECT_FALSE(r.has_dataset("/nope/deeper/still"));
+}

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <filesystem>
+#include <string_view>
 #include <system_error>
 
 #include "core/error.h"
@@ -72,6 +73,18 @@ void read_frame_rows(hid_t set, hsize_t k, hsize_t particles, hsize_t width,
   h5::check_status(
       H5Dread(set, H5T_NATIVE_DOUBLE, mspace.get(), fspace.get(), H5P_DEFAULT, out.data()), path,
       what);
+}
+
+// The per-frame dataset called `field` ("x", "v", "C", "F", "tau"), or kFieldCount.
+int field_index(const std::string& field) {
+  for (int k = 0; k < kFieldCount; ++k)
+    if (field == kFieldNames[k] + std::string_view("/frames/").size()) return k;
+  return kFieldCount;
+}
+
+herr_t collect_name(hid_t, const char* name, const H5A_info_t*, void* names) {
+  static_cast<std::vector<std::string>*>(names)->push_back(name);
+  return 0;
 }
 
 template <typename T, typename Unpack>
@@ -240,6 +253,55 @@ const std::vector<double>& RunReader::times() const {
   return impl_->times;
 }
 
+std::vector<std::string> RunReader::attribute_names() const {
+  h5::QuietErrors quiet;
+  std::vector<std::string> names;
+  hsize_t index = 0;
+  h5::check_status(
+      H5Aiterate2(impl_->file.get(), H5_INDEX_NAME, H5_ITER_INC, &index, collect_name, &names),
+      impl_->path, "listing the attributes");
+  return names;
+}
+
+RunReader::AttributeKind RunReader::attribute_kind(const std::string& name) const {
+  h5::QuietErrors quiet;
+  const std::string& path = impl_->path;
+  Handle attr(h5::check(H5Aopen(impl_->file.get(), name.c_str(), H5P_DEFAULT), path,
+                        "no attribute '" + name + "'"),
+              H5Aclose);
+  Handle type(h5::check(H5Aget_type(attr.get()), path, "attribute " + name), H5Tclose);
+  switch (H5Tget_class(type.get())) {
+    case H5T_INTEGER:
+      return AttributeKind::Integer;
+    case H5T_FLOAT:
+      return AttributeKind::Float;
+    case H5T_STRING:
+      return AttributeKind::String;
+    default:
+      return AttributeKind::Other;
+  }
+}
+
+size_t RunReader::frame_field_width(const std::string& field) {
+  const int k = field_index(field);
+  if (k == kFieldCount)
+    nsf::fail("no per-frame field '", field, "' in a run file (x, v, C, F and tau are)");
+  return kFieldWidths[k];
+}
+
+void RunReader::read_all_frames(const std::string& field, double* out, size_t size) const {
+  const Impl& r = *impl_;
+  const size_t width = frame_field_width(field);
+  if (size != r.frames * r.particles * width)
+    nsf::fail(r.path, ": ", field, " of every frame is ", r.frames, "x", r.particles, "x", width,
+              " doubles, the buffer holds ", size);
+  h5::QuietErrors quiet;
+  const int k = field_index(field);
+  h5::check_status(
+      H5Dread(r.fields[k].get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out), r.path,
+      std::string("reading ") + kFieldNames[k]);
+}
+
 RunFrame RunReader::read_frame(size_t k) const {
   const Impl& r = *impl_;
   if (k >= r.frames) nsf::fail(r.path, ": no frame ", k, " (the file has ", r.frames, ")");
@@ -269,6 +331,17 @@ std::vector<double> RunReader::read_table(const std::string& name, size_t& rows,
     nsf::fail(impl_->path, ": ", name, " has shape ", shape_text(dims), ", expected a table");
   rows = size_t(dims[0]), cols = size_t(dims[1]);
   return read_whole<double>(f, name, dims, H5T_FLOAT, H5T_NATIVE_DOUBLE, impl_->path);
+}
+
+bool RunReader::has_dataset(const std::string& name) const {
+  h5::QuietErrors quiet;
+  // Each link of the path in turn: HDF5 fails, rather than answer no, below a missing group.
+  for (size_t end = name.find('/', 1);; end = name.find('/', end + 1)) {
+    const std::string prefix = name.substr(0, end);
+    if (H5Lexists(impl_->file.get(), prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+    if (end == std::string::npos) break;
+  }
+  return Handle(H5Dopen2(impl_->file.get(), name.c_str(), H5P_DEFAULT), H5Dclose).valid();
 }
 
 std::vector<Vec3> RunReader::read_positions(size_t k) const {

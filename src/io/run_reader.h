@@ -55,13 +55,25 @@ class RunReader {
   const std::vector<uint16_t>& object() const;
   const std::vector<double>& times() const;  // one per frame
 
+  // The root attributes by name (the standard ones included), alphabetically; the kind of one.
+  enum class AttributeKind { Integer, Float, String, Other };
+  std::vector<std::string> attribute_names() const;
+  AttributeKind attribute_kind(const std::string& name) const;
+
   RunFrame read_frame(size_t k) const;
+  // Every frame of one per-frame dataset, "x", "v", "C", "F" or "tau", as stored (frames ×
+  // particles × frame_field_width(field) doubles; C and F row-major, τ as run_format::kSymOrder),
+  // read straight into out[0, size): one read, no copy. Fails naming the file when the field is
+  // unknown or `size` is not that count.
+  static size_t frame_field_width(const std::string& field);
+  void read_all_frames(const std::string& field, double* out, size_t size) const;
   // Only x: the cheap read for rendering and for comparing trajectories (δ).
   std::vector<Vec3> read_positions(size_t k) const;
 
   // A two-dimensional table beside the frames (RunWriter::write_table, e.g. "/rom/latent"):
   // rows × cols doubles, row-major. Fails naming the file when it is missing or not 2-D.
   std::vector<double> read_table(const std::string& name, size_t& rows, size_t& cols) const;
+  bool has_dataset(const std::string& name) const;  // e.g. "/rom/latent"
 
  private:
   struct Impl;

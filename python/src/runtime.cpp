@@ -1,0 +1,102 @@
+// The reduced-order runtime (include/nsf/runtime.h, libnsf_runtime.so) as _nsf.Runtime; the
+// Python class nsf.Rom wraps it. Positions and velocities are written straight into a float32
+// numpy array: the caller's own (out=) or a new one, with no buffer in between.
+#include <nsf/runtime.h>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bindings.h"
+
+namespace py = pybind11;
+
+namespace nsf::python {
+
+namespace {
+
+std::unique_ptr<Runtime> make_runtime(const std::string& model, const std::string& scene,
+                                      std::optional<double> mu, int samples, int threads,
+                                      const std::vector<std::string>& overrides) {
+  RuntimeOptions options;
+  options.mu = mu;
+  options.samples = samples;
+  options.threads = threads;
+  options.overrides = overrides;
+  py::gil_scoped_release nogil;
+  return std::make_unique<Runtime>(model, scene, options);
+}
+
+// `out` if it is a writeable, C-contiguous float32 array of shape (P, 3), else a ValueError or
+// TypeError saying what it must be; a new such array when `out` is None.
+py::array_t<float> target(const Runtime& rt, const py::object& out, const char* what) {
+  const std::size_t P = rt.particle_count();
+  if (out.is_none()) return py::array_t<float>({P, std::size_t(3)});
+  const std::string want = std::string(what) + ": out must be a writeable, C-contiguous float32 " +
+                           "array of shape (" + std::to_string(P) + ", 3), e.g. np.empty((" +
+                           std::to_string(P) + ", 3), np.float32)";
+  if (!py::isinstance<py::array>(out))
+    throw py::type_error(want + "; got " + py::str(out.get_type()).cast<std::string>());
+  const auto a = py::reinterpret_borrow<py::array>(out);
+  std::string got;
+  if (!a.dtype().equal(py::dtype::of<float>()))
+    got = "dtype " + py::str(a.dtype()).cast<std::string>();
+  else if (a.ndim() != 2 || std::size_t(a.shape(0)) != P || a.shape(1) != 3)
+    got = "shape " + py::str(out.attr("shape")).cast<std::string>();
+  else if (!(a.flags() & py::array::c_style))
+    got = "an array that is not C-contiguous";
+  else if (!a.writeable())
+    got = "a read-only array";
+  if (!got.empty()) throw py::value_error(want + "; got " + got);
+  return py::reinterpret_borrow<py::array_t<float>>(out);
+}
+
+py::array_t<float> positions(const Runtime& rt, const py::object& out) {
+  py::array_t<float> a = target(rt, out, "positions");
+  float* data = a.mutable_data();
+  py::gil_scoped_release nogil;
+  rt.positions(data, 3 * rt.particle_count());
+  return a;
+}
+
+py::array_t<float> velocities(const Runtime& rt, const py::object& out) {
+  py::array_t<float> a = target(rt, out, "velocities");
+  float* data = a.mutable_data();
+  py::gil_scoped_release nogil;
+  rt.velocities(data, 3 * rt.particle_count());
+  return a;
+}
+
+}  // namespace
+
+void bind_runtime(py::module_& m) {
+  py::class_<ColliderPose>(m, "ColliderPose")
+      .def(py::init<>())
+      .def_readwrite("position", &ColliderPose::position)
+      .def_readwrite("rotation", &ColliderPose::rotation)
+      .def_readwrite("velocity", &ColliderPose::velocity)
+      .def_readwrite("angular_velocity", &ColliderPose::angular_velocity);
+
+  py::class_<Runtime>(m, "Runtime")
+      .def(py::init(&make_runtime), py::arg("model"), py::arg("scene"), py::arg("mu") = py::none(),
+           py::arg("samples") = 0, py::arg("threads") = 0,
+           py::arg("overrides") = std::vector<std::string>())
+      .def_property_readonly("particle_count", &Runtime::particle_count)
+      .def_property_readonly("frame_count", &Runtime::frame_count)
+      .def_property_readonly("frame_time", &Runtime::frame_time)
+      .def_property_readonly("steps_per_frame", &Runtime::steps_per_frame)
+      .def_property_readonly("time", &Runtime::time)
+      .def("advance_frame", &Runtime::advance_frame, py::call_guard<py::gil_scoped_release>())
+      .def("step", &Runtime::step, py::call_guard<py::gil_scoped_release>())
+      .def("positions", &positions, py::arg("out") = py::none())
+      .def("velocities", &velocities, py::arg("out") = py::none())
+      .def_property_readonly("collider_count", &Runtime::collider_count)
+      .def("collider_type", &Runtime::collider_type)
+      .def("collider_pose", &Runtime::collider_pose)
+      .def("set_collider_pose", &Runtime::set_collider_pose);
+}
+
+}  // namespace nsf::python

@@ -1,0 +1,96 @@
+"""nsf.Rom over the embedding runtime: stepping, positions into the caller's array, a collider
+moved from Python, and the errors."""
+
+import numpy as np
+import pytest
+
+import nsf
+
+
+@pytest.fixture()
+def rom(tiny_model, tiny_scene):
+    return nsf.Rom(tiny_model, tiny_scene, mu=1.0, threads=2)
+
+
+def test_steps_frames_and_writes_positions_into_the_callers_array(rom):
+    P = rom.particle_count
+    assert P == 864 and rom.frame_count == 12 and rom.steps_per_frame == 15
+    out = np.zeros((P, 3), np.float32)
+    got = rom.positions(out=out)
+    assert got is out  # written in place, no new array
+    start = out.copy()
+    assert np.isfinite(start).all() and abs(start[:, 0].mean() - 0.44) < 0.05
+    rom.advance_frame(2)
+    assert rom.time == pytest.approx(2 * rom.frame_time)
+    rom.positions(out=out)
+    assert np.abs(out - start).max() > 1e-3  # the bar moved
+    new = rom.positions()  # a new array, the same values
+    assert new.dtype == np.float32 and new.shape == (P, 3) and not np.shares_memory(new, out)
+    np.testing.assert_array_equal(new, out)
+    v = rom.velocities()
+    assert v.shape == (P, 3) and v[:, 0].mean() > 0.1  # thrown sideways at mu = 1 m/s
+
+
+def test_trajectory_fills_one_array_frame_by_frame(tiny_model, tiny_scene):
+    scene = nsf.load_scene(tiny_scene, mu=1.0)
+    rom = nsf.Rom(tiny_model, scene, threads=2)
+    first = rom.positions()
+    x = rom.trajectory(3)
+    assert x.shape == (4, 864, 3) and x.dtype == np.float32
+    np.testing.assert_array_equal(x[0], first)
+    np.testing.assert_array_equal(x[3], rom.positions())
+    assert rom.time == pytest.approx(3 * rom.frame_time)
+
+
+def run_with_floor(model, scene, lift):
+    """The plane (collider 0) raised at `lift` m/s, pose and velocity set every frame."""
+    rom = nsf.Rom(model, scene, mu=1.0, threads=2)
+    assert rom.collider_count == 1 and rom.collider_type(0) == "plane"
+    y0 = rom.collider_pose(0)["position"][1]
+    for _ in range(rom.frame_count):
+        pose = rom.collider_pose(0)
+        pose["position"][1] = y0 + lift * rom.time
+        pose["velocity"] = [0.0, lift, 0.0]
+        rom.set_collider_pose(0, **pose)
+        rom.advance_frame()
+    return rom.collider_pose(0)["position"][1], rom.positions()
+
+
+def test_moving_the_collider_moves_the_material(tiny_model, tiny_scene):
+    y_moved, x_moved = run_with_floor(tiny_model, tiny_scene, 0.5)
+    y_still, x_still = run_with_floor(tiny_model, tiny_scene, 0.0)
+    assert y_moved - y_still == pytest.approx(0.5 * 12 * 0.015, abs=1e-6)
+    assert np.abs(x_moved - x_still).max() > 1e-3
+    assert x_moved[:, 1].min() > x_still[:, 1].min()  # the raised floor holds the bar higher
+
+
+def test_collider_pose_round_trips(rom):
+    pose = rom.collider_pose(0)
+    assert pose["rotation"].shape == (3, 3)
+    np.testing.assert_array_equal(pose["rotation"], np.eye(3))
+    rom.set_collider_pose(0, position=pose["position"] + [0, 0.01, 0], velocity=[0, 0.1, 0])
+    now = rom.collider_pose(0)
+    np.testing.assert_allclose(now["position"], pose["position"] + [0, 0.01, 0])
+    np.testing.assert_array_equal(now["velocity"], [0, 0.1, 0])
+
+
+def test_bad_input_raises_a_clear_exception(rom, tiny_model, tiny_scene, tmp_path):
+    P = rom.particle_count
+    with pytest.raises(FileNotFoundError, match="model .*missing.nsf: no such file"):
+        nsf.Rom(tmp_path / "missing.nsf", tiny_scene, mu=1.0)
+    with pytest.raises(RuntimeError, match="give its value as RuntimeOptions::mu"):
+        nsf.Rom(tiny_model, tiny_scene)
+    with pytest.raises(ValueError, match=r"shape \(864, 3\).*got shape \(10, 3\)"):
+        rom.positions(out=np.empty((10, 3), np.float32))
+    with pytest.raises(ValueError, match="got dtype float64"):
+        rom.positions(out=np.empty((P, 3)))
+    with pytest.raises(ValueError, match="not C-contiguous"):
+        rom.velocities(out=np.empty((3, P), np.float32).T)
+    with pytest.raises(TypeError, match="out must be"):
+        rom.positions(out=[[0.0] * 3] * P)
+    with pytest.raises(IndexError, match="no collider 3: the scene has 1"):
+        rom.collider_pose(3)
+    with pytest.raises(ValueError, match="position must be 3 numbers"):
+        rom.set_collider_pose(0, position=[0, 1])
+    with pytest.raises(RuntimeError, match="not a rotation matrix"):
+        rom.set_collider_pose(0, rotation=2 * np.eye(3))
