@@ -68,31 +68,32 @@ void NetworkSamples::jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std:
 BasisSamples::BasisSamples(PointBasis u, std::vector<Vec3> rest)
     : u_(std::move(u)), rest_(std::move(rest)) {}
 
+// The samples' rows are contiguous (3|S| × K, row-major), so g and ∂g/∂ẑ at every sample are one
+// matrix-vector and one matrix-matrix product.
+namespace {
+using RowMajorXf = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+}
+
 void BasisSamples::evaluate(const Eigen::VectorXd& z, std::vector<Vec3>& g) {
   const Eigen::VectorXf c = u_.net(z).cast<float>();
+  const int64_t rows = 3 * int64_t(rest_.size());
+  const Eigen::VectorXf d = Eigen::Map<const Eigen::VectorXf>(u_.mean.data(), rows) +
+                            Eigen::Map<const RowMajorXf>(u_.modes.data(), rows, u_.K) * c;
   g.resize(rest_.size());
-  float d[3];
-  for (size_t p = 0; p < rest_.size(); ++p) {
-    u_.value(p, c, d);
-    g[p] = rest_[p] + Vec3(d[0], d[1], d[2]);
-  }
+  for (size_t p = 0; p < rest_.size(); ++p)
+    g[p] = rest_[p] + Vec3(d[3 * p], d[3 * p + 1], d[3 * p + 2]);
 }
 
 void BasisSamples::jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std::vector<Vec3>& g) {
   Eigen::MatrixXd dc;  // K × r
   const Eigen::VectorXf c = u_.net(z, &dc).cast<float>();
-  const Eigen::MatrixXf dcf = dc.cast<float>();
-  const int64_t n = int64_t(rest_.size()), r = z.size();
-  J.resize(3 * n, r);
+  const int64_t rows = 3 * int64_t(rest_.size());
+  const Eigen::Map<const RowMajorXf> B(u_.modes.data(), rows, u_.K);
+  const Eigen::VectorXf d = Eigen::Map<const Eigen::VectorXf>(u_.mean.data(), rows) + B * c;
+  J = (B * dc.cast<float>()).cast<double>();
   g.resize(rest_.size());
-  float d[3];
-  for (int64_t p = 0; p < n; ++p) {
-    u_.value(size_t(p), c, d);
-    g[p] = rest_[p] + Vec3(d[0], d[1], d[2]);
-    const Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic, Eigen::RowMajor>> B(
-        &u_.modes[size_t(p) * 3 * size_t(u_.K)], 3, u_.K);
-    J.middleRows<3>(3 * p) = (B * dcf).cast<double>();
-  }
+  for (size_t p = 0; p < rest_.size(); ++p)
+    g[p] = rest_[p] + Vec3(d[3 * p], d[3 * p + 1], d[3 * p + 2]);
 }
 
 std::unique_ptr<SampleDeformation> sample_deformation(NeuralModel& model,
