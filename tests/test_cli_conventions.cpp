@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -39,6 +40,14 @@ std::string help_line(const std::string& help, const std::string& option) {
   return "";
 }
 
+// `nsf COMMAND --help`, run once per command (each run loads LibTorch: about a second).
+const CliResult& help_of(const std::string& command) {
+  static std::map<std::string, CliResult> helps;
+  auto it = helps.find(command);
+  if (it == helps.end()) it = helps.emplace(command, run_cli(command + " --help")).first;
+  return it->second;
+}
+
 class CliConventions : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -56,7 +65,7 @@ class CliConventions : public ::testing::Test {
 TEST_F(CliConventions, EveryCommandTakesThreadsAndQuietAlike) {
   for (const std::string& command : kCommands) {
     SCOPED_TRACE(command);
-    const CliResult r = run_cli(command + " --help");
+    const CliResult& r = help_of(command);
     ASSERT_EQ(r.exit_code, kExitSuccess) << r.output;
     const std::string threads = help_line(r.output, "-j,--threads");
     ASSERT_FALSE(threads.empty()) << r.output;
@@ -67,14 +76,14 @@ TEST_F(CliConventions, EveryCommandTakesThreadsAndQuietAlike) {
     EXPECT_EQ(r.output.find("{true}"), std::string::npos) << r.output;
     expect_contains(r.output, "Exit status: 0 success, 1 error, 2 usage error");
   }
-  const CliResult report = run_cli("report --help");
-  expect_contains(help_line(report.output, "--no-make"), "Skip scenes without a dataset");
+  expect_contains(help_line(help_of("report").output, "--no-make"),
+                  "Skip scenes without a dataset");
 }
 
 // sweep's parallel runs are --jobs (make's -j is jobs, nsf's -j is threads); the old -J still
 // works, with a note, so scripts keep running.
 TEST_F(CliConventions, SweepJobsAreLongOnlyAndTheOldShortNameStillWorks) {
-  const CliResult help = run_cli("sweep --help");
+  const CliResult& help = help_of("sweep");
   expect_contains(help_line(help.output, "--jobs"), "Simulations run at once");
   EXPECT_EQ(help_line(help.output, "--jobs").find("-J"), std::string::npos) << help.output;
   // Parsed, then stopped by the missing scene: a runtime error, so the options were accepted.
@@ -93,7 +102,7 @@ TEST_F(CliConventions, SweepJobsAreLongOnlyAndTheOldShortNameStillWorks) {
 TEST_F(CliConventions, TrainDemoAndReportSpellTheTrainingSizesAlike) {
   for (const std::string command : {"train", "demo", "report"}) {
     SCOPED_TRACE(command);
-    const CliResult r = run_cli(command + " --help");
+    const CliResult& r = help_of(command);
     expect_contains(help_line(r.output, "--steps"), "...");
     expect_contains(r.output, "Optimiser steps per stage: one value or g,h,l");
     expect_contains(r.output, "Hidden widths of the decoders: one value or g,h,l; 0 keeps the");
@@ -156,8 +165,7 @@ TEST_F(CliConventions, ChoicesAreListedByNameAndCheckedBeforeRunning) {
   };
   for (const ChoiceCase& c : cases) {
     SCOPED_TRACE(c.bad);
-    expect_contains(help_line(run_cli(c.command + " --help").output, c.option + " TEXT:"),
-                    c.choices);
+    expect_contains(help_line(help_of(c.command).output, c.option + " TEXT:"), c.choices);
     const CliResult r = run_cli(c.bad);
     EXPECT_EQ(r.exit_code, kExitUsage) << r.output;
     expect_contains(r.output, "nsf: usage error: " + c.option);
