@@ -32,6 +32,11 @@ const std::vector<std::string> kCommands = {"simulate", "sweep",  "train",  "eva
 
 const std::string kScene = NSF_SOURCE_DIR "/scenes/examples/elastic_drop.json";
 
+// The help without its "Deprecated" group (old names that still work).
+std::string current_part(const std::string& help) {
+  return help.substr(0, help.find("\nDeprecated:"));
+}
+
 // The help line of `option` (the first line holding it), or "".
 std::string help_line(const std::string& help, const std::string& option) {
   std::istringstream in(help);
@@ -71,7 +76,7 @@ TEST_F(CliConventions, EveryCommandTakesThreadsAndQuietAlike) {
     ASSERT_FALSE(threads.empty()) << r.output;
     expect_contains(threads, "INT:in 0 to 1024=0");
     expect_contains(r.output, "-q,--quiet");
-    EXPECT_EQ(r.output.find("-J"), std::string::npos) << r.output;
+    EXPECT_EQ(current_part(r.output).find("-J"), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("{false}"), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("{true}"), std::string::npos) << r.output;
     expect_contains(r.output, "Exit status: 0 success, 1 error, 2 usage error");
@@ -86,6 +91,11 @@ TEST_F(CliConventions, SweepJobsAreLongOnlyAndTheOldShortNameStillWorks) {
   const CliResult& help = help_of("sweep");
   expect_contains(help_line(help.output, "--jobs"), "Simulations run at once");
   EXPECT_EQ(help_line(help.output, "--jobs").find("-J"), std::string::npos) << help.output;
+  expect_contains(help.output.substr(help.output.find("\nDeprecated:")), "-J INT");
+  // A bad value names the old option too.
+  CliResult bad = run_cli("sweep " + in_dir("s.json") + " --out " + in_dir("d") + " -J -1");
+  EXPECT_EQ(bad.exit_code, kExitUsage) << bad.output;
+  expect_contains(bad.output, "nsf: usage error: -J: -1 is out of range");
   // Parsed, then stopped by the missing scene: a runtime error, so the options were accepted.
   const std::string missing = in_dir("missing.json") + " --out " + in_dir("data");
   CliResult r = run_cli("sweep " + missing + " -J 1 -j 1");
@@ -106,7 +116,7 @@ TEST_F(CliConventions, TrainDemoAndReportSpellTheTrainingSizesAlike) {
     expect_contains(help_line(r.output, "--steps"), "...");
     expect_contains(r.output, "Optimiser steps per stage: one value or g,h,l");
     expect_contains(r.output, "Hidden widths of the decoders: one value or g,h,l; 0 keeps the");
-    EXPECT_EQ(r.output.find("--width-g"), std::string::npos) << r.output;
+    EXPECT_EQ(current_part(r.output).find("--width-g"), std::string::npos) << r.output;
   }
   // One value passes the parser (then the missing scene stops the demo: exit status 1) ...
   CliResult r = run_cli("demo --steps 5 --widths 0 -q --scene " + in_dir("missing.json") +

@@ -58,9 +58,11 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_option("--jobs", args->jobs, "Simulations run at once (0 = one per core)")
       ->capture_default_str()
       ->check(in_range(0, 256));
-  // -J was --jobs' short name until -j meant threads on every command: it still works, hidden.
-  auto* old_jobs =
-      cmd->add_option("-J", args->jobs, "Old name of --jobs")->check(in_range(0, 256))->group("");
+  // -J was --jobs' short name until -j meant threads on every command: it still works, listed
+  // apart (CLI11's errors cannot name a hidden option).
+  auto* old_jobs = cmd->add_option("-J", args->jobs, "Old name of --jobs (-j is --threads)")
+                       ->check(in_range(0, 256))
+                       ->group("Deprecated");
   add_threads_option(cmd, args->threads, "OpenMP threads per simulation", "cores / jobs");
   cmd->add_option("--only", args->only, "Only this split")->check(CLI::IsMember({"train", "test"}));
   cmd->add_option("--set", args->overrides, "Override a scene value, e.g. --set material.E=5")

@@ -251,13 +251,14 @@ void add_nn_commands(CLI::App& app) {
       ->check(in_range(1, 1024));
   cmd->add_option("--depth", a->depth, "Hidden layers per decoder (default 5)")
       ->check(in_range(1, 64));
-  // The old spellings of --widths g,h,l, one decoder each: they still work, hidden.
+  // The old spellings of --widths g,h,l, one decoder each: they still work, listed apart (CLI11's
+  // errors cannot name a hidden option).
   for (auto [name, width] :
        {std::pair{"--width-g", &a->width_g}, std::pair{"--width-h", &a->width_h},
         std::pair{"--width-l", &a->width_l}})
-    cmd->add_option(name, *width, "Hidden width of one decoder (old name; use --widths)")
+    cmd->add_option(name, *width, "Hidden width of one decoder (old name: use --widths)")
         ->check(in_range(1, 65536))
-        ->group("");
+        ->group("Deprecated");
   cmd->add_option("--encoder-channels", a->encoder_channels,
                   "Output channels of each encoder convolution (default: 3, App. E)")
       ->check(in_range(1, 64));
