@@ -36,9 +36,9 @@ fi
 
 step "a tiny model, trained by the installed nsf"
 scene="$src/scenes/examples/rom_tiny.json"
-"$prefix/bin/nsf" sweep "$scene" --out "$tmp/data" -J 2 -j 1 -q >/dev/null
-"$prefix/bin/nsf" train "$tmp/data" --out "$tmp/tiny.nsf" -r 2 --depth 2 --width-g 32 \
-  --width-h 16 --width-l 16 --encoder-hidden 8 --steps 100,50,50 --refine-latents 0 -j 2 -q \
+"$prefix/bin/nsf" sweep "$scene" --out "$tmp/data" --jobs 2 -j 1 -q >/dev/null
+"$prefix/bin/nsf" train "$tmp/data" --out "$tmp/tiny.nsf" -r 2 --depth 2 --widths 32,16,16 \
+  --encoder-hidden 8 --steps 100,50,50 --refine-latents 0 -j 2 -q \
   --frames-per-batch 2 --particles-per-frame 64 >/dev/null
 
 for flags in "" "-march=native"; do

@@ -385,6 +385,11 @@ TEST_F(NnTraining, TrainCommandFollowsTheScenesRecipe) {
   ASSERT_EQ(train("recipe_flags", "--steps 6 --width-h 8", out), 0) << out;
   EXPECT_NE(out.find("widths g 16, h 8, l 32"), std::string::npos) << out;
   EXPECT_EQ(stage_steps("recipe_flags"), (std::vector<size_t>{6, 6, 6}));
+  // --widths, as demo and report spell it (issue #28, item 18): 0 keeps the recipe's width.
+  ASSERT_EQ(train("recipe_widths", "--steps 6 --widths 0,8,0", out), 0) << out;
+  EXPECT_NE(out.find("widths g 16, h 8, l 32"), std::string::npos) << out;
+  ASSERT_EQ(train("recipe_width", "--steps 6 --widths 8", out), 0) << out;
+  EXPECT_NE(out.find("widths g 8, h 8, l 8"), std::string::npos) << out;
 
   ASSERT_EQ(train("recipe_off", "--steps 6 --no-scene-recipe", out), 0) << out;
   const nsf::NetConfig table1 = nsf::default_net_config("synthetic");

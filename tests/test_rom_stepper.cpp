@@ -34,6 +34,7 @@ namespace fs = std::filesystem;
 using nsf::Mat3;
 using nsf::Vec3;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 namespace {
 
@@ -859,6 +860,25 @@ TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
                                          "' --mu 1.0 --no-full-order --latent-prior -1");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_THAT(bad.output, HasSubstr("--latent-prior"));
+}
+
+// Threads default to all cores (OMP_NUM_THREADS where set) for both engines, as in every other
+// command, and the JSON row records the count in use; -q drops the progress lines (issue #28,
+// item 18: the default was 2 and rom had no -q).
+TEST_F(RomEndToEnd, CliUsesAllCoresByDefaultAndQuietDropsTheProgressLines) {
+  const std::string row = (root_ / "rom_threads.json").string();
+  const std::string args =
+      "rom '" + model() + "' '" + kTinyScene + "' --mu 1.0 --json '" + row + "'";
+  std::string out;
+  ASSERT_EQ(nsf::testing::run_cli(args + " -q", out, "OMP_NUM_THREADS=3"), 0) << out;
+  EXPECT_THAT(out, Not(HasSubstr("done in"))) << out;
+  EXPECT_THAT(out, HasSubstr("speed-up"));
+  std::ifstream in(row);
+  EXPECT_EQ(nlohmann::json::parse(in).at("threads").get<int>(), 3);
+  ASSERT_EQ(nsf::testing::run_cli(args + " -j 1", out), 0) << out;
+  EXPECT_THAT(out, HasSubstr("reduced order 12/12 frames done in")) << out;
+  std::ifstream again(row);
+  EXPECT_EQ(nlohmann::json::parse(again).at("threads").get<int>(), 1);
 }
 
 // The error budget against a truth that lies on the model's own manifold — a ROM run of the same

@@ -16,7 +16,7 @@ constexpr int kTinyParticles = 300;  // 4 training runs of 12 frames, 1 test run
 // Shapes and steps of a model that trains in seconds (g's weights are 64 x 64: a tensor of 16 KiB),
 // and its batches.
 inline const char* kTinyTrainFlags =
-    " -r 2 --depth 2 --width-g 64 --width-h 8 --width-l 8 --encoder-hidden 8 --steps 20,5,5"
+    " -r 2 --depth 2 --widths 64,8,8 --encoder-hidden 8 --steps 20,5,5"
     " --refine-latents 0 -j 1 -q";
 inline const char* kTinyBatchFlags = " --frames-per-batch 2 --particles-per-frame 16";
 

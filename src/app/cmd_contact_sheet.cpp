@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/common_options.h"
 #include "core/error.h"
 #include "core/path_clash.h"
 #include "io/contact_sheet.h"
@@ -16,6 +17,8 @@ struct SheetArgs {
   std::string out, color = "object", size = "480x360";
   int columns = 4;
   bool no_colliders = false;
+  int threads = 0;     // accepted, as by every command; the sheet is drawn on one thread
+  bool quiet = false;  // likewise: it prints no progress
 };
 }  // namespace
 
@@ -29,10 +32,14 @@ void add_contact_sheet_command(CLI::App& app) {
       ->check(CLI::Range(1, 32))
       ->capture_default_str();
   cmd->add_option("--color,-c", a->color, "Colour by material, object, speed or stress")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::IsMember({"material", "object", "speed", "stress"}));
   cmd->add_option("--size", a->size, "Size of each panel, WIDTHxHEIGHT")->capture_default_str();
   cmd->add_flag("--no-colliders", a->no_colliders,
                 "Draw only the particles, not the scenes' rigid colliders");
+  add_threads_option(cmd, a->threads,
+                     "Accepted as by every command; the sheet is drawn on one thread");
+  add_quiet_flag(cmd, a->quiet, "Accepted as by every command; contact-sheet prints no progress");
   cmd->callback([a] {
     RunRenderOptions o;
     o.color = parse_color_by(a->color);

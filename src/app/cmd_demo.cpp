@@ -5,10 +5,11 @@
 #include <filesystem>
 
 #include "app/commands.h"
-#include "app/option_checks.h"
+#include "app/common_options.h"
 #include "app/pipeline.h"
 #include "app/results_table.h"
 #include "app/rom_run.h"
+#include "app/train_size_options.h"
 #include "core/error.h"
 #include "core/timer.h"
 #include "data/manifest.h"
@@ -29,9 +30,10 @@ struct DemoArgs {
   std::string data, model, out = "out";
   std::string docs;  // also store the row and the picture here (docs/results/demo.{json,png})
   TrainPlan train = chain_plan();
-  bool steps_given = false, widths_given = false;  // else the scene's "train" section may set them
+  TrainSizeArgs train_size;  // --steps, --widths: else the scene's "train" section may set them
   int samples = 0;
-  int threads = 2;
+  int threads = 0;  // all cores; the callback puts the count in use here
+  bool quiet = false;
 };
 
 std::string stem_of(const std::string& path) {
@@ -47,12 +49,14 @@ void run_demo(const DemoArgs& a) {
   set_nn_threads(a.threads);
 
   std::printf("== 1/3 training data: nsf sweep %s --out %s\n", a.scene.c_str(), data.c_str());
-  ensure_dataset(a.scene, data, a.threads);
+  ensure_dataset(a.scene, data, a.threads, a.quiet);
   const Dataset dataset(data);
   if (dataset.test().empty()) fail("demo: dataset ", data, " has no test run to hold out");
   std::printf("== 2/3 neural fields: nsf train %s --out %s\n", data.c_str(), model.c_str());
-  ensure_model(data, model, with_scene_recipe(a.train, a.scene, a.steps_given, a.widths_given),
-               a.threads);
+  ensure_model(data, model,
+               with_scene_recipe(a.train, a.scene, !a.train_size.steps.empty(),
+                                 !a.train_size.widths.empty()),
+               a.threads, a.quiet);
 
   const SimulationFile& held_out = dataset.test()[0];
   std::printf("== 3/3 reduced-order run at the held-out mu = %g (not in the training set)\n",
@@ -63,6 +67,7 @@ void run_demo(const DemoArgs& a) {
   if (held_out.has_mu) ro.mu = held_out.mu;
   if (a.samples > 0) ro.samples = a.samples;
   ro.threads = a.threads;
+  ro.quiet = a.quiet;
   ro.out_path = a.out + "/" + name + "_rom.h5";
   ro.fom_out = a.out + "/" + name + "_full_order.h5";
   const RomReport r = run_rom(ro);
@@ -101,32 +106,23 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--docs", a->docs,
                   "Also store the summary row and picture as DOCS/results/demo.{json,png}, the "
                   "one README quotes (e.g. --docs docs)");
-  cmd->add_option("--steps", a->train.steps,
-                  "Training steps of the three stages, when training (a basis model's stages 2 "
-                  "and 3 default to 20000)")
-      ->delimiter(',')
-      ->capture_default_str()
-      ->check(in_range<long>(1, 1000000000));
-  cmd->add_option("--widths", a->train.widths,
-                  "MLP decoder widths g,h,l when training (0 = Table 1's); smaller than Table 1 "
-                  "by default so the demo trains in minutes on 2 cores")
-      ->delimiter(',')
-      ->capture_default_str()
-      ->check(in_range(0, 65536));
+  add_train_size_options(cmd, a->train_size,
+                         "6000,4000,4000 when training; a basis model's stages 2 and 3: 20000",
+                         "an MLP model's 0,128,128: smaller than Table 1, so the demo trains in "
+                         "minutes on 2 cores");
   cmd->add_option("--decoder", a->train.decoder,
                   "Decoder family when training: basis (default) or mlp (docs/TRAINING.md)")
       ->check(CLI::IsMember({"mlp", "basis"}));
   cmd->add_option("--samples,-k", a->samples, "Sample particles (default: the scene's)")
       ->check(in_range(1, 100000000));
-  cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")
-      ->capture_default_str()
-      ->check(in_range(0, 1024));
-  cmd->callback([a, cmd] {
-    a->steps_given = cmd->count("--steps") > 0;
-    a->widths_given = cmd->count("--widths") > 0;
+  add_threads_option(cmd, a->threads);
+  add_quiet_flag(cmd, a->quiet);
+  cmd->callback([a] {
+    a->train.steps = per_stage(a->train_size.steps, a->train.steps, "--steps");
+    a->train.widths = per_stage(a->train_size.widths, a->train.widths, "--widths");
     // Line-buffered, so the step headers interleave correctly with the progress lines on stderr.
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
-    set_threads(a->threads);
+    a->threads = set_threads(a->threads);
     run_demo(*a);
   });
 }

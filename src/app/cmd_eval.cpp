@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
-#include "app/option_checks.h"
+#include "app/common_options.h"
 #include "core/path_clash.h"
 #include "core/timer.h"
 #include "io/atomic_file.h"
@@ -22,6 +22,7 @@ struct EvalArgs {
   std::string model, data, json;
   EvalOptions opt;
   int threads = 0;
+  bool quiet = false;  // accepted, as by every command: eval prints no progress
 };
 
 std::string percent(double v) {
@@ -145,7 +146,9 @@ void add_eval_command(CLI::App& app) {
       "eval", "Errors of a trained model on a dataset's runs: delta (eq. 11), stress, affine");
   cmd->add_option("model", a->model, "Model file (nsf train)")->required();
   cmd->add_option("data", a->data, "Dataset directory")->required();
-  cmd->add_option("--split", a->opt.split, "test, train or all")->capture_default_str();
+  cmd->add_option("--split", a->opt.split, "test, train or all")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"test", "train", "all"}));
   cmd->add_option("--every", a->opt.frame_stride, "Use every k-th frame")
       ->capture_default_str()
       ->check(in_range<long>(1, 1000000));
@@ -164,9 +167,8 @@ void add_eval_command(CLI::App& app) {
       ->check(in_range(0, 8));
   cmd->add_option("--json", a->json,
                   "Also write the means and each run's row as JSON (docs/results/eval/)");
-  cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")
-      ->capture_default_str()
-      ->check(in_range(0, 1024));
+  add_threads_option(cmd, a->threads);
+  add_quiet_flag(cmd, a->quiet, "Accepted as by every command; eval prints no progress");
   cmd->add_flag("--allow-incomplete", a->opt.allow_incomplete,
                 "Evaluate on a dataset an interrupted or partial sweep left incomplete, with a "
                 "warning, instead of refusing it");

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/common_options.h"
 #include "core/error.h"
 #include "core/path_clash.h"
 #include "core/progress.h"
@@ -27,6 +28,7 @@ namespace fs = std::filesystem;
 struct ExportArgs {
   std::string run, out, format = "vtu", frames;
   bool double_positions = false, quiet = false;
+  int threads = 0;  // accepted, as by every command; export runs on one thread
 };
 
 // "<run>_0012.vtu.tmp", "<run>.pvd.tmp", "<run>.vtk.series.tmp" (not another run's).
@@ -113,11 +115,14 @@ void add_export_command(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("export", "Write a run's frames as PLY, legacy VTK or VTU files");
   cmd->add_option("run", args->run, "Run file written by `nsf simulate` (HDF5)")->required();
-  cmd->add_option("--format,-f", args->format, "ply, vtk or vtu")->capture_default_str();
+  cmd->add_option("--format,-f", args->format, "ply, vtk or vtu")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"ply", "vtk", "vtu"}));
   cmd->add_option("--out,-o", args->out, "Output directory")->required();
   cmd->add_option("--frames", args->frames, "Frames a:b:step, Python slice rules (default: all)");
   cmd->add_flag("--double", args->double_positions, "PLY positions as double, not float");
-  cmd->add_flag("--quiet,-q", args->quiet, "No progress line");
+  add_threads_option(cmd, args->threads, "Accepted as by every command; export runs on one thread");
+  add_quiet_flag(cmd, args->quiet);
   cmd->callback([args] { run_export(*args); });
 }
 

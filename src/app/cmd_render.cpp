@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "app/option_checks.h"
+#include "app/common_options.h"
 #include "core/error.h"
 #include "core/omp_errors.h"
 #include "core/path_clash.h"
@@ -133,13 +133,15 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--out,-o", args->out, "Output directory for frame_0000.png ... and the video")
       ->required();
   cmd->add_option("--color,-c", args->color, "Colour by material, object, speed or stress")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::IsMember({"material", "object", "speed", "stress"}));
   cmd->add_option("--camera", args->camera,
                   "Camera: eye=x,y,z target=x,y,z [up=x,y,z] [fov=degrees]")
       ->expected(1, 4);
   cmd->add_option("--view", args->view,
                   "Frame the whole run from the front, side, top or iso (default: the scene's "
-                  "camera if it has one, else iso)");
+                  "camera if it has one, else iso)")
+      ->check(CLI::IsMember({"front", "side", "top", "iso"}));
   cmd->add_option("--fov", args->fov,
                   "Field of view of --view framings, degrees (0 = orthographic)")
       ->check(in_range(0.0, 120.0))
@@ -156,9 +158,8 @@ void add_render_command(CLI::App& app) {
   cmd->add_flag("--no-colliders", args->no_colliders,
                 "Draw only the particles, not the scene's rigid colliders");
   cmd->add_flag("--gif", args->gif, "An animated GIF instead of an MP4");
-  cmd->add_option("--threads,-j", args->threads, "OpenMP threads (0 = all cores)")
-      ->check(CLI::Range(0, 1024));
-  cmd->add_flag("--quiet,-q", args->quiet, "No progress line");
+  add_threads_option(cmd, args->threads, "OpenMP threads");
+  add_quiet_flag(cmd, args->quiet);
   cmd->callback([args] { run_render(*args); });
 }
 

@@ -6,9 +6,10 @@
 #include <fstream>
 
 #include "app/commands.h"
-#include "app/option_checks.h"
+#include "app/common_options.h"
 #include "app/pipeline.h"
 #include "app/results_table.h"
+#include "app/train_size_options.h"
 #include "core/error.h"
 #include "data/manifest.h"
 #include "io/run_comparison.h"
@@ -25,9 +26,10 @@ struct ReportArgs {
   std::vector<std::string> scenes = {"bread",      "cake",  "sand",        "metal",
                                      "toothpaste", "jelly", "squishy_ball"};
   TrainPlan train = chain_plan();
-  bool steps_given = false, widths_given = false;  // else the scene's "train" section may set them
-  bool make_missing = true;
-  int threads = 2;
+  TrainSizeArgs train_size;  // --steps, --widths: else the scene's "train" section may set them
+  bool no_make = false;
+  int threads = 0;  // all cores; the callback puts the count in use here
+  bool quiet = false;
   std::string docs = "docs", out = "out/report";
   double sand_extrapolation = 44;
   int quadrature = 0;  // > 0: the ROM's thinned quadrature, rows labelled with it
@@ -57,6 +59,7 @@ void report_run(const ReportArgs& a, const std::string& scene, const std::string
   ro.scene_path = scene;
   ro.mu = mu;
   ro.threads = a.threads;
+  ro.quiet = a.quiet;
   ro.out_path = a.out + "/" + tag + "_rom.h5";
   ro.fom_out = a.out + "/" + tag + "_full_order.h5";
   const RomReport r = run_rom(ro);
@@ -80,13 +83,15 @@ void run_report(const ReportArgs& a) {
     const std::string data = "data/" + name, model = "models/" + name + ".nsf";
     if (!fs::exists(scene)) fail("report: no scene file ", scene, " (known: the paper's seven)");
     std::printf("== %s\n", name.c_str());
-    if (!a.make_missing && (!fs::exists(data + "/manifest.json") || !fs::exists(model))) {
+    if (a.no_make && (!fs::exists(data + "/manifest.json") || !fs::exists(model))) {
       std::printf("   skipped: %s or %s is missing (--no-make)\n", data.c_str(), model.c_str());
       continue;
     }
-    ensure_dataset(scene, data, a.threads);
-    ensure_model(data, model, with_scene_recipe(a.train, scene, a.steps_given, a.widths_given),
-                 a.threads);
+    ensure_dataset(scene, data, a.threads, a.quiet);
+    ensure_model(data, model,
+                 with_scene_recipe(a.train, scene, !a.train_size.steps.empty(),
+                                   !a.train_size.widths.empty()),
+                 a.threads, a.quiet);
     const Dataset dataset(data);
     if (dataset.test().empty() || !dataset.test()[0].has_mu)
       fail("report: dataset ", data, " has no test run with a parameter to hold out");
@@ -115,28 +120,21 @@ void add_report_command(CLI::App& app) {
   auto a = std::make_shared<ReportArgs>();
   CLI::App* cmd = app.add_subcommand(
       "report", "The paper's Table 1 on nsf: ROM vs full order on the seven scenes");
-  cmd->add_option("--size", a->size, "small or paper")->capture_default_str();
+  cmd->add_option("--size", a->size, "small or paper")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"small", "paper"}));
   cmd->add_option("--scenes", a->scenes, "Scenes to run (default all seven)")->delimiter(',');
   cmd->add_option("--decoder", a->train.decoder,
                   "Decoder family when training: basis (default) or mlp (docs/TRAINING.md)")
       ->check(CLI::IsMember({"mlp", "basis"}));
-  cmd->add_option("--steps", a->train.steps,
-                  "Training steps per stage, where a model is trained (default: the scene's "
-                  "\"train\" section, else these; a basis model's stages 2 and 3: 20000)")
-      ->delimiter(',')
-      ->capture_default_str()
-      ->check(in_range<long>(1, 1000000000));
-  cmd->add_option("--widths", a->train.widths,
-                  "Decoder widths g,h,l where a model is trained (0 = Table 1's; default: the "
-                  "scene's \"train\" section, else these)")
-      ->delimiter(',')
-      ->capture_default_str()
-      ->check(in_range(0, 65536));
-  cmd->add_flag("!--no-make", a->make_missing,
+  add_train_size_options(cmd, a->train_size,
+                         "where a model is trained: the scene's \"train\" section, else "
+                         "6000,4000,4000; a basis model's stages 2 and 3: 20000",
+                         "the scene's \"train\" section, else an MLP model's 0,128,128");
+  cmd->add_flag("--no-make", a->no_make,
                 "Skip scenes without a dataset and model instead of making them");
-  cmd->add_option("--threads,-j", a->threads, "Threads (0 = all cores)")
-      ->capture_default_str()
-      ->check(in_range(0, 1024));
+  add_threads_option(cmd, a->threads);
+  add_quiet_flag(cmd, a->quiet);
   cmd->add_option("--docs", a->docs, "Where RESULTS.md and results/ go")->capture_default_str();
   cmd->add_option("--out", a->out, "Where the runs and animations go")->capture_default_str();
   cmd->add_option("--quadrature", a->quadrature,
@@ -144,7 +142,7 @@ void add_report_command(CLI::App& app) {
                   "0 = every particle, the paper. Rows are labelled with it and kept beside the "
                   "others")
       ->capture_default_str()
-      ->check(CLI::Range(0, 1000));
+      ->check(in_range(0, 1000));
   cmd->add_option("--flip", a->flip,
                   "ROM with this share of the transfer's smoothing given back (nsf rom --flip); "
                   "rows are labelled with it and kept beside the others")
@@ -156,12 +154,12 @@ void add_report_command(CLI::App& app) {
                   "Friction angle of the App. B extrapolation run (deg)")
       ->capture_default_str()
       ->check(in_range(0.0, 90.0));
-  cmd->callback([a, cmd] {
-    a->steps_given = cmd->count("--steps") > 0;
-    a->widths_given = cmd->count("--widths") > 0;
+  cmd->callback([a] {
+    a->train.steps = per_stage(a->train_size.steps, a->train.steps, "--steps");
+    a->train.widths = per_stage(a->train_size.widths, a->train.widths, "--widths");
     // Line-buffered, so the step headers interleave correctly with the progress lines on stderr.
     std::setvbuf(stdout, nullptr, _IOLBF, 0);
-    set_threads(a->threads);
+    a->threads = set_threads(a->threads);
     run_report(*a);
   });
 }

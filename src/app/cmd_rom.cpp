@@ -4,7 +4,7 @@
 #include <limits>
 
 #include "app/commands.h"
-#include "app/option_checks.h"
+#include "app/common_options.h"
 #include "app/results_table.h"
 #include "app/rom_run.h"
 #include "core/path_clash.h"
@@ -42,7 +42,8 @@ void add_rom_command(CLI::App& app) {
                              "The scene's sweep parameter (e.g. friction angle), applied "
                              "through its \"sweep\" templates")
                  ->check(in_range(-1e300, 1e300));
-  cmd->add_option("--set", a->opt.overrides, "Scene override key.path=value (repeatable)");
+  cmd->add_option("--set", a->opt.overrides, "Override a scene value, e.g. --set material.E=5")
+      ->type_name("KEY=VALUE");
   auto* samples = cmd->add_option("--samples,-k", a->samples,
                                   "Sample particles |S| (default: the scene's rom.samples, or 256)")
                       ->check(in_range(1, 100000000));
@@ -97,20 +98,24 @@ void add_rom_command(CLI::App& app) {
   };
   cmd->add_option("--deformation", a->opt.rom.fields.deformation,
                   "Positions on the candidates from: " + names(deformation_source_names()) +
-                      " (default: the scene's rom.fields, else the model's decoder g)");
+                      " (default: the scene's rom.fields, else the model's decoder g)")
+      ->check(CLI::IsMember(deformation_source_names()));
   cmd->add_option(
-      "--stress", a->opt.rom.fields.stress,
-      "Kirchhoff stress on N from: " + names(point_field_source_names(FieldRole::stress)) +
-          " (default: the scene's rom.fields, else the model's decoder h; crom: from dg/dX through "
-          "the material; "
-          "tracked: each particle's own F and plastic state, needs --samples |P|)");
+         "--stress", a->opt.rom.fields.stress,
+         "Kirchhoff stress on N from: " + names(point_field_source_names(FieldRole::stress)) +
+             " (default: the scene's rom.fields, else the model's decoder h; crom: from dg/dX "
+             "through "
+             "the material; "
+             "tracked: each particle's own F and plastic state, needs --samples |P|)")
+      ->check(CLI::IsMember(point_field_source_names(FieldRole::stress)));
   cmd->add_option(
-      "--affine", a->opt.rom.fields.affine,
-      "APIC affine matrices C on N from: " + names(point_field_source_names(FieldRole::affine)) +
-          " (default: the scene's rom.fields, else the model's decoder l, or none with "
-          "--stress crom; velocity: "
-          "the gradient of the ROM's own velocity field; tracked: each particle's "
-          "own G2P C, needs --samples |P|)");
+         "--affine", a->opt.rom.fields.affine,
+         "APIC affine matrices C on N from: " + names(point_field_source_names(FieldRole::affine)) +
+             " (default: the scene's rom.fields, else the model's decoder l, or none with "
+             "--stress crom; velocity: "
+             "the gradient of the ROM's own velocity field; tracked: each particle's "
+             "own G2P C, needs --samples |P|)")
+      ->check(CLI::IsMember(point_field_source_names(FieldRole::affine)));
   cmd->add_flag("--crom", a->crom,
                 "CROM-style baseline: --stress crom (and --affine none unless given)");
   cmd->add_option("--linearize", a->linearize,
@@ -130,9 +135,8 @@ void add_rom_command(CLI::App& app) {
           ->check(in_range(0, 1000));
   cmd->add_flag("--verify-n", a->opt.rom.verify_integration_set,
                 "Also find N by brute force every step and count misses (slow)");
-  cmd->add_option("--threads,-j", a->opt.threads, "Threads for both engines (0 = all cores)")
-      ->capture_default_str()
-      ->check(in_range(0, 1024));
+  add_threads_option(cmd, a->opt.threads, "Threads, the same for both engines");
+  add_quiet_flag(cmd, a->opt.quiet);
   cmd->add_flag("--budget", a->opt.budget,
                 "Also measure the error budget on the truth's frames: the truth encoded, and the "
                 "truth's sample positions fitted by the inversion (docs/ROM.md)");

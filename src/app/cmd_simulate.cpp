@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/common_options.h"
 #include "app/scene_file.h"
 #include "core/error.h"
 #include "core/memory.h"
@@ -135,14 +136,13 @@ void run_simulate(const SimulateArgs& a) {
 void add_simulate_command(CLI::App& app) {
   auto args = std::make_shared<SimulateArgs>();
   CLI::App* cmd = app.add_subcommand("simulate", "Run a full-order MPM simulation of a scene");
-  cmd->add_option("scene", args->scene, "Scene JSON file")->required()->check(CLI::ExistingFile);
+  cmd->add_option("scene", args->scene, "Scene JSON file")->required();
   cmd->add_option("--out,-o", args->out, "Output HDF5 file (docs/OUTPUT.md)")->required();
   cmd->add_option("--set", args->overrides, "Override a scene value, e.g. --set material.E=5")
       ->type_name("KEY=VALUE");
   cmd->add_option("--png", args->png, "Also write a picture: snapshots from start to end");
-  cmd->add_option("--threads,-j", args->threads, "OpenMP threads (0 = all cores)")
-      ->check(CLI::Range(0, 1024));
-  cmd->add_flag("--quiet,-q", args->quiet, "No progress line");
+  add_threads_option(cmd, args->threads, "OpenMP threads");
+  add_quiet_flag(cmd, args->quiet);
   cmd->callback([args] { run_simulate(*args); });
 }
 

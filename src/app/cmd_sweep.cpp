@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/common_options.h"
 #include "app/scene_file.h"
 #include "app/sweep_ranks.h"
 #include "core/progress.h"
@@ -73,20 +74,27 @@ void add_sweep_command(CLI::App& app) {
   auto args = std::make_shared<SweepArgs>();
   CLI::App* cmd =
       app.add_subcommand("sweep", "Run a scene's training and test simulations (its \"sweep\")");
-  cmd->add_option("scene", args->scene, "Scene JSON file with a sweep section")
-      ->required()
-      ->check(CLI::ExistingFile);
+  cmd->add_option("scene", args->scene, "Scene JSON file with a sweep section")->required();
   cmd->add_option("--out,-o", args->out, "Output directory (run files and manifest.json)")
       ->required();
-  cmd->add_option("--jobs,-J", args->jobs, "Simulations run at once (0 = one per core)")
-      ->check(CLI::Range(0, 256));
-  cmd->add_option("--threads,-j", args->threads, "OpenMP threads per simulation (0 = cores / jobs)")
-      ->check(CLI::Range(0, 1024));
+  cmd->add_option("--jobs", args->jobs, "Simulations run at once (0 = one per core)")
+      ->capture_default_str()
+      ->check(in_range(0, 256));
+  // -J was --jobs' short name until -j meant threads on every command: it still works, listed
+  // apart (CLI11's errors cannot name a hidden option).
+  auto* old_jobs = cmd->add_option("-J", args->jobs, "Old name of --jobs (-j is --threads)")
+                       ->check(in_range(0, 256))
+                       ->group("Deprecated");
+  add_threads_option(cmd, args->threads, "OpenMP threads per simulation", "cores / jobs");
   cmd->add_option("--only", args->only, "Only this split")->check(CLI::IsMember({"train", "test"}));
   cmd->add_option("--set", args->overrides, "Override a scene value, e.g. --set material.E=5")
       ->type_name("KEY=VALUE");
-  cmd->add_flag("--quiet,-q", args->quiet, "No progress line");
-  cmd->callback([args] { run_sweep_command(*args); });
+  add_quiet_flag(cmd, args->quiet);
+  cmd->callback([args, old_jobs] {
+    if (old_jobs->count() > 0)
+      std::fprintf(stderr, "nsf sweep: note: -J is deprecated; use --jobs (-j is --threads)\n");
+    run_sweep_command(*args);
+  });
 }
 
 }  // namespace nsf::app

@@ -9,8 +9,9 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "app/option_checks.h"
+#include "app/common_options.h"
 #include "app/pipeline.h"
+#include "app/train_size_options.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/path_clash.h"
@@ -29,7 +30,7 @@ namespace {
 
 struct TrainArgs {
   std::string data, out;
-  std::vector<long> steps;
+  TrainSizeArgs size;  // --steps, --widths (as demo and report spell them)
   std::vector<double> epochs;
   std::vector<int> frames, particles;
   int r = 0, depth = 0, width_g = 0, width_h = 0, width_l = 0, encoder_channels = 0,
@@ -42,11 +43,28 @@ struct TrainArgs {
 };
 
 template <typename T, typename U>
-void per_stage(const std::vector<T>& in, U& out, const char* flag) {
+void set_per_stage(const std::vector<T>& in, U& out, const char* flag) {
   if (in.empty()) return;
-  if (in.size() != 1 && in.size() != kStageCount)
-    fail(flag, " takes one value for all stages or three (g,h,l), got ", in.size());
+  require_one_or_three(in.size(), flag, "stage");
   for (int s = 0; s < kStageCount; ++s) out[s] = in[in.size() == 1 ? 0 : s];
+}
+
+// The counts of the per-stage options are usage errors, found before anything is read; then
+// --widths into the per-decoder widths (0: the default), which the old --width-g, --width-h and
+// --width-l set one by one.
+void check_stage_options(TrainArgs& a) {
+  if (!a.size.steps.empty()) require_one_or_three(a.size.steps.size(), "--steps", "stage");
+  if (!a.epochs.empty()) require_one_or_three(a.epochs.size(), "--epochs", "stage");
+  if (!a.frames.empty()) require_one_or_three(a.frames.size(), "--frames-per-batch", "stage");
+  if (!a.particles.empty())
+    require_one_or_three(a.particles.size(), "--particles-per-frame", "stage");
+  if (!a.size.widths.empty() && (a.width_g > 0 || a.width_h > 0 || a.width_l > 0))
+    throw CLI::ValidationError("--widths",
+                               "give it or the old --width-g, --width-h, --width-l, not both");
+  const std::array<int, 3> widths = per_stage(a.size.widths, {0, 0, 0}, "--widths");
+  int* fields[3] = {&a.width_g, &a.width_h, &a.width_l};
+  for (int n = 0; n < 3; ++n)
+    if (widths[n] > 0) *fields[n] = widths[n];
 }
 
 // The "train" section of the scene the dataset was simulated from, as its first run stored it
@@ -64,7 +82,7 @@ std::optional<TrainSection> scene_recipe(const Dataset& data) {
 // The recipe's values where the command line gives none; returns what it set, for the log.
 std::string apply_recipe(const TrainSection& t, const TrainArgs& a, TrainConfig& c) {
   GivenOnCommandLine given;
-  given.steps = !a.steps.empty() || !a.epochs.empty();
+  given.steps = !a.size.steps.empty() || !a.epochs.empty();
   given.widths = {a.width_g > 0, a.width_h > 0, a.width_l > 0};
   given.encoder_max_length = a.encoder_max_length > 0;
   given.frames_per_batch = !a.frames.empty();
@@ -137,22 +155,22 @@ void run_train(TrainArgs& a) {
   if (a.coefficient_width > 0) c.net.coefficient_width = a.coefficient_width;
   // A basis model's own defaults for stages 2 and 3, where the command line leaves them open (a
   // scene's recipe sizes the MLP fields' stages; its stage-1 steps still apply).
-  apply_family_defaults(c, !a.steps.empty() || !a.epochs.empty(), a.latent_noise_given);
+  apply_family_defaults(c, !a.size.steps.empty() || !a.epochs.empty(), a.latent_noise_given);
   if (a.coefficient_depth > 0) c.net.coefficient_depth = a.coefficient_depth;
   const bool basis_flags = !a.modes.empty() || a.coefficient_width > 0 || a.coefficient_depth > 0;
   if (basis_flags && c.net.decoder != "basis")
     fail("--modes and --coefficient-* shape the per-point bases: give --decoder basis");
-  per_stage(a.steps, c.steps, "--steps");
-  per_stage(a.epochs, a.opt.epochs, "--epochs");
-  per_stage(a.frames, c.frames_per_batch, "--frames-per-batch");
-  per_stage(a.particles, c.particles_per_frame, "--particles-per-frame");
+  set_per_stage(a.size.steps, c.steps, "--steps");
+  set_per_stage(a.epochs, a.opt.epochs, "--epochs");
+  set_per_stage(a.frames, c.frames_per_batch, "--frames-per-batch");
+  set_per_stage(a.particles, c.particles_per_frame, "--particles-per-frame");
   if (!a.opt.base_model.empty()) {
     // The base model fixes every shape; a shape flag beside it would be silently ignored.
     if (a.r > 0 || a.depth > 0 || a.width_g > 0 || a.width_h > 0 || a.width_l > 0 ||
         a.encoder_channels > 0 || a.encoder_hidden > 0 || a.encoder_max_length > 0 || a.no_mu ||
         !a.decoder.empty() || basis_flags)
       fail("--base-model ", a.opt.base_model,
-           " fixes the networks' shapes: drop -r, --depth, --width-*, --encoder-*, --no-mu, "
+           " fixes the networks' shapes: drop -r, --depth, --widths, --encoder-*, --no-mu, "
            "--decoder, --modes and --coefficient-*");
     std::fprintf(stderr, "  networks: those of %s\n", a.opt.base_model.c_str());
   } else if (c.net.decoder == "basis") {
@@ -199,11 +217,8 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("data", a->data, "Dataset directory (manifest.json, train_k.h5, test_k.h5)")
       ->required();
   cmd->add_option("--out,-o", a->out, "Model file to write, e.g. models/NAME.nsf")->required();
-  cmd->add_option("--steps", a->steps,
-                  "Optimiser steps per stage: one value or g,h,l (default 6000,20000,20000; "
-                  "--decoder mlp: 6000,1500,1500)")
-      ->delimiter(',')
-      ->check(in_range<long>(1, 1000000000));
+  add_train_size_options(cmd, a->size, "6000,20000,20000; --decoder mlp: 6000,1500,1500",
+                         "Table 1's, or the scene's \"train\" recipe");
   cmd->add_option("--epochs", a->epochs,
                   "Epochs per stage instead of --steps (epoch = every training point once)")
       ->delimiter(',')
@@ -236,12 +251,14 @@ void add_nn_commands(CLI::App& app) {
       ->check(in_range(1, 1024));
   cmd->add_option("--depth", a->depth, "Hidden layers per decoder (default 5)")
       ->check(in_range(1, 64));
-  cmd->add_option("--width-g", a->width_g, "Hidden width of g (default: Table 1)")
-      ->check(in_range(1, 65536));
-  cmd->add_option("--width-h", a->width_h, "Hidden width of h (default: Table 1)")
-      ->check(in_range(1, 65536));
-  cmd->add_option("--width-l", a->width_l, "Hidden width of l (default: Table 1)")
-      ->check(in_range(1, 65536));
+  // The old spellings of --widths g,h,l, one decoder each: they still work, listed apart (CLI11's
+  // errors cannot name a hidden option).
+  for (auto [name, width] :
+       {std::pair{"--width-g", &a->width_g}, std::pair{"--width-h", &a->width_h},
+        std::pair{"--width-l", &a->width_l}})
+    cmd->add_option(name, *width, "Hidden width of one decoder (old name: use --widths)")
+        ->check(in_range(1, 65536))
+        ->group("Deprecated");
   cmd->add_option("--encoder-channels", a->encoder_channels,
                   "Output channels of each encoder convolution (default: 3, App. E)")
       ->check(in_range(1, 64));
@@ -273,9 +290,7 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("--seed", c.seed, "Random seed (initialisation and batches)")
       ->capture_default_str()
       ->check(in_range<long long>(0, std::numeric_limits<long long>::max()));
-  cmd->add_option("--threads,-j", c.threads, "Threads (0 = all cores)")
-      ->capture_default_str()
-      ->check(in_range(0, 1024));
+  add_threads_option(cmd, c.threads);
   cmd->add_option("--checkpoint-every", c.checkpoint_every,
                   "Steps between checkpoints (0 = only at the end of each stage)")
       ->capture_default_str()
@@ -286,12 +301,10 @@ void add_nn_commands(CLI::App& app) {
       ->capture_default_str()
       ->check(in_range(0.0, 1e6));
   cmd->add_option("--base-model", a->opt.base_model,
-                  "Keep this model's encoder and g (no stage 1); train h and l afresh")
-      ->check(CLI::ExistingFile);
+                  "Keep this model's encoder and g (no stage 1); train h and l afresh");
   cmd->add_option("--rom-latents", a->opt.rom_latents,
                   "Directory of `nsf rom --out` files named like the training runs: their latents "
                   "join the training latents of h and l (needs --base-model; repeatable)")
-      ->check(CLI::ExistingDirectory)
       ->needs("--base-model");
   auto* resume = cmd->add_flag("--resume", a->opt.resume, "Continue from <out>.ckpt if it exists");
   cmd->add_flag("--fresh", a->opt.fresh,
@@ -304,9 +317,15 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("--stop-after", a->opt.stop_after,
                   "Stop after this many steps (then continue with --resume)")
       ->check(in_range<long>(0, std::numeric_limits<long>::max()));
-  cmd->add_flag("--quiet,-q", c.quiet, "No progress output");
+  add_quiet_flag(cmd, c.quiet);
   cmd->callback([a, noise] {
     a->latent_noise_given = noise->count() > 0;
+    check_stage_options(*a);
+    // Inputs that do not exist are errors of the world, not of the command line (exit status 1).
+    if (!a->opt.base_model.empty() && !std::filesystem::is_regular_file(a->opt.base_model))
+      fail("--base-model ", a->opt.base_model, ": no such file");
+    for (const std::string& dir : a->opt.rom_latents)
+      if (!std::filesystem::is_directory(dir)) fail("--rom-latents ", dir, ": no such directory");
     run_train(*a);
   });
   add_eval_command(app);

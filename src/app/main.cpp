@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/exit_codes.h"
 #include "core/error.h"
 
 namespace nsf::app {
@@ -28,28 +29,38 @@ int set_threads(int requested) {
 }  // namespace nsf::app
 
 int main(int argc, char** argv) {
+  using namespace nsf::app;
   CLI::App app{"nsf: neural stress fields for reduced-order elastoplasticity and fracture"};
   app.require_subcommand(1);
   app.set_version_flag("--version", NSF_VERSION);
-  nsf::app::add_simulate_command(app);
-  nsf::app::add_nn_commands(app);
-  nsf::app::add_sweep_command(app);
-  nsf::app::add_render_command(app);
-  nsf::app::add_export_command(app);
-  nsf::app::add_contact_sheet_command(app);
-  nsf::app::add_rom_command(app);
-  nsf::app::add_demo_command(app);
-  nsf::app::add_report_command(app);
+  app.footer(exit_status_help());
+  // Usage errors say so, like the runtime errors' "nsf: error: ".
+  app.failure_message([](const CLI::App* a, const CLI::Error& e) {
+    return "nsf: usage error: " + CLI::FailureMessage::simple(a, e);
+  });
+  add_simulate_command(app);
+  add_nn_commands(app);
+  add_sweep_command(app);
+  add_render_command(app);
+  add_export_command(app);
+  add_contact_sheet_command(app);
+  add_rom_command(app);
+  add_demo_command(app);
+  add_report_command(app);
+  for (CLI::App* cmd : app.get_subcommands({}))
+    cmd->footer("Exit status: 0 success, 1 error, 2 usage error, 3 internal error (nsf --help).");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version (CLI11's status 0) print and succeed; every other parse error is a
+    // usage error, whatever CLI11's own number for it (105, 106, 109, ...).
+    return app.exit(e) == 0 ? kExitSuccess : kExitUsage;
   } catch (const nsf::Error& e) {
     std::cerr << "\nnsf: error: " << e.what() << "\n";
-    return 1;
+    return kExitError;
   } catch (const std::exception& e) {
     std::cerr << "\nnsf: internal error: " << e.what() << "\n";
-    return 2;
+    return kExitInternal;
   }
-  return 0;
+  return kExitSuccess;
 }

@@ -19,8 +19,9 @@ TrainPlan chain_plan() {
   return plan;
 }
 
-double ensure_dataset(const std::string& scene, const std::string& data, int threads) {
+double ensure_dataset(const std::string& scene, const std::string& data, int threads, bool quiet) {
   SweepOptions so;
+  so.quiet = quiet;
   so.out_dir = data;
   so.jobs = std::max(1, threads);
   so.threads = 1;
@@ -57,7 +58,7 @@ void apply_plan(const TrainPlan& plan, TrainConfig& config) {
 }
 
 bool ensure_model(const std::string& data, const std::string& model, const TrainPlan& plan,
-                  int threads) {
+                  int threads, bool quiet) {
   const Dataset dataset(data);
   if (std::filesystem::exists(model)) {
     try {
@@ -77,6 +78,7 @@ bool ensure_model(const std::string& data, const std::string& model, const Train
   apply_plan(plan, to.config);
   apply_family_defaults(to.config, plan.steps_given, false);
   to.config.threads = threads;
+  to.config.quiet = quiet;
   to.resume = true;  // an interrupted demo or report continues where it stopped
   train_model(data, model, to);
   return true;

@@ -13,8 +13,10 @@ namespace nsf::app {
 // on 2 cores); a basis model's stages 2 and 3 take its own defaults (nn/config.h).
 TrainPlan chain_plan();
 
-// nsf sweep <scene> --out <data>: runs what is missing; returns the seconds spent.
-double ensure_dataset(const std::string& scene, const std::string& data, int threads);
+// nsf sweep <scene> --out <data>: runs what is missing, `threads` runs at once (> 0); returns
+// the seconds spent.
+double ensure_dataset(const std::string& scene, const std::string& data, int threads,
+                      bool quiet = false);
 
 // `plan` with the scene file's own "train" section in place of the values the command line did
 // not give.
@@ -28,6 +30,6 @@ void apply_plan(const TrainPlan& plan, TrainConfig& config);
 // nsf train <data> --out <model> by `plan`, unless <model> exists and fits the dataset's scene
 // (then it is reused). Returns true if it trained.
 bool ensure_model(const std::string& data, const std::string& model, const TrainPlan& plan,
-                  int threads);
+                  int threads, bool quiet = false);
 
 }  // namespace nsf::app

@@ -101,8 +101,10 @@ void check_truth(const RunReader& truth, const Scene& scene, int frames, double 
 RomReport run_rom(const RomRunOptions& o) {
   RomReport rep;
   if (o.upsample < 1) fail("rom: --upsample must be at least 1, got ", o.upsample);
-  if (o.threads > 0) omp_set_num_threads(o.threads);
-  set_nn_threads(o.threads);
+  // 0 is all cores (OMP_NUM_THREADS where set), the same count for OpenMP and the networks.
+  const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+  omp_set_num_threads(threads);
+  set_nn_threads(threads);
   NeuralFields fields = NeuralFields::load(o.model_path);
   const app::SceneFile file = app::read_scene_file(o.scene_path, o.overrides);
   const nlohmann::json js = scene_at_mu(o, file, fields, rep);
@@ -296,7 +298,7 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.latent_prior = ro.latent_prior;
   if (d.training_distance < 0) rep.training_distance_mean = rep.training_distance_max = -1;
   rep.quadrature_points = d.quadrature_points;
-  rep.threads = o.threads;
+  rep.threads = threads;
   rep.refreshes = d.refreshes;
   rep.linearization_anchors = d.anchors;
   rep.rom_times = d.times;

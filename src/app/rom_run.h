@@ -29,7 +29,7 @@ struct RomRunOptions {
   std::string fom_out;     // where the full-order run goes; empty: a temporary file
   bool full_order = true;  // run the full-order engine for timing and as the ground truth
   int upsample = 1;        // positions of k points per particle in the output file (Fig. 6)
-  int threads = 2;         // OpenMP and torch threads, for both engines alike
+  int threads = 0;         // OpenMP and torch threads, for both engines alike; 0: all cores
   bool quiet = false;
   // Also measure the error budget on the truth's frames (rom/error_budget.h; needs a truth).
   bool budget = false;
@@ -53,7 +53,7 @@ struct RomReport {
   double latent_prior = 0;  // ε of the inversion's latent prior (m); 0: none
   // LatentStepper::training_distance over frames 1…N; −1 when the model has no training latents.
   double training_distance_mean = 0, training_distance_max = 0;
-  int threads = 0;               // as asked (0 = all cores)
+  int threads = 0;               // in use, for both engines alike
   size_t quadrature_points = 0;  // particles that can join N: |P| unless the quadrature is thinned
   long refreshes = 0;
   long linearization_anchors = 0;  // re-anchorings of g's tangent cache
