@@ -101,7 +101,7 @@ void stress_unit(double hi, double& factor, std::string& unit) {
 }  // namespace
 
 double text_size_for(int width, int height) {
-  return std::max(11.0, std::min(width, height) / 30.0);
+  return std::max(11.0, std::min(width, height) / 36.0);
 }
 
 ColorBy parse_color_by(const std::string& name) {

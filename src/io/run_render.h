@@ -56,7 +56,8 @@ struct RenderPlan {
   SceneColliders colliders;         // posed at each frame's time; empty with colliders = false
 };
 
-// The label text size for a picture of width x height: 12 px at 480x360, 24 px at 960x720.
+// The label text size for a picture of width x height: 1/36 of the smaller side, at least 11 px
+// (11 px at 480x360, 20 px at 960x720).
 double text_size_for(int width, int height);
 
 // Reads the selected frames once for their bounding box and value range. The camera frames the
