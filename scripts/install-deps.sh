@@ -8,7 +8,7 @@ PACKAGES=(
   libtorch-dev libopenblas-dev
   libeigen3-dev libhdf5-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libpng-dev gnuplot-nox ffmpeg
+  libpng-dev libfreetype-dev fonts-dejavu-core gnuplot-nox ffmpeg
   libassimp-dev
   openmpi-bin libopenmpi-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-h5py

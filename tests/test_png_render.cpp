@@ -193,8 +193,8 @@ TEST(Image, SideBySidePlacesBothAndPadsTheShorter) {
 
 TEST(Image, TextDrawsInsideItsBoxOnly) {
   Image img(100, 40, {255, 255, 255});
-  nsf::draw_text(img, 5, 6, "ROM 1.5", {0, 0, 0}, 2);
-  const int w = nsf::text_width("ROM 1.5", 2), h = nsf::text_height(2);
+  nsf::draw_text(img, 5, 6, "ROM 1.5", {0, 0, 0}, 20);
+  const int w = nsf::text_width("ROM 1.5", 20), h = nsf::text_height(20);
   int inside = 0, outside = 0;
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {

@@ -14,8 +14,9 @@
 #include "data/run_to_file.h"
 #include "io/collider_shapes.h"
 #include "io/image.h"
+#include "io/legend.h"
 #include "io/png_render.h"
-#include "io/text.h"
+#include "io/run_render.h"
 #include "io/xdmf_writer.h"
 #include "mpm/simulation.h"
 
@@ -84,8 +85,9 @@ void write_filmstrip(const Simulation& sim, const std::vector<std::vector<Vec3>>
     opt.colliders = colliders.at(times[k]);
     Image panel = render_particles(snapshots[k], colors, opt);
     char label[64];
-    std::snprintf(label, sizeof label, "T = %.3f S", times[k]);
-    draw_text(panel, 10, 10, label, Rgb{40, 40, 40});
+    std::snprintf(label, sizeof label, "t = %.3f s", times[k]);
+    const double size = text_size_for(opt.width, opt.height);
+    draw_label(panel, label_margin(size), label_margin(size), label, size);
     strip = k == 0 ? panel : side_by_side(strip, panel);
   }
   write_png(strip, path);

@@ -43,6 +43,11 @@ void frame(Image& img, int x0, int y0, int x1, int y1, Rgb c) {
   fill(img, x1 - 1, y0, x1, y1, c);
 }
 
+// The padding around text of `size`.
+int gap(double size) {
+  return std::max(1, static_cast<int>(std::lround(0.3 * size)));
+}
+
 }  // namespace
 
 std::vector<double> nice_ticks(double lo, double hi, int target) {
@@ -71,27 +76,32 @@ std::string format_tick(double value, double spacing) {
   return buf;
 }
 
-void draw_label(Image& img, int x, int y, const std::string& text, int scale) {
-  const int pad = 3 * scale;
-  panel(img, x - pad, y - pad, x + text_width(text, scale) + pad, y + text_height(scale) + pad);
-  draw_text(img, x, y, text, kInk, scale);
+int label_margin(double size) {
+  return std::max(2, static_cast<int>(std::lround(0.6 * size)));
 }
 
-void draw_colorbar(Image& img, double lo, double hi, const std::string& title, int scale,
+void draw_label(Image& img, int x, int y, const std::string& text, double size) {
+  const int pad = gap(size);
+  panel(img, x - pad, y - pad, x + text_width(text, size) + pad, y + text_height(size) + pad);
+  draw_text(img, x, y, text, kInk, size);
+}
+
+void draw_colorbar(Image& img, double lo, double hi, const std::string& title, double size,
                    bool clipped) {
-  const int margin = 8 * scale, pad = 4 * scale;
-  const int bar_w = 8 * scale, bar_h = std::max(img.height / 2, 40);
+  const int margin = label_margin(size), pad = gap(size), line = text_height(size);
+  const int bar_w = std::max(4, static_cast<int>(std::lround(0.6 * size)));
+  const int bar_h = std::max(img.height / 2, 40);
   const double span = hi > lo ? hi - lo : 1.0;
   std::vector<double> ticks = nice_ticks(lo, hi);
   const double spacing = ticks.size() > 1 ? ticks[1] - ticks[0] : span;
   const std::string top_label = ">" + format_tick(hi, spacing / 10);
-  int label_w = clipped ? text_width(top_label, scale) : 0;
-  for (double t : ticks) label_w = std::max(label_w, text_width(format_tick(t, spacing), scale));
-  const int block_w = std::max(bar_w + pad + label_w, text_width(title, scale));
+  int label_w = clipped ? text_width(top_label, size) : 0;
+  for (double t : ticks) label_w = std::max(label_w, text_width(format_tick(t, spacing), size));
+  const int block_w = std::max(bar_w + pad + label_w, text_width(title, size));
   const int x0 = img.width - margin - block_w;
-  const int y0 = margin + text_height(scale) + 2 * pad;  // below the title
-  panel(img, x0 - pad, margin - pad, x0 + block_w + pad, y0 + bar_h + text_height(scale) / 2 + pad);
-  draw_text(img, x0, margin, title, kInk, scale);
+  const int y0 = margin + line + 2 * pad;  // below the title
+  panel(img, x0 - pad, margin - pad, x0 + block_w + pad, y0 + bar_h + line / 2 + pad);
+  draw_text(img, x0, margin, title, kInk, size);
   for (int y = 0; y < bar_h; ++y) {
     const Rgb c = to_rgb(viridis(1.0 - static_cast<double>(y) / std::max(bar_h - 1, 1)));
     fill(img, x0, y0 + y, x0 + bar_w, y0 + y + 1, c);
@@ -99,31 +109,35 @@ void draw_colorbar(Image& img, double lo, double hi, const std::string& title, i
   frame(img, x0, y0, x0 + bar_w, y0 + bar_h, kInk);
   const auto tick = [&](double t, const std::string& label) {
     const int y = y0 + static_cast<int>(std::lround((1 - (t - lo) / span) * (bar_h - 1)));
-    fill(img, x0 + bar_w, y, x0 + bar_w + pad / 2, y + std::max(scale / 2, 1), kInk);
-    draw_text(img, x0 + bar_w + pad, y - text_height(scale) / 2, label, kInk, scale);
+    fill(img, x0 + bar_w, y, x0 + bar_w + pad / 2, y + std::max(pad / 4, 1), kInk);
+    draw_text(img, x0 + bar_w + pad, y - line / 2, label, kInk, size);
   };
   // A round tick too close to the ">hi" label would print on top of it.
-  const double room = 1.5 * text_height(scale) * span / bar_h;
+  const double room = 1.2 * line * span / bar_h;
   for (double t : ticks)
     if (!clipped || t < hi - room) tick(t, format_tick(t, spacing));
   if (clipped) tick(hi, top_label);
 }
 
-void draw_swatches(Image& img, const std::vector<LegendEntry>& entries, int scale) {
+void draw_swatches(Image& img, const std::string& title, const std::vector<LegendEntry>& entries,
+                   double size) {
   if (entries.empty()) return;
-  const int margin = 8 * scale, pad = 4 * scale, box = text_height(scale);
-  const int line = text_height(scale) + pad;
-  int name_w = 0;
-  for (const LegendEntry& e : entries) name_w = std::max(name_w, text_width(e.name, scale));
-  const int block_w = box + pad + name_w;
+  const int margin = label_margin(size), pad = gap(size), line = text_height(size);
+  const int box = line * 3 / 4, row = line + pad / 2;
+  int block_w = text_width(title, size);
+  for (const LegendEntry& e : entries)
+    block_w = std::max(block_w, box + pad + text_width(e.name, size));
   const int x0 = img.width - margin - block_w;
+  const int y0 = margin + line + pad;  // below the title
   panel(img, x0 - pad, margin - pad, x0 + block_w + pad,
-        margin + line * static_cast<int>(entries.size()));
+        y0 + row * static_cast<int>(entries.size()) + pad / 2);
+  draw_text(img, x0, margin, title, kInk, size);
   for (size_t i = 0; i < entries.size(); ++i) {
-    const int y = margin + line * static_cast<int>(i);
-    fill(img, x0, y, x0 + box, y + box, to_rgb(entries[i].color));
-    frame(img, x0, y, x0 + box, y + box, kInk);
-    draw_text(img, x0 + box + pad, y, entries[i].name, kInk, scale);
+    const int y = y0 + row * static_cast<int>(i);
+    const int by = y + (line - box) / 2;
+    fill(img, x0, by, x0 + box, by + box, to_rgb(entries[i].color));
+    frame(img, x0, by, x0 + box, by + box, kInk);
+    draw_text(img, x0 + box + pad, y, entries[i].name, kInk, size);
   }
 }
 

@@ -5,6 +5,8 @@
 
 #include "core/error.h"
 #include "io/contact_sheet.h"
+#include "io/legend.h"
+#include "io/run_caption.h"
 #include "io/text.h"
 #include "io/video.h"
 
@@ -12,8 +14,10 @@ namespace nsf {
 
 namespace {
 
-Image labelled(Image img, const std::string& label) {
-  draw_text(img, 10, img.height - 30, label, Rgb{20, 20, 20}, 2);
+// The source's name at the bottom left of an animation frame.
+Image labelled(Image img, const std::string& label, double size) {
+  const int m = label_margin(size);
+  draw_label(img, m, img.height - m - text_height(size), label, size);
   return img;
 }
 
@@ -34,16 +38,19 @@ ComparisonFiles write_comparison(const std::string& left, const std::string& rig
   // Still: a row of frames per run.
   options.width = 480, options.height = 360;
   const std::vector<size_t> picks = spread_frames(a.frame_count(), columns);
-  const RenderPlan still_plan = plan_render(a, all, options);
+  RenderPlan still_plan = plan_render(a, all, options);
+  still_plan.title.clear();  // each row's caption names its run
   Image rows[2];
   const RunReader* runs[2] = {&a, &b};
   const std::string labels[2] = {left_label, right_label};
-  for (int r = 0; r < 2; ++r)
+  for (int r = 0; r < 2; ++r) {
     for (size_t c = 0; c < picks.size(); ++c) {
       Image panel = render_run_frame(*runs[r], runs[r]->read_frame(picks[c]), picks[c], still_plan);
-      if (c == 0) panel = labelled(panel, labels[r]);
       rows[r] = c == 0 ? panel : side_by_side(rows[r], panel);
     }
+    rows[r] = captioned(rows[r], labels[r] + " · " + run_description(run_facts(*runs[r])),
+                        caption_size(still_plan.text_size));
+  }
   out.still = out_stem + ".png";
   write_png(above_below(rows[0], rows[1], 12), out.still);
 
@@ -53,8 +60,10 @@ ComparisonFiles write_comparison(const std::string& left, const std::string& rig
   out.frames_dir = out_stem + "_frames";
   std::filesystem::create_directories(out.frames_dir);
   for (size_t k = 0; k < all.size(); ++k) {
-    const Image l = labelled(render_run_frame(a, a.read_frame(k), k, plan), left_label);
-    const Image r = labelled(render_run_frame(b, b.read_frame(k), k, plan), right_label);
+    const Image l =
+        labelled(render_run_frame(a, a.read_frame(k), k, plan), left_label, plan.text_size);
+    const Image r =
+        labelled(render_run_frame(b, b.read_frame(k), k, plan), right_label, plan.text_size);
     char name[32];
     std::snprintf(name, sizeof name, "/frame_%04zu.png", k);
     write_png(side_by_side(l, r), out.frames_dir + name);

@@ -60,12 +60,11 @@ std::vector<LegendEntry> index_legend(const std::vector<uint16_t>& index,
   std::vector<LegendEntry> out;
   for (uint16_t i : present) {
     if (out.size() == kMaxEntries) {
-      out.push_back({Color(1, 1, 1), "+" + std::to_string(present.size() - kMaxEntries) + " MORE"});
+      out.push_back({Color(1, 1, 1), "+" + std::to_string(present.size() - kMaxEntries) + " more"});
       break;
     }
-    std::string name = i < names.size() ? names[i] : std::string(kind) + " " + std::to_string(i);
-    std::replace(name.begin(), name.end(), '_', ' ');
-    out.push_back({palette(i), name});
+    out.push_back(
+        {palette(i), i < names.size() ? names[i] : std::string(kind) + " " + std::to_string(i)});
   }
   return out;
 }
@@ -90,16 +89,20 @@ void include_colliders(const SceneColliders& colliders, const std::vector<double
 
 // Pa, kPa, MPa or GPa so that the tick labels stay short.
 void stress_unit(double hi, double& factor, std::string& unit) {
-  factor = 1, unit = "PA";
+  factor = 1, unit = "Pa";
   if (hi >= 1e9)
-    factor = 1e-9, unit = "GPA";
+    factor = 1e-9, unit = "GPa";
   else if (hi >= 1e6)
-    factor = 1e-6, unit = "MPA";
+    factor = 1e-6, unit = "MPa";
   else if (hi >= 1e3)
-    factor = 1e-3, unit = "KPA";
+    factor = 1e-3, unit = "kPa";
 }
 
 }  // namespace
+
+double text_size_for(int width, int height) {
+  return std::max(11.0, std::min(width, height) / 36.0);
+}
 
 ColorBy parse_color_by(const std::string& name) {
   if (name == "material") return ColorBy::Material;
@@ -160,10 +163,10 @@ RenderPlan plan_render(const RunReader& run, const std::vector<size_t>& frames,
   const SceneHints hints = scene_hints(run.scene_json(), run.dx());
   RenderPlan plan;
   plan.color = o.color;
-  plan.scene_name = run.scene_name();
+  plan.title = run.scene_name();
   plan.frame_count = run.frame_count();
-  // 2x text from 480 pixels up: the 5x7 font at 1x is hard to read in a video.
-  plan.text_scale = std::max(1, static_cast<int>(std::lround(std::min(o.width, o.height) / 320.0)));
+  plan.text_size = text_size_for(o.width, o.height);
+  text_height(plan.text_size);  // a missing font fails here, before anything is drawn
 
   // One pass over the frames: the box every frame fits in, and the colour scale.
   const bool scalar = o.color == ColorBy::Speed || o.color == ColorBy::Stress;
@@ -221,13 +224,18 @@ RenderPlan plan_render(const RunReader& run, const std::vector<size_t>& frames,
     plan.clipped = max > plan.hi;
   }
   if (o.color == ColorBy::Speed) {
-    plan.scale_title = "SPEED (M/S)";
+    plan.legend_title = "speed (m/s)";
   } else if (o.color == ColorBy::Stress) {
-    plan.scale_title = "VON MISES (PA)";
+    double factor;
+    std::string unit;
+    stress_unit(plan.hi, factor, unit);
+    plan.legend_title = "von Mises stress (" + unit + ")";
   } else if (o.color == ColorBy::Object) {
-    plan.legend = index_legend(run.object(), hints.object_names, "OBJECT");
+    plan.legend_title = "colour: object";
+    plan.legend = index_legend(run.object(), hints.object_names, "object");
   } else {
-    plan.legend = index_legend(run.material(), hints.material_names, "MATERIAL");
+    plan.legend_title = "colour: material";
+    plan.legend = index_legend(run.material(), hints.material_names, "material");
   }
   return plan;
 }
@@ -250,24 +258,27 @@ Image render_run_frame(const RunReader& run, const RunFrame& f, size_t k, const 
   r.colliders = plan.colliders.at(f.time);
   Image img = render_particles(f.x, colors, r);
 
-  const int s = plan.text_scale;
+  const double s = plan.text_size;
   if (plan.color == ColorBy::Stress) {
     double factor;
     std::string unit;
     stress_unit(plan.hi, factor, unit);
-    draw_colorbar(img, plan.lo * factor, plan.hi * factor, "VON MISES (" + unit + ")", s,
-                  plan.clipped);
+    draw_colorbar(img, plan.lo * factor, plan.hi * factor, plan.legend_title, s, plan.clipped);
   } else if (plan.color == ColorBy::Speed) {
-    draw_colorbar(img, plan.lo, plan.hi, plan.scale_title, s, plan.clipped);
+    draw_colorbar(img, plan.lo, plan.hi, plan.legend_title, s, plan.clipped);
   } else {
-    draw_swatches(img, plan.legend, s);
+    draw_swatches(img, plan.legend_title, plan.legend, s);
   }
   char when[96];
-  std::snprintf(when, sizeof when, "T = %.3f S   FRAME %zu/%zu", f.time, k,
+  std::snprintf(when, sizeof when, "t = %.3f s    frame %zu/%zu", f.time, k,
                 plan.frame_count > 0 ? plan.frame_count - 1 : 0);
-  const int m = 8 * s;
-  draw_label(img, m, m, plan.scene_name, s);
-  draw_label(img, m, m + text_height(s) + 8 * s, when, s);
+  const int m = label_margin(s);
+  int y = m;
+  if (!plan.title.empty()) {
+    draw_label(img, m, y, plan.title, s);
+    y += text_height(s) + m;
+  }
+  draw_label(img, m, y, when, s);
   return img;
 }
 

@@ -46,17 +46,24 @@ struct RenderPlan {
   ColorBy color = ColorBy::Object;
   double lo = 0, hi = 1;  // colour scale for speed/stress
   bool clipped = false;   // some values exceed hi and show in the top colour
-  std::string scene_name, scale_title;
+  // The first label line, the scene's name; empty: only the time and frame line.
+  std::string title;
+  // What the colours show, above the legend: "speed (m/s)", "colour: object".
+  std::string legend_title;
   std::vector<LegendEntry> legend;  // for object/material colouring
   size_t frame_count = 0;           // frames in the run, for the "frame k/n" label
-  int text_scale = 2;
-  SceneColliders colliders;  // posed at each frame's time; empty with colliders = false
+  double text_size = 13;            // pixel size of the labels (text.h)
+  SceneColliders colliders;         // posed at each frame's time; empty with colliders = false
 };
+
+// The label text size for a picture of width x height: 1/36 of the smaller side, at least 11 px
+// (11 px at 480x360, 20 px at 960x720).
+double text_size_for(int width, int height);
 
 // Reads the selected frames once for their bounding box and value range. The camera frames the
 // particles and the parts of the colliders close to them. Fails, before anything is drawn, for
-// a stored collider the engine cannot build, and for a position no simulation could have written
-// (check_run_positions).
+// a stored collider the engine cannot build, for a position no simulation could have written
+// (check_run_positions), and when the labels' font cannot be opened (text.h).
 RenderPlan plan_render(const RunReader& run, const std::vector<size_t>& frames,
                        const RunRenderOptions& options);
 

@@ -55,6 +55,20 @@ std::optional<double> plane_floor(const Json& scene) {
 
 }  // namespace
 
+std::string material_display_name(const std::string& type) {
+  static const std::pair<const char*, const char*> kNames[] = {
+      {"fixed_corotated", "fixed corotated"},
+      {"stvk_hencky", "StVK Hencky"},
+      {"drucker_prager", "Drucker–Prager"},
+      {"von_mises", "von Mises"},
+      {"herschel_bulkley", "Herschel–Bulkley"}};
+  for (const auto& [key, name] : kNames)
+    if (type == key) return name;
+  std::string out = type;  // a model registered later: its key, readable
+  std::replace(out.begin(), out.end(), '_', ' ');
+  return out;
+}
+
 SceneHints scene_hints(const std::string& scene_json, double dx) {
   SceneHints h;
   const Json scene = json::parse_bounded_or_discarded(scene_json, "the run's stored scene");
@@ -79,16 +93,20 @@ SceneHints scene_hints(const std::string& scene_json, double dx) {
     fail("the run's scene: ", e.what());
   }
 
-  // Materials are numbered by first appearance of each type, as the scene builder does.
+  // Materials are numbered by first appearance of each type, as the scene builder does. An
+  // object is named by its index in "objects" and its material: its shape's type ("difference")
+  // is how it was built, not what it is.
   if (const Json* objects = find(scene, "objects"); objects && objects->is_array()) {
+    std::vector<std::string> types;
     for (size_t i = 0; i < objects->size(); ++i) {
       const Json& o = (*objects)[i];
-      const std::string shape = type_of(find(o, "shape"));
-      h.object_names.push_back(std::to_string(i) + (shape.empty() ? "" : " " + shape));
       const std::string mat = type_of(find(o, "material"));
-      if (!mat.empty() && std::find(h.material_names.begin(), h.material_names.end(), mat) ==
-                              h.material_names.end())
-        h.material_names.push_back(mat);
+      h.object_names.push_back("object " + std::to_string(i) +
+                               (mat.empty() ? "" : " (" + material_display_name(mat) + ")"));
+      if (!mat.empty() && std::find(types.begin(), types.end(), mat) == types.end()) {
+        types.push_back(mat);
+        h.material_names.push_back(material_display_name(mat));
+      }
     }
   }
   return h;

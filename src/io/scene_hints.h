@@ -18,9 +18,12 @@ struct SceneHints {
   // the domain's bottom wall; unset when the scene says neither.
   std::optional<double> floor_height;
   std::optional<SceneCamera> camera;
-  std::vector<std::string> object_names;    // "0 CYLINDER", by object index
-  std::vector<std::string> material_names;  // "DRUCKER_PRAGER", by material index
+  std::vector<std::string> object_names;    // "object 0 (von Mises)", by object index
+  std::vector<std::string> material_names;  // "Drucker–Prager", by material index
 };
+
+// A material model's name for people: "von_mises" -> "von Mises".
+std::string material_display_name(const std::string& type);
 
 // `scene_json` as stored in a run's `scene_json` attribute; `dx` is the run's grid spacing.
 // Fails only for a malformed "camera" section.

@@ -1,17 +1,25 @@
 #pragma once
-// Labels on pictures ("ground truth", "ROM", "t = 0.25 s") with a built-in 5x7 pixel font, so
-// rendering needs no font files. Upper-case letters, digits and common punctuation; lower case
-// is drawn as upper case, anything else as '?'.
+// Labels on pictures ("ground truth", "t = 0.250 s", "von Mises stress (kPa)"): UTF-8 text drawn
+// with an anti-aliased TrueType font through FreeType and blended into the picture.
+//
+// The font is DejaVu Sans (Debian's fonts-dejavu-core, installed by scripts/install-deps.sh);
+// the environment variable NSF_FONT=/path/to/font.ttf picks another. Without a usable font file
+// every function here fails with an Error that names the paths tried and how to fix it.
+// All functions are safe to call from several threads at once.
 #include <string>
 
 #include "io/image.h"
 
 namespace nsf {
 
-// Draws text with its top-left corner at (x, y); each font pixel becomes scale x scale pixels.
-// Pixels outside the image are clipped.
-void draw_text(Image& img, int x, int y, const std::string& text, Rgb color, int scale = 2);
-int text_width(const std::string& text, int scale = 2);
-int text_height(int scale = 2);
+// `size` is the font's pixel size (its em), e.g. 13 for a 480x360 picture. The text's line box
+// has its top-left corner at (x, y) and is text_width x text_height pixels; no ink falls outside
+// it for ordinary text. Pixels outside the image are clipped.
+void draw_text(Image& img, int x, int y, const std::string& utf8, Rgb color, double size);
+int text_width(const std::string& utf8, double size);
+int text_height(double size);  // one line: the font's ascent plus descent
+
+// The font file in use.
+std::string font_path();
 
 }  // namespace nsf
