@@ -862,6 +862,31 @@ TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
   EXPECT_THAT(bad.output, HasSubstr("--latent-prior"));
 }
 
+// `nsf demo` end to end on the tiny scene, reusing the fixture's dataset and basis model: its
+// summary row (out/demo.json, and with --docs DOCS/results/demo.json, the one README quotes)
+// parses and holds the δ and speed-up the summary printed (issue #25 point 6).
+TEST_F(RomEndToEnd, DemoWritesTheRowItsSummaryPrints) {
+  const fs::path out = root_ / "demo", docs = root_ / "docs";
+  const auto r = nsf::testing::run_cli(
+      "demo --scene '" + kTinyScene + "' --data '" + (root_ / "data").string() + "' --model '" +
+      basis_model() + "' --out '" + out.string() + "' --docs '" + docs.string() + "' -j 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const fs::path& row : {out / "demo.json", docs / "results" / "demo.json"}) {
+    std::ifstream in(row);
+    ASSERT_TRUE(in) << row;
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_EQ(j.at("label").get<std::string>(), "demo");
+    char delta[64], speedup[64];
+    std::snprintf(delta, sizeof delta, "%.3f%%", 100 * j.at("delta").get<double>());
+    std::snprintf(speedup, sizeof speedup, "%.2fx", j.at("speedup").get<double>());
+    EXPECT_THAT(r.output, HasSubstr(delta)) << row;
+    EXPECT_THAT(r.output, HasSubstr(speedup)) << row;
+    EXPECT_GT(j.at("speedup").get<double>(), 0);
+    EXPECT_EQ(j.at("model_file").get<std::string>(), basis_model());
+  }
+  EXPECT_TRUE(fs::exists(docs / "results" / "demo.png"));
+}
+
 // Threads default to all cores (OMP_NUM_THREADS where set) for both engines, as in every other
 // command, and the JSON row records the count in use; -q drops the progress lines (issue #28,
 // item 18: the default was 2 and rom had no -q).
