@@ -1,15 +1,20 @@
-// A disk that fills up while `nsf simulate` writes its run: the command must stop with a message
-// about the failed write, leave neither the run nor its .tmp behind, and exit normally. Before,
-// it printed the message and then crashed (SIGSEGV) in HDF5's shutdown at exit. The full disk is
-// a file-size limit (RLIMIT_FSIZE, with SIGXFSZ ignored so a write past it fails with EFBIG).
+// A disk that fills up while `nsf simulate`, `nsf sweep` or `nsf train` writes: the command must
+// stop with a message about the failed write, leave no .tmp behind, and exit normally. Before,
+// simulate and sweep printed the message and then crashed (SIGSEGV) in HDF5's shutdown at exit,
+// and train aborted with a torch message that never said the disk was full, leaving
+// m.nsf.ckpt.tmp. The full disk is a file-size limit (RLIMIT_FSIZE, with SIGXFSZ ignored so a
+// write past it fails with EFBIG).
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "cli_child.h"
 #include "cli_runner.h"
+#include "tiny_training.h"
 
 namespace {
 
@@ -53,6 +58,60 @@ TEST(FullDisk, SimulateStopsWithAMessageAndNoCrashNoFile) {
     EXPECT_FALSE(fs::exists(out));
     EXPECT_FALSE(fs::exists(out.string() + ".tmp"));
   }
+  fs::remove_all(dir);
+}
+
+// Runs nsf with `args` under a file-size limit of `limit` bytes; returns the raw wait status.
+int run_under_limit(const std::vector<std::string>& args, rlim_t limit, const fs::path& log) {
+  const pid_t pid = nsf::testing::spawn_cli(args, log.string(), [limit] {
+    ::signal(SIGXFSZ, SIG_IGN);
+    const rlimit r{limit, limit};
+    ::setrlimit(RLIMIT_FSIZE, &r);
+  });
+  return pid > 0 ? nsf::testing::wait_child(pid) : -1;
+}
+
+// Every file under `dir` whose name ends in .tmp.
+std::vector<std::string> temporaries(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.path().extension() == ".tmp") out.push_back(e.path().string());
+  return out;
+}
+
+TEST(FullDisk, SweepStopsWithAMessageAndNoCrashNoTemporaries) {
+  const fs::path dir = nsf::testing::fresh_dir("full_disk_sweep");
+  const fs::path out = dir / "data", log = dir / "log.txt";
+  const std::string scene = std::string(NSF_SOURCE_DIR) + "/scenes/examples/rom_tiny.json";
+  const int status =
+      run_under_limit({"sweep", scene, "--out", out.string(), "-q", "-j", "1"}, 200 << 10, log);
+  const std::string output = nsf::testing::read_text(log.string());
+  ASSERT_TRUE(WIFEXITED(status)) << "ended by signal " << WTERMSIG(status) << ": " << output;
+  EXPECT_NE(WEXITSTATUS(status), 0) << output;
+  EXPECT_TRUE(mentions_write_failure(output)) << output;
+  if (fs::exists(out)) {
+    EXPECT_EQ(temporaries(out), std::vector<std::string>{});
+  }
+  fs::remove_all(dir);
+}
+
+TEST(FullDisk, TrainStopsWithAMessageAndNoCrashNoTemporaries) {
+  const fs::path dir = nsf::testing::fresh_dir("full_disk_train");
+  nsf::test::write_synthetic_dataset(dir / "data", nsf::testing::kTinyParticles);
+  const fs::path model = dir / "out" / "m.nsf", log = dir / "log.txt";
+  fs::create_directories(model.parent_path());
+  // The tiny model's g alone is 16 KiB: 8 KiB runs out at the first checkpoint or the model.
+  std::vector<std::string> args = {"train", (dir / "data").string(), "--out", model.string()};
+  std::istringstream flags(std::string(nsf::testing::kTinyTrainFlags) +
+                           nsf::testing::kTinyBatchFlags);
+  for (std::string f; flags >> f;) args.push_back(f);
+  const int status = run_under_limit(args, 8 << 10, log);
+  const std::string output = nsf::testing::read_text(log.string());
+  ASSERT_TRUE(WIFEXITED(status)) << "ended by signal " << WTERMSIG(status) << ": " << output;
+  EXPECT_NE(WEXITSTATUS(status), 0) << output;
+  EXPECT_TRUE(mentions_write_failure(output)) << output;
+  EXPECT_FALSE(fs::exists(model));
+  EXPECT_EQ(temporaries(model.parent_path()), std::vector<std::string>{});
   fs::remove_all(dir);
 }
 

@@ -89,6 +89,12 @@ bool load_checked_archive(torch::serialize::InputArchive& a, const std::string& 
   } catch (const c10::Error& e) {
     fail("cannot read ", what, " ", path, " (not an nsf ", what,
          ", or damaged): ", e.what_without_backtrace());
+  } catch (const std::exception& e) {
+    // torch's TorchScript reader throws its own types (ErrorReport) for a damaged archive whose
+    // checksum was made to match: still a file nsf cannot read.
+    const std::string why = e.what();
+    fail("cannot read ", what, " ", path, " (not an nsf ", what, ", or damaged)",
+         why.empty() ? "" : ": ", why.substr(0, why.find('\n')));
   }
   return checked;
 }

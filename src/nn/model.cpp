@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "nn/checked_archive.h"
+#include "nn/model_file_checks.h"
 
 namespace nsf {
 
@@ -39,10 +40,15 @@ void write_normalizer(torch::serialize::OutputArchive& a, const std::string& nam
   a.write("norm_" + name + "_std", n.std, /*is_buffer=*/true);
 }
 
-Normalizer read_normalizer(torch::serialize::InputArchive& a, const std::string& name) {
+Normalizer read_normalizer(torch::serialize::InputArchive& a, const std::string& name, int64_t dim,
+                           const std::string& path) {
   Normalizer n;
   a.read("norm_" + name + "_mean", n.mean, /*is_buffer=*/true);
   a.read("norm_" + name + "_std", n.std, /*is_buffer=*/true);
+  check_model_tensor(n.mean, {dim}, "norm_" + name + "_mean", path);
+  check_model_tensor(n.std, {dim}, "norm_" + name + "_std", path);
+  if (!(n.std > 0).all().item<bool>())
+    fail("model file ", path, ": entry 'norm_", name, "_std' holds a scale that is not positive");
   return n;
 }
 
@@ -185,7 +191,7 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
          kBasisFormatVersion, " (written by nsf ", read_value(a, "nsf_version", path).toStringRef(),
          ")");
   auto integer = [&](const char* key) {
-    return static_cast<int>(read_value(a, key, path).toInt());
+    return model_size_entry(read_value(a, key, path).toInt(), key, path);
   };
   NetConfig c;
   c.latent_dim = integer("latent_dim");
@@ -196,10 +202,10 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   c.encoder_hidden = integer("encoder_hidden");
   c10::IValue channels;  // absent before the option existed: App. E's 3
   if (a.try_read("encoder_channels", channels))
-    c.encoder_channels = static_cast<int>(channels.toInt());
+    c.encoder_channels = model_size_entry(channels.toInt(), "encoder_channels", path);
   c10::IValue max_length;  // absent before format version 3: App. E's 12
   if (a.try_read("encoder_max_length", max_length))
-    c.encoder_max_length = static_cast<int>(max_length.toInt());
+    c.encoder_max_length = model_size_entry(max_length.toInt(), "encoder_max_length", path);
   c.stress_uses_mu = read_value(a, "stress_uses_mu", path).toBool();
   if (version >= kBasisFormatVersion) {
     c.decoder = read_value(a, "decoder", path).toStringRef();
@@ -212,24 +218,34 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   }
   SceneFingerprint s;
   s.scene_name = read_value(a, "scene_name", path).toStringRef();
-  s.particles = read_value(a, "scene_particles", path).toInt();
-  s.x_hash = std::stoull(read_value(a, "scene_x_hash", path).toStringRef(), nullptr, 16);
-  NeuralModel m(c, s, read_value(a, "has_mu", path).toBool());
+  s.particles =
+      model_size_entry(read_value(a, "scene_particles", path).toInt(), "scene_particles", path);
+  s.x_hash = model_hash_entry(read_value(a, "scene_x_hash", path).toStringRef(), path);
+  const bool has_mu = read_value(a, "has_mu", path).toBool();
+  std::error_code ec;
+  const uintmax_t bytes = std::filesystem::file_size(path, ec);
+  check_model_fits_file(c, s.particles, has_mu && c.stress_uses_mu, ec ? 0 : bytes, path);
+  NeuralModel m(c, s, has_mu);
   m.mu_min = read_value(a, "mu_min", path).toDouble();
   m.mu_max = read_value(a, "mu_max", path).toDouble();
   c10::IValue seconds;  // absent before nsf recorded it
   if (a.try_read("train_seconds", seconds)) m.train_seconds = seconds.toDouble();
-  m.norm_X = read_normalizer(a, "X");
-  m.norm_x = read_normalizer(a, "x");
-  m.norm_z = read_normalizer(a, "z");
-  m.norm_mu = read_normalizer(a, "mu");
-  m.norm_tau = read_normalizer(a, "tau");
-  m.norm_C = read_normalizer(a, "C");
+  m.norm_X = read_normalizer(a, "X", 3, path);
+  m.norm_x = read_normalizer(a, "x", 3, path);
+  m.norm_z = read_normalizer(a, "z", c.latent_dim, path);
+  m.norm_mu = read_normalizer(a, "mu", 1, path);
+  m.norm_tau = read_normalizer(a, "tau", 6, path);
+  m.norm_C = read_normalizer(a, "C", 9, path);
   c10::IValue residual;
   m.displacement = version >= 2 && a.try_read("displacement", residual) && residual.toBool();
+  if (m.is_basis() && !m.displacement)
+    fail("model file ", path,
+         ": damaged entry 'displacement' (false, but a basis model is always in displacement "
+         "form and stores its rest positions)");
   if (m.displacement) {
-    m.norm_u = read_normalizer(a, "u");
+    m.norm_u = read_normalizer(a, "u", 3, path);
     a.read("rest", m.rest, /*is_buffer=*/true);
+    check_model_tensor(m.rest, {s.particles, 3}, "rest", path);
   }
   // Absent from models written before the latent prior existed (format version 3 all the same:
   // an older nsf reads these files and ignores the entries).
@@ -237,7 +253,11 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   if (a.try_read("trajectory_latents", trajectories, /*is_buffer=*/true) &&
       a.try_read("trajectory_mu", trajectory_mu, /*is_buffer=*/true)) {
     if (trajectories.dim() != 3 || trajectories.size(2) != c.latent_dim ||
-        trajectory_mu.dim() != 1 || trajectory_mu.size(0) != trajectories.size(0))
+        trajectory_mu.dim() != 1 || trajectory_mu.size(0) != trajectories.size(0) ||
+        trajectories.scalar_type() != torch::kFloat32 ||
+        trajectory_mu.scalar_type() != torch::kFloat32 ||
+        !torch::isfinite(trajectories).all().item<bool>() ||
+        !torch::isfinite(trajectory_mu).all().item<bool>())
       fail("model file ", path, ": damaged training latents (shape ", trajectories.sizes(), ")");
     m.trajectory_latents = trajectories;
     m.trajectory_mu = trajectory_mu;
@@ -257,6 +277,9 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
         fail("model file ", path, ": damaged basis of ", n, " (shapes ", b.mean.sizes(), ", ",
              b.modes.sizes(), ", ", b.scale.sizes(), " for ", s.particles, " particles and K = ", K,
              ")");
+      check_model_tensor(b.mean, {s.particles, d}, "basis_" + n + "_mean", path);
+      check_model_tensor(b.modes, {s.particles, d, K}, "basis_" + n + "_modes", path);
+      check_model_tensor(b.scale, {K}, "basis_" + n + "_scale", path);
       nets.emplace_back("c_" + n, b.net.get());
     }
   } else {
@@ -265,7 +288,7 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   for (const auto& [name, net] : nets) {
     torch::serialize::InputArchive sub;
     a.read(name, sub);
-    net->load(sub);
+    load_network_checked(*net, sub, name, path);
   }
   return m;
 }
@@ -292,9 +315,13 @@ NeuralModel NeuralModel::load(const std::string& path) {
     NeuralModel m = read(a, path);
     m.set_eval_mode();
     return m;
+  } catch (const Error&) {
+    throw;
   } catch (const c10::Error& e) {
     fail("cannot read model ", path,
          " (not an nsf model, or damaged): ", e.what_without_backtrace());
+  } catch (const std::exception& e) {  // torch's TorchScript reader throws its own types
+    fail("cannot read model ", path, " (not an nsf model, or damaged): ", e.what());
   }
 }
 

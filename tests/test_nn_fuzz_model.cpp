@@ -1,0 +1,278 @@
+// A bounded mutation fuzz of the model loader (#28 item 21): a small basis model and a small MLP
+// model, mutated byte by byte (half of them with the checksum made to match again, as someone
+// tampering on purpose would) or entry by entry (hostile sizes, NaN, wrong tensor shapes, odd
+// strings under a valid checksum), then loaded and used as `nsf rom` and `nsf eval` do: checked
+// against the scene, a frame encoded, the fields evaluated. Every case must work or stop with
+// nsf::Error, within a time limit. Replay: NSF_FUZZ_SEED=<seed> [NSF_FUZZ_ONLY=<case>]
+// nsf_nn_tests --gtest_filter='FuzzModel.*'
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "error_matchers.h"
+#include "fuzz_harness.h"
+#include "nn/checked_archive.h"
+#include "nn/model.h"
+#include "nn/neural_fields.h"
+
+#include <torch/torch.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace nsf::testing::fuzz;
+
+constexpr int kParticles = 40;
+
+std::vector<nsf::Vec3> rest_positions() {
+  std::vector<nsf::Vec3> X;
+  for (int p = 0; p < kParticles; ++p) X.emplace_back(0.1 * (p % 4), 0.1 * (p / 4 % 5), 0.05 * p);
+  return X;
+}
+
+// A model of kParticles particles, untrained (its weights are the initial ones): the loader sees
+// the same entries as in a trained one.
+nsf::NeuralModel small_model(const std::string& decoder) {
+  nsf::NetConfig c;
+  c.decoder = decoder;
+  c.latent_dim = 2;
+  c.depth = 2;
+  c.width_g = c.width_h = c.width_l = 8;
+  c.encoder_hidden = 8;
+  c.coefficient_width = 8;
+  c.coefficient_depth = 2;
+  c.modes = {2, 3, 3};
+  const std::vector<nsf::Vec3> X = rest_positions();
+  nsf::NeuralModel m(c, nsf::SceneFingerprint::of("fuzz", X), /*has_mu=*/true);
+  m.mu_min = 1;
+  m.mu_max = 2;
+  m.rest = torch::zeros({kParticles, 3});
+  for (int p = 0; p < kParticles; ++p)
+    for (int k = 0; k < 3; ++k) m.rest[p][k] = float(X[size_t(p)][k]);
+  const int64_t dims[3] = {3, 6, 9};
+  if (decoder == "basis")
+    for (int f = 0; f < 3; ++f) {
+      m.basis[f].mean = torch::zeros({kParticles, dims[f]});
+      m.basis[f].modes = torch::randn({kParticles, dims[f], c.modes[f]});
+      m.basis[f].scale = torch::ones({c.modes[f]});
+    }
+  m.trajectory_latents = torch::zeros({2, 3, c.latent_dim});
+  m.trajectory_mu = torch::tensor({1.0f, 2.0f});
+  return m;
+}
+
+// The top-level entries of a model file by kind, for the entry-level mutations.
+const std::vector<std::string> kIntegers = {
+    "format_version",  "latent_dim",        "depth",
+    "width_g",         "width_h",           "width_l",
+    "encoder_hidden",  "encoder_channels",  "encoder_max_length",
+    "scene_particles", "coefficient_width", "coefficient_depth",
+    "modes_u",         "modes_tau",         "modes_C"};
+const std::vector<std::string> kDoubles = {"mu_min", "mu_max", "train_seconds"};
+const std::vector<std::string> kStrings = {"format", "nsf_version", "scene_name", "scene_x_hash",
+                                           "decoder"};
+const std::vector<std::string> kBools = {"stress_uses_mu", "has_mu", "displacement"};
+const std::vector<std::string> kTensors = {
+    "norm_X_mean",   "norm_X_std",   "norm_x_mean",   "norm_z_mean",   "norm_z_std",
+    "norm_mu_mean",  "norm_mu_std",  "norm_tau_mean", "norm_tau_std",  "norm_C_mean",
+    "norm_C_std",    "norm_u_mean",  "norm_u_std",    "rest",          "trajectory_latents",
+    "trajectory_mu", "basis_u_mean", "basis_u_modes", "basis_u_scale", "basis_tau_modes",
+    "basis_C_scale"};
+
+// Writes `m` with one entry replaced by a hostile value of its type; returns what it did.
+std::string write_with_hostile_entry(const nsf::NeuralModel& m, const std::string& path,
+                                     std::mt19937_64& rng) {
+  torch::serialize::OutputArchive a;
+  m.write(a);
+  auto pick = [&](const auto& v) { return v[rng() % v.size()]; };
+  std::string key, value;
+  switch (rng() % 5) {
+    case 0: {
+      key = pick(kIntegers);
+      const int64_t v = pick(std::vector<int64_t>{-1, 0, 1, 1000000, 2147483647, int64_t(1) << 40,
+                                                  std::numeric_limits<int64_t>::min()});
+      a.write(key, c10::IValue(v));
+      value = std::to_string(v);
+      break;
+    }
+    case 1: {
+      key = pick(kDoubles);
+      const double v = pick(std::vector<double>{std::nan(""), INFINITY, -INFINITY, -1e308, 0.0});
+      a.write(key, c10::IValue(v));
+      value = std::to_string(v);
+      break;
+    }
+    case 2: {
+      key = pick(kStrings);
+      value = pick(std::vector<std::string>{"", "zz", "ffffffffffffffffffffffff", "-1",
+                                            std::string(5000, 'x'), "mlp", "basis",
+                                            "x'; system \"touch PWNED\"; #", "nsf-model"});
+      a.write(key, c10::IValue(value));
+      break;
+    }
+    case 3: {
+      key = pick(kBools);
+      a.write(key, c10::IValue(rng() % 2 == 0));
+      value = "flipped or kept";
+      break;
+    }
+    default: {
+      key = pick(kTensors);
+      const std::vector<torch::Tensor> t = {torch::zeros({0}),
+                                            torch::zeros({7}),
+                                            torch::zeros({kParticles, 5}),
+                                            torch::full({kParticles, 3}, std::nanf("")),
+                                            torch::full({2}, std::nanf("")),
+                                            torch::zeros({3}, torch::kInt64),
+                                            torch::zeros({}),
+                                            torch::zeros({2, 2, 2, 2})};
+      const size_t k = rng() % t.size();
+      a.write(key, t[k], /*is_buffer=*/true);
+      value = "tensor " + std::to_string(k);
+      break;
+    }
+  }
+  nsf::save_checked_archive(a, path, "model file");
+  return "entry '" + key + "' = " + value;
+}
+
+// A checksum that matches the bytes again, as save_checked_archive computes it (the last 8
+// characters, over every byte before the comment-length field), when the file still ends in one.
+void refresh_checksum(std::string& b) {
+  const size_t comment = 18, record = 22;
+  if (b.size() < comment + record || b.compare(b.size() - comment, 10, "nsf-crc32 ") != 0) return;
+  const uLong crc = crc32(crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(b.data()),
+                          uInt(b.size() - comment - 2));
+  char hex[9];
+  std::snprintf(hex, sizeof hex, "%08lx", crc & 0xffffffffUL);
+  b.replace(b.size() - 8, 8, hex);
+}
+
+std::string bytes_of(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// What `nsf rom` and `nsf eval` do with a model: load it, check it against the scene, encode a
+// frame, evaluate the fields at the particles.
+void load_and_use(const std::string& path) {
+  torch::set_num_threads(1);
+  const nsf::NeuralFields f = nsf::NeuralFields::load(path);
+  const std::vector<nsf::Vec3> X = rest_positions();
+  f.check_scene("fuzz", X, "the scene");
+  const nsf::Latent z = f.encode(X);
+  const nsf::NeuralFields::Points points = f.prepare(X);
+  std::vector<nsf::Vec3> x;
+  std::vector<nsf::Mat3> tau, C;
+  f.deform(points, z, x);
+  f.stress(points, z, 1.5, tau);
+  f.affine(points, z, C);
+}
+
+// A model file whose checksum matches but whose entries were not written by nsf (a hostile or
+// damaged file): each is refused with a message naming the entry, before anything is allocated
+// or evaluated. Before, a non-hex scene hash escaped as "internal error: stoull", a tensor of
+// the wrong shape or a basis model without rest positions loaded and failed mid-evaluation with
+// a torch message, and a width of 10^6 asked for terabytes.
+TEST(FuzzModel, EntriesNsfNeverWritesAreNamedErrorsUnderAValidChecksum) {
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / ("nsf_model_entries_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string path = (dir / "m.nsf").string();
+  auto refused = [&](const nsf::NeuralModel& m, const std::string& key, const c10::IValue* value,
+                     const torch::Tensor* tensor) {
+    torch::serialize::OutputArchive a;
+    m.write(a);
+    if (value) a.write(key, *value);
+    if (tensor) a.write(key, *tensor, /*is_buffer=*/true);
+    nsf::save_checked_archive(a, path, "model file");
+    const Result r = run_bounded([&] { load_and_use(path); }, 60);
+    EXPECT_EQ(r.outcome, Outcome::NamedError)
+        << key << ": " << outcome_name(r.outcome) << ": " << r.detail;
+    return r.detail;
+  };
+  const nsf::NeuralModel basis = small_model("basis"), mlp = small_model("mlp");
+  const c10::IValue bad_hash(std::string("zz")), huge(int64_t(1000000)), wide(int64_t(1) << 40);
+  nsf::testing::expect_contains(refused(basis, "scene_x_hash", &bad_hash, nullptr),
+                                "'scene_x_hash'");
+  nsf::testing::expect_contains(refused(mlp, "width_h", &huge, nullptr), "more than the file's");
+  nsf::testing::expect_contains(refused(basis, "coefficient_width", &wide, nullptr),
+                                "'coefficient_width'");
+  const torch::Tensor wrong = torch::zeros({kParticles, 5}), nan = torch::full({2}, std::nanf(""));
+  nsf::testing::expect_contains(refused(basis, "rest", nullptr, &wrong), "'rest'");
+  nsf::testing::expect_contains(refused(mlp, "norm_z_std", nullptr, &nan), "'norm_z_std'");
+  // A basis model not in displacement form would have no rest positions to add to its bases.
+  const c10::IValue no(false);
+  nsf::testing::expect_contains(refused(basis, "displacement", &no, nullptr), "'displacement'");
+  // Weights of another width than the configuration's: g was saved 8 wide, the file says 16.
+  const c10::IValue sixteen(int64_t(16));
+  nsf::testing::expect_contains(refused(mlp, "width_g", &sixteen, nullptr), "network 'g'");
+  fs::remove_all(dir);
+}
+
+TEST(FuzzModel, MutatedModelFilesLoadOrAreRefusedWithANamedError) {
+  const uint64_t seed = nsf::testing::fuzz::seed(20261126);
+  const int cases = case_count(200);
+  const char* only = std::getenv("NSF_FUZZ_ONLY");
+  std::cout << "fuzz seed " << seed << ", " << cases << " cases (NSF_FUZZ_SEED, NSF_FUZZ_CASES)\n";
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / ("nsf_fuzz_model_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  torch::manual_seed(7);
+  const nsf::NeuralModel models[2] = {small_model("basis"), small_model("mlp")};
+  std::string originals[2];
+  for (int k = 0; k < 2; ++k) {
+    const std::string path = (dir / ("base_" + std::to_string(k) + ".nsf")).string();
+    models[k].save(path);
+    ASSERT_EQ(run_bounded([&] { load_and_use(path); }, 60).outcome, Outcome::Accepted)
+        << models[k].config.decoder << " model does not load unchanged";
+    originals[k] = bytes_of(path);
+  }
+  Tally tally;
+  for (int i = 0; i < cases; ++i) {
+    if (only && std::atoi(only) != i) continue;
+    std::mt19937_64 rng(seed ^ (0x9e3779b97f4a7c15ull * uint64_t(i + 1)));
+    const int k = i % 2;
+    const std::string path = (dir / ("case_" + std::to_string(i) + ".nsf")).string();
+    std::string what = models[k].config.decoder + " model: ";
+    if (rng() % 2 == 0) {
+      what += write_with_hostile_entry(models[k], path, rng);
+    } else {
+      ByteMutator b(rng);
+      std::string detail;
+      std::string bytes = b.mutate(originals[k], detail);
+      what += detail;
+      if (rng() % 3 == 0) {
+        bytes = b.mutate(bytes, detail);
+        what += "; " + detail;
+      }
+      if (rng() % 2 == 0) {
+        refresh_checksum(bytes);
+        what += ", checksum made to match";
+      }
+      std::ofstream(path, std::ios::binary) << bytes;
+    }
+    const Result r = run_bounded([&] { load_and_use(path); }, 30);
+    const size_t before = tally.failures.size();
+    tally.add(r, "case " + std::to_string(i) + " (" + what + ", file " + path + ")");
+    if (tally.failures.size() == before) fs::remove(path);
+  }
+  std::cout << "fuzz: " << tally.accepted << " accepted, " << tally.named
+            << " refused with a named error, " << tally.failures.size() << " failures\n";
+  for (const std::string& f : tally.failures)
+    ADD_FAILURE() << f << "\nreplay: NSF_FUZZ_SEED=" << seed;
+  if (tally.failures.empty()) fs::remove_all(dir);
+  EXPECT_GT(tally.named, 0);
+}
+
+}  // namespace
