@@ -16,11 +16,14 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <functional>
 #include <random>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "core/error.h"
@@ -224,6 +227,19 @@ struct Tally {
     } else {
       failures.push_back(case_description + ": " + outcome_name(r.outcome) + ": " + r.detail);
     }
+  }
+
+  // The run's summary line; each failure fails the test with the seed that replays it. The
+  // cases' folder is removed when nothing failed (a failing case's file is kept to replay).
+  void report(uint64_t seed, const std::string& dir) const {
+    std::printf("fuzz: %d accepted, %d refused with a named error, %zu failures\n", accepted, named,
+                failures.size());
+    for (const std::string& f : failures) ADD_FAILURE() << f << "\nreplay: NSF_FUZZ_SEED=" << seed;
+    if (failures.empty()) {
+      std::error_code ec;
+      std::filesystem::remove_all(dir, ec);
+    }
+    EXPECT_GT(named, 0);
   }
 };
 
