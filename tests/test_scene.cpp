@@ -441,6 +441,12 @@ TEST(SceneValidation, CsgNestingIsBoundedAndTheErrorNamesTheKey) {
   nsf::testing::expect_error([&] { build_scene(j); },
                              {"'" + deep_key + "'", "more than 64 levels deep"});
 
+  // A deep value where no section's parser looks (the engine leaves "sweep" to its owner) is
+  // refused before the scene copies it as its provenance: the copy recurses once per level.
+  json deep = small_scene();
+  deep["sweep"] = json::parse(std::string(600, '[') + std::string(600, ']'));
+  nsf::testing::expect_error([&] { build_scene(deep); }, {"nested more than 512 levels deep"});
+
   EXPECT_NO_THROW(parse_shape(json::parse(nested_union(kMaxShapeDepth)), "shape"));
   const std::string msg =
       error_of([] { parse_shape(json::parse(nested_union(kMaxShapeDepth + 1)), "shape"); });

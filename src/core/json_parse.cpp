@@ -98,4 +98,16 @@ nlohmann::json parse_bounded_or_discarded(const std::string& text, const std::st
   }
 }
 
+bool nested_deeper_than(const json& value, int limit) {
+  std::vector<std::pair<const json*, int>> todo{{&value, 0}};
+  while (!todo.empty()) {
+    const auto [v, depth] = todo.back();
+    todo.pop_back();
+    if (!v->is_structured()) continue;
+    if (depth + 1 > limit) return true;
+    for (const json& child : *v) todo.emplace_back(&child, depth + 1);
+  }
+  return false;
+}
+
 }  // namespace nsf::json

@@ -17,6 +17,11 @@ constexpr int kMaxJsonDepth = 512;
 nlohmann::json parse_bounded(const std::string& text, const std::string& what,
                              bool ignore_comments = false);
 
+// True when a value (built in memory, past parse_bounded's check) nests objects and arrays more
+// than `limit` levels deep. Iterative: nlohmann's copy and dump() recurse once per level, so a
+// value must be checked before either (under AddressSanitizer 14,000 levels overflow the stack).
+bool nested_deeper_than(const nlohmann::json& value, int limit);
+
 // The same for readers that forgive a text that is not JSON (a run's stored scene, where it only
 // adds detail to a picture): a discarded value for a syntax error, comments allowed; still an
 // nsf::Error past the depth limit.

@@ -1,6 +1,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "core/json_parse.h"
 #include "core/json_util.h"
 #include "mpm/scene/object_builder.h"
 #include "mpm/scene/scene.h"
@@ -15,7 +16,6 @@ Scene build_scene(const nlohmann::json& j, const std::string& base_dir) {
   // "train") are their owners' to parse (scene.h).
   js::check_keys(j, "", top_level_keys());
   Scene scene;
-  scene.source = j;
   scene.name = js::get_string(j, "", "name", "scene");
   js::get_string(j, "", "description", "");  // free text, but it must be text
 
@@ -39,6 +39,12 @@ Scene build_scene(const nlohmann::json& j, const std::string& base_dir) {
       scene.colliders.push_back(make_collider(colliders[i], js::child("colliders", i)));
   }
   scene.camera = parse_camera(j);
+  // The scene keeps its JSON as provenance. Copying recurses once per level, so a value built in
+  // memory (a file is checked as it is parsed) must not nest deeper than a file may; the sections'
+  // own parsers name a too-deep key first (a CSG shape: 64 levels).
+  if (js::nested_deeper_than(j, js::kMaxJsonDepth))
+    fail("scene: nested more than ", js::kMaxJsonDepth, " levels deep");
+  scene.source = j;
   return scene;
 }
 
