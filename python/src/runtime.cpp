@@ -54,20 +54,24 @@ py::array_t<float> target(const Runtime& rt, const py::object& out, const char* 
   return py::reinterpret_borrow<py::array_t<float>>(out);
 }
 
-py::array_t<float> positions(const Runtime& rt, const py::object& out) {
-  py::array_t<float> a = target(rt, out, "positions");
+// Runtime::positions or Runtime::velocities (3 floats per particle) into `out`, or a new array.
+using PerParticle = void (Runtime::*)(float*, std::size_t) const;
+
+template <PerParticle get>
+py::array_t<float> per_particle(const Runtime& rt, const py::object& out, const char* what) {
+  py::array_t<float> a = target(rt, out, what);
   float* data = a.mutable_data();
   py::gil_scoped_release nogil;
-  rt.positions(data, 3 * rt.particle_count());
+  (rt.*get)(data, 3 * rt.particle_count());
   return a;
 }
 
+py::array_t<float> positions(const Runtime& rt, const py::object& out) {
+  return per_particle<&Runtime::positions>(rt, out, "positions");
+}
+
 py::array_t<float> velocities(const Runtime& rt, const py::object& out) {
-  py::array_t<float> a = target(rt, out, "velocities");
-  float* data = a.mutable_data();
-  py::gil_scoped_release nogil;
-  rt.velocities(data, 3 * rt.particle_count());
-  return a;
+  return per_particle<&Runtime::velocities>(rt, out, "velocities");
 }
 
 }  // namespace
