@@ -16,6 +16,7 @@
 #include "core/memory.h"
 #include "core/path_clash.h"
 #include "core/progress.h"
+#include "io/atomic_file.h"
 #include "nn/config.h"
 #include "nn/dataset.h"
 #include "nn/runtime.h"
@@ -39,6 +40,7 @@ struct TrainArgs {
   std::string decoder;
   std::vector<int> modes;
   int coefficient_width = 0, coefficient_depth = 0;
+  std::string json;  // --json: the run's row (per stage: steps, seconds, throughput)
   TrainOptions opt;
 };
 
@@ -106,8 +108,33 @@ void refuse_overwriting_inputs(const TrainArgs& a, const Dataset& data) {
       {{"--out", a.out},
        {"the checkpoint of --out", checkpoint_path_for(a.out)},
        {"the loss curves of --out", csv},
-       {"the loss plot of --out", std::filesystem::path(csv).replace_extension(".png").string()}},
+       {"the loss plot of --out", std::filesystem::path(csv).replace_extension(".png").string()},
+       {"--json", a.json}},
       inputs);
+}
+
+// --json: what the summary lines print, machine-readable (docs/TRAINING.md, "Training on a GPU"
+// compares devices with it).
+void write_json(const TrainArgs& a, const TrainReport& r, int threads) {
+  nlohmann::json j;
+  j["model"] = r.model_path;
+  j["data"] = a.data;
+  j["device"] = a.opt.device;
+  j["threads"] = threads;
+  j["decoder"] = a.opt.config.net.decoder;
+  j["peak_memory_mib"] = peak_rss_mib();
+  for (int s = 0; s < kStageCount; ++s) {
+    const StageReport& st = r.stages[s];
+    nlohmann::json row = {{"stage", s + 1},
+                          {"name", kStageNames[s]},
+                          {"steps", st.steps},
+                          {"seconds", st.seconds},
+                          {"points_per_second", st.points_per_second},
+                          {"final_loss", st.final_loss}};
+    if (s == 0) row["frames_per_second"] = st.frames_per_second;
+    j["stages"].push_back(row);
+  }
+  write_file_atomic(a.json, j.dump(2) + "\n");
 }
 
 void run_train(TrainArgs& a) {
@@ -184,7 +211,8 @@ void run_train(TrainArgs& a) {
         stderr, "  networks (Table 1 row '%s'): r = %d, depth %d, widths g %d, h %d, l %d\n",
         row.c_str(), c.net.latent_dim, c.net.depth, c.net.width_g, c.net.width_h, c.net.width_l);
   }
-  std::fprintf(stderr, "  %d threads, BLAS: %s\n", threads, blas_info().c_str());
+  std::fprintf(stderr, "  %d threads, BLAS: %s; networks on %s\n", threads, blas_info().c_str(),
+               a.opt.device.c_str());
 
   const TrainReport r = train_model(a.data, a.out, a.opt);
   if (!r.completed) {
@@ -204,6 +232,10 @@ void run_train(TrainArgs& a) {
       rate(1, r.stages[1].points_per_second).c_str(),
       rate(2, r.stages[2].points_per_second).c_str(),
       rate(0, r.stages[0].frames_per_second).c_str(), peak_rss_mib());
+  if (!a.json.empty()) {
+    write_json(a, r, threads);
+    std::printf("wrote %s\n", a.json.c_str());
+  }
 }
 
 }  // namespace
@@ -317,10 +349,17 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("--stop-after", a->opt.stop_after,
                   "Stop after this many steps (then continue with --resume)")
       ->check(in_range<long>(0, std::numeric_limits<long>::max()));
+  cmd->add_option("--device", a->opt.device,
+                  "Where the networks train: cpu (default), cuda or cuda:N (a LibTorch with CUDA; "
+                  "docs/TRAINING.md)");
+  cmd->add_option("--json", a->json,
+                  "Also write the run's summary (per stage: steps, seconds, points/s) to this "
+                  "JSON file");
   add_quiet_flag(cmd, c.quiet);
   cmd->callback([a, noise] {
     a->latent_noise_given = noise->count() > 0;
     check_stage_options(*a);
+    check_training_device(a->opt.device);
     // Inputs that do not exist are errors of the world, not of the command line (exit status 1).
     if (!a->opt.base_model.empty() && !std::filesystem::is_regular_file(a->opt.base_model))
       fail("--base-model ", a->opt.base_model, ": no such file");

@@ -356,7 +356,7 @@ std::string format_rom_report(const RomReport& r) {
         put("    %-36s %7s %9s %9s", what, e.delta >= 0 ? d : "n/a", percent(e.stress).c_str(),
             percent(e.affine).c_str());
       };
-      put("  error budget (docs/ROM.md):             delta    stress    affine");
+      s << "  error budget (docs/ROM.md):             delta    stress    affine\n";
       row("representation (truth encoded)", r.budget->encoded);
       row("projection (truth's samples fitted)", r.budget->projected);
       row("reduced-order run", FieldErrors{r.delta, r.stress_error, r.affine_error});

@@ -1,9 +1,5 @@
 #include "app/sweep_ranks.h"
 
-// MPI's C interface only: its C++ bindings (gone from the standard) need another library.
-#define OMPI_SKIP_MPICXX 1
-#define MPICH_SKIP_MPICXX 1
-#include <mpi.h>
 #include <omp.h>
 
 #include <algorithm>
@@ -13,8 +9,17 @@
 
 #include "core/error.h"
 
+// NSF_WITH_MPI: set by CMake unless configured with -DNSF_WITH_MPI=OFF.
+#if NSF_WITH_MPI
+// MPI's C interface only: its C++ bindings (gone from the standard) need another library.
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
+#include <mpi.h>
+#endif
+
 namespace nsf::app {
 
+#if NSF_WITH_MPI
 namespace {
 
 void check(int code, const char* what) {
@@ -76,6 +81,7 @@ class MpiTeam : public SweepTeam {
 };
 
 }  // namespace
+#endif
 
 bool launched_by_mpi() {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK"})
@@ -85,6 +91,11 @@ bool launched_by_mpi() {
 
 SweepRanks::SweepRanks() {
   if (!launched_by_mpi()) return;
+#if !NSF_WITH_MPI
+  fail(
+      "started by mpirun, but this nsf was built without MPI (cmake -DNSF_WITH_MPI=OFF): run "
+      "the sweep as one process, or rebuild with Open MPI's development files");
+#else
   // Only this (the main) thread calls MPI; the simulation threads never do.
   int provided = 0;
   check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided), "initialisation");
@@ -97,10 +108,13 @@ SweepRanks::SweepRanks() {
   MPI_Comm_size(local, &local_size_);
   MPI_Comm_free(&local);
   if (size_ > 1) team_ = std::make_unique<MpiTeam>(rank_, size_);
+#endif
 }
 
 SweepRanks::~SweepRanks() {
+#if NSF_WITH_MPI
   if (mpi_) MPI_Finalize();
+#endif
 }
 
 int SweepRanks::cores() const {
@@ -111,7 +125,9 @@ int SweepRanks::cores() const {
 }
 
 void SweepRanks::abort(int code) const {
+#if NSF_WITH_MPI
   if (mpi_) MPI_Abort(MPI_COMM_WORLD, code);
+#endif
   std::exit(code);
 }
 

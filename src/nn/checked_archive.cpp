@@ -85,7 +85,7 @@ bool load_checked_archive(torch::serialize::InputArchive& a, const std::string& 
            "or retrain");
   }
   try {
-    a.load_from(bytes.data(), bytes.size());
+    a.load_from(bytes.data(), bytes.size(), torch::Device(torch::kCPU));
   } catch (const c10::Error& e) {
     fail("cannot read ", what, " ", path, " (not an nsf ", what,
          ", or damaged): ", e.what_without_backtrace());

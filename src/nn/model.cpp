@@ -331,6 +331,19 @@ void NeuralModel::check_scene(const SceneFingerprint& data, const std::string& w
          "; train a model for this scene (nsf train)");
 }
 
+void NeuralModel::to(const torch::Device& device) {
+  encoder->to(device);
+  for (FieldMlp* net : {&g, &h, &l, &basis[0].net, &basis[1].net, &basis[2].net})
+    if (!net->is_empty()) (*net)->to(device);
+  auto move = [&](torch::Tensor& t) {
+    if (t.defined()) t = t.to(device);
+  };
+  for (Normalizer* n : {&norm_X, &norm_x, &norm_z, &norm_mu, &norm_tau, &norm_C, &norm_u})
+    move(n->mean), move(n->std);
+  for (BasisField& b : basis) move(b.mean), move(b.modes), move(b.scale);
+  move(rest), move(trajectory_latents), move(trajectory_mu);
+}
+
 void NeuralModel::set_eval_mode() {
   encoder->eval();
   for (FieldMlp* net : {&g, &h, &l, &basis[0].net, &basis[1].net, &basis[2].net})

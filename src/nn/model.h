@@ -86,6 +86,9 @@ class NeuralModel {
   torch::Tensor l_input(const torch::Tensor& Xn, const torch::Tensor& z) const;
 
   void set_eval_mode();
+  // Every network and tensor onto `device` (training on a GPU: nn/trainer.h); a model is saved,
+  // loaded and run on the CPU.
+  void to(const torch::Device& device);
 
   // ---- basis models: coefficients of field f (0: x − X, 1: τ, 2: C) in physical units, B × K,
   // for raw latents z (B × r) and μ (B × 1, physical; used by τ when stress_has_mu()).

@@ -2,6 +2,7 @@
 
 #include <ATen/Context.h>
 #include <ATen/Parallel.h>
+#include <ATen/Version.h>
 #include <dlfcn.h>
 #include <malloc.h>
 
@@ -77,6 +78,9 @@ bool blas_is_openblas() {
 
 std::string blas_info() {
   auto config = openblas_symbol<char* (*)()>("openblas_get_config");
+  // pip's LibTorch (a CUDA build, docs/TRAINING.md) carries its own MKL instead of libblas.so.3.
+  if (!config && at::show_config().find("BLAS_INFO=mkl") != std::string::npos)
+    return "MKL, LibTorch's own (" + std::to_string(at::get_num_threads()) + " threads)";
   if (!config)
     return "WARNING: libblas.so.3 is not OpenBLAS (the reference BLAS is 6-10x slower); run "
            "scripts/install-deps.sh or `update-alternatives --config "

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <vector>
@@ -26,6 +27,7 @@
 #include "nn/model.h"
 #include "nn/runtime.h"
 
+#include <torch/cuda.h>
 #include <torch/optim/adam.h>
 
 namespace nsf {
@@ -66,6 +68,38 @@ double memory_budget_gib(double requested) {
 
 // The memory budget, once the batches are checked against it and the dataset: before the frames
 // are read, and before a batch is allocated (nn/batch_budget.h).
+// The device of --device, checked before any data is read.
+torch::Device training_device(const std::string& name) {
+  std::optional<torch::Device> d;
+  try {
+    d.emplace(name);
+  } catch (const c10::Error&) {
+    fail("--device ", name, ": not a device (cpu, cuda or cuda:N)");
+  }
+  if (d->is_cpu()) return *d;
+  if (!d->is_cuda()) fail("--device ", name, ": nsf trains on cpu or cuda");
+  if (!torch::cuda::is_available())
+    fail("--device ", name,
+         ": this nsf was built with a LibTorch without CUDA, or no CUDA device is visible "
+         "(Debian's LibTorch is CPU-only; docs/TRAINING.md, \"Training on a GPU\", says how to "
+         "build with one)");
+  const int64_t count = int64_t(torch::cuda::device_count());
+  if (d->has_index() && d->index() >= count)
+    fail("--device ", name, ": there are ", count, " CUDA device(s), numbered from 0");
+  return *d;
+}
+
+// After an optimiser's state is loaded from a checkpoint (CPU tensors), onto its parameters'
+// device.
+void move_adam_state(torch::optim::Adam& adam, const torch::Device& device) {
+  for (auto& entry : adam.state()) {
+    auto& s = static_cast<torch::optim::AdamParamState&>(*entry.second);
+    s.exp_avg(s.exp_avg().to(device));
+    s.exp_avg_sq(s.exp_avg_sq().to(device));
+    if (s.max_exp_avg_sq().defined()) s.max_exp_avg_sq(s.max_exp_avg_sq().to(device));
+  }
+}
+
 double checked_budget(const Dataset& data, const TrainConfig& c) {
   size_t frames = 0;
   for (const SimulationFile& r : data.train()) frames += r.frames;
@@ -88,6 +122,7 @@ class Trainer {
         cfg_(o.config),
         out_(out),
         ckpt_(checkpoint_path_for(out)),
+        dev_(training_device(o.device)),
         data_(data_dir, o.allow_incomplete),
         store_(data_, checked_budget(data_, cfg_)),
         model_(cfg_.net, SceneFingerprint::of(data_.scene_name(), data_.rest_positions()),
@@ -137,6 +172,7 @@ class Trainer {
   TrainOptions opt_;
   TrainConfig cfg_;
   std::string out_, ckpt_;
+  torch::Device dev_;  // where the networks and the batches' tensors live (model_ too, in run())
   Dataset data_;
   FrameStore store_;
   NeuralModel model_;
@@ -235,7 +271,7 @@ void Trainer::compute_latents() {
     for (int64_t i = 0; i < n; ++i) {
       const FrameData& f = store_.get(i);
       const torch::Tensor x = torch::from_blob(const_cast<float*>(f.x.data()), {1, P, 3});
-      latents_[i] = model_.encode(x)[0];
+      latents_[i] = model_.encode(x.to(dev_))[0].cpu();
     }
   }
   if (cfg_.refine_latents > 0) refine_latents();  // needs autodiff for its Jacobians
@@ -245,6 +281,7 @@ void Trainer::compute_latents() {
     for (int64_t j = 0; j < model_.latent_dim(); ++j)
       s[j] += acc[i][j], q[j] += acc[i][j] * acc[i][j];
   model_.norm_z = Normalizer::from_moments(s, q, double(n));
+  model_.to(dev_);  // the new norm_z (the rest is there already)
   latent_frame_.resize(size_t(n));
   for (int64_t i = 0; i < n; ++i) latent_frame_[size_t(i)] = i;
   if (!opt_.rom_latents.empty()) add_rom_latents();
@@ -330,6 +367,8 @@ void Trainer::refine_latents() {
   // The ROM finds ẑ by Gauss–Newton on positions, and that latent differs from the encoder's in
   // directions g barely sees but h and l (trained on encoder latents only) answer wildly:
   // measured with `nsf eval --refine`. Training h and l on refined latents removes the mismatch.
+  // On the CPU, as the ROM runs it; the model comes back to dev_ at the end.
+  model_.to(torch::kCPU);
   const FrameLatentRefiner refiner(model_, data_.rest_positions(), cfg_.refine_latents);
   // As many frames at a time as refine_many runs in parallel: streamed frames must be copied out.
   const size_t batch = size_t(std::max(1, blas_thread_count()));
@@ -353,6 +392,7 @@ void Trainer::refine_latents() {
     if (!cfg_.quiet) progress.update(long(first + int64_t(count)));
   }
   if (!cfg_.quiet) progress.finish();
+  model_.to(dev_);
 }
 
 std::vector<torch::Tensor> Trainer::stage_parameters() {
@@ -375,14 +415,15 @@ void Trainer::start_stage() {
                                                torch::optim::AdamOptions(kLearningRates[0]));
 }
 
+// Latent rows (CPU) for the decoders on dev_, with the noise of --latent-noise.
 torch::Tensor Trainer::noisy(const torch::Tensor& z) {
-  if (cfg_.latent_noise <= 0) return z;
+  if (cfg_.latent_noise <= 0) return z.to(dev_);
   // From the trainer's own seeded generator, so that a resumed run draws the same noise.
   std::normal_distribution<float> normal(0.0f, float(cfg_.latent_noise));
   torch::Tensor e = torch::empty_like(z);
   float* p = e.data_ptr<float>();
   for (int64_t i = 0; i < e.numel(); ++i) p[i] = normal(rng_);
-  return z + e * model_.norm_z.std;
+  return (z + e * model_.norm_z.std.cpu()).to(dev_);
 }
 
 void Trainer::fit_bases(int first_field) {
@@ -444,7 +485,7 @@ double Trainer::basis_step() {
     rows[b] = int64_t(pick(rng_));
     frames[b] = stage_ == 0 ? rows[b] : latent_frame_[size_t(rows[b])];
   }
-  torch::Tensor goal = targets.index_select(0, torch::tensor(frames, torch::kInt64));
+  torch::Tensor goal = targets.index_select(0, torch::tensor(frames, torch::kInt64));  // CPU
   torch::Tensor pred;
   if (stage_ == 0) {
     torch::Tensor full_x = torch::empty({B, P, 3});
@@ -464,14 +505,14 @@ double Trainer::basis_step() {
         goal[b] += a * (targets[int64_t(other)] - goal[b]);
       }
     }
-    pred = model_.coefficients(0, model_.encode(full_x), torch::Tensor());
+    pred = model_.coefficients(0, model_.encode(full_x.to(dev_)), torch::Tensor());
   } else {
     const torch::Tensor z = noisy(latents_.index_select(0, torch::tensor(rows, torch::kInt64)));
-    pred =
-        model_.coefficients(stage_, z, mu_.index_select(0, torch::tensor(frames, torch::kInt64)));
+    const torch::Tensor mu = mu_.index_select(0, torch::tensor(frames, torch::kInt64));
+    pred = model_.coefficients(stage_, z, mu.to(dev_));
   }
-  const torch::Tensor variance = targets.pow(2).sum(1).mean();
-  torch::Tensor loss = (pred - goal).pow(2).sum(1).mean() / variance;
+  const double variance = targets.pow(2).sum(1).mean().item<double>();
+  torch::Tensor loss = (pred - goal.to(dev_)).pow(2).sum(1).mean() / variance;
   adam_->zero_grad();
   loss.backward();
   adam_->step();
@@ -528,17 +569,18 @@ double Trainer::train_step() {
   const torch::Tensor pidx = torch::tensor(particles, torch::kInt64);
   const torch::Tensor fidx = torch::tensor(frames, torch::kInt64).repeat_interleave(n);
   const torch::Tensor ridx = torch::tensor(rows, torch::kInt64).repeat_interleave(n);
-  const torch::Tensor Xn = Xn_.index_select(0, pidx);
+  const torch::Tensor Xn = Xn_.index_select(0, pidx).to(dev_);
+  target = target.to(dev_);
 
   torch::Tensor pred, goal;
   if (stage_ == 0) {
-    const torch::Tensor z = model_.encode(full_x).repeat_interleave(n, 0);
+    const torch::Tensor z = model_.encode(full_x.to(dev_)).repeat_interleave(n, 0);
     pred = model_.g->forward(model_.g_input(Xn, z));
     goal = model_.displacement ? model_.norm_u.apply(target - model_.norm_X.invert(Xn))
                                : model_.norm_x.apply(target);
   } else if (stage_ == 1) {
     const torch::Tensor z = noisy(latents_.index_select(0, ridx));
-    pred = model_.h->forward(model_.h_input(Xn, z, mu_.index_select(0, fidx)));
+    pred = model_.h->forward(model_.h_input(Xn, z, mu_.index_select(0, fidx).to(dev_)));
     goal = model_.norm_tau.apply(target);
   } else {
     const torch::Tensor z = noisy(latents_.index_select(0, ridx));
@@ -591,7 +633,8 @@ void Trainer::load_checkpoint() {
     fail("checkpoint ", ckpt_, " was written for other settings:\n  checkpoint: ", v.toStringRef(),
          "\n  now:        ", config_key(), "\nrerun with the same options, or delete it");
   a.read("model", m);
-  model_ = NeuralModel::read(m, ckpt_);
+  model_ = NeuralModel::read(m, ckpt_);  // CPU tensors, whatever device wrote it
+  model_.to(dev_);
   a.read("stage", v);
   stage_ = static_cast<int>(v.toInt());
   a.read("step", v);
@@ -619,7 +662,10 @@ void Trainer::load_checkpoint() {
   if (stage_ < kStageCount) {
     start_stage();
     torch::serialize::InputArchive o;
-    if (step_ > 0 && a.try_read("optimizer", o)) adam_->load(o);
+    if (step_ > 0 && a.try_read("optimizer", o)) {
+      adam_->load(o);
+      move_adam_state(*adam_, dev_);
+    }
   }
 }
 
@@ -662,16 +708,21 @@ TrainReport Trainer::run() {
         std::to_string(step_));
   } else if (!opt_.base_model.empty()) {
     start_from_base_model();
+    model_.to(dev_);
     start_stage();
     say("stage 1 skipped: encoder and g from " + opt_.base_model);
   } else {
     compute_statistics();
     if (model_.is_basis()) fit_bases(0);
+    model_.to(dev_);
     start_stage();
   }
-  Xn_ = model_.norm_X.apply(torch::from_blob(const_cast<double*>(data_.rest_positions()[0].data()),
-                                             {int64_t(data_.particle_count()), 3}, torch::kFloat64)
-                                .to(torch::kFloat32));
+  // On the CPU, as the batches are drawn there (model_ is on dev_ by now).
+  Xn_ = model_.norm_X
+            .apply(torch::from_blob(const_cast<double*>(data_.rest_positions()[0].data()),
+                                    {int64_t(data_.particle_count()), 3}, torch::kFloat64)
+                       .to(dev_, torch::kFloat32))
+            .cpu();
   std::vector<float> mu;
   for (size_t i = 0; i < store_.size(); ++i)
     mu.push_back(float(data_.train()[store_.sim_of(i)].mu));
@@ -754,6 +805,7 @@ TrainReport Trainer::run() {
       stage_ = next - 1;
     }
   }
+  model_.to(torch::kCPU);
   if (latents_.defined()) store_trajectories();
   model_.save(out_);
   write_loss_curves(report);
@@ -763,6 +815,10 @@ TrainReport Trainer::run() {
 }
 
 }  // namespace
+
+void check_training_device(const std::string& device) {
+  training_device(device);
+}
 
 TrainReport train_model(const std::string& data_dir, const std::string& out_path,
                         const TrainOptions& options) {

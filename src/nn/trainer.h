@@ -33,6 +33,10 @@ struct TrainOptions {
   // latents drift from the encoder's along directions g barely sees; h and l learn what those
   // latents mean (docs/experiments/2026-11-25-delta-floor-and-stress.md).
   std::vector<std::string> rom_latents;
+  // Where the networks train: "cpu", or "cuda" / "cuda:N" with a LibTorch built with CUDA
+  // (docs/TRAINING.md, "Training on a GPU"). Batches are drawn and assembled on the CPU either
+  // way, with the same random numbers; the model file and the checkpoint hold CPU tensors.
+  std::string device = "cpu";
 };
 
 struct StageReport {
@@ -51,6 +55,10 @@ struct TrainReport {
 
 TrainReport train_model(const std::string& data_dir, const std::string& out_path,
                         const TrainOptions& options);
+
+// Throws nsf::Error naming the problem unless `device` (TrainOptions::device) can train here:
+// "cpu" always; "cuda[:N]" with a LibTorch built with CUDA and that device visible.
+void check_training_device(const std::string& device);
 
 // Where train_model keeps its checkpoint and loss curves for a model path.
 std::string checkpoint_path_for(const std::string& model_path);
