@@ -29,11 +29,11 @@ def tiny_scene():
 def tiny_model(nsf_cli, tiny_scene, tmp_path_factory):
     tmp = tmp_path_factory.mktemp("model")
     quiet = dict(check=True, stdout=subprocess.DEVNULL)
-    subprocess.run([nsf_cli, "sweep", tiny_scene, "--out", str(tmp / "data"), "-J", "2", "-j", "1",
+    subprocess.run([nsf_cli, "sweep", tiny_scene, "--out", str(tmp / "data"), "--jobs", "2", "-j", "1",
                     "-q"], **quiet)
     model = tmp / "tiny.nsf"
     subprocess.run([nsf_cli, "train", str(tmp / "data"), "--out", str(model), "-r", "2", "--depth",
-                    "2", "--width-g", "32", "--width-h", "16", "--width-l", "16",
+                    "2", "--widths", "32,16,16",
                     "--encoder-hidden", "8", "--steps", "100,50,50", "--refine-latents", "0",
                     "-j", "2", "-q", "--frames-per-batch", "2", "--particles-per-frame", "64"],
                    **quiet)
