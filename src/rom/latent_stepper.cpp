@@ -23,8 +23,6 @@ namespace nsf {
 
 namespace {
 
-constexpr size_t kParallelStepPoints = 8192;
-
 // OpenMP on one thread while it lives, when `points` is below `threshold` (and K is known).
 class OneThreadBelow {
  public:
@@ -312,10 +310,10 @@ struct LatentStepper::Impl {
   void step() {
     const int want = sample_count_at(opt.sampling, t, T);
     if (size_t(want) != S.size()) set_samples(want);
-    // A step over fewer candidates than this runs on one thread: its parallel loops are too
-    // small for a second thread to pay for waking up (metal_small on 2 threads: 0.66 s against
+    // A step over fewer candidates than opt.serial_below_points runs on one thread: its loops are
+    // too small for a second thread to pay for waking up (metal_small on 2 threads: 0.66 s against
     // 1.08 s with one point per cell, 1.97 s against 2.46 s with every particle; docs/ROM.md).
-    OneThreadBelow serial(K.empty() ? 0 : K.ids().size(), kParallelStepPoints);
+    OneThreadBelow serial(K.empty() ? 0 : K.ids().size(), opt.serial_below_points);
 
     std::vector<Vec3> xN, vN, xs;  // x, v on N; S at ẑ_n
     infer_positions(xN, vN, xs);

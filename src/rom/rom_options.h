@@ -1,5 +1,6 @@
 #pragma once
 // Settings of the reduced-order simulator (docs/ROM.md), free of torch types.
+#include <cstddef>
 #include <string>
 
 #include "nn/gauss_newton.h"
@@ -42,6 +43,9 @@ struct RomOptions {
   // merging a group of particles (rom/quadrature.h); N, K and the inference on them shrink by
   // the thinning factor. 0: every particle (the paper).
   int quadrature_per_cell = 0;
+  // A step over fewer candidate points than this runs on one thread: its parallel loops are too
+  // small for a second thread to pay for waking up (docs/ROM.md). 0: always on every thread.
+  size_t serial_below_points = 8192;
   // Also find N by brute force (g on every particle) each step and count the particles the
   // candidate scheme missed. For tests and checks; costs a full evaluation of g per step.
   bool verify_integration_set = false;
