@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Both decoder families on the scenes named, side by side: for each SCENE, the dataset
-# data/SCENE (nsf sweep, unless it exists), the paper's MLP fields models/SCENE.nsf and the
+# data/SCENE (nsf sweep: what is missing), the paper's MLP fields models/SCENE_mlp.nsf and the
 # per-point bases models/SCENE_basis.nsf (nsf train, unless they exist), then `nsf eval` of each
 # on the held-out runs, written to docs/results/eval/SCENE_mlp.json and SCENE_basis.json. Both
 # evaluate h and l at latents refined as training refined them and as the ROM's inversion finds
@@ -19,16 +19,16 @@ export OMP_WAIT_POLICY=passive
 for scene in "$@"; do
   json=scenes/paper/$scene.json
   [ -f "$json" ] || { echo "$0: no scene $json" >&2; exit 1; }
-  [ -f "data/$scene/manifest.json" ] || "$nsf" sweep "$json" --out "data/$scene"
+  "$nsf" sweep "$json" --out "data/$scene" -q # resumable: runs only what is missing
   # shellcheck disable=SC2086
-  [ -f "models/$scene.nsf" ] || "$nsf" train "data/$scene" --out "models/$scene.nsf" ${TRAIN_FLAGS:-}
+  [ -f "models/${scene}_mlp.nsf" ] ||
+    "$nsf" train "data/$scene" --out "models/${scene}_mlp.nsf" --decoder mlp ${TRAIN_FLAGS:-}
   # shellcheck disable=SC2086
   [ -f "models/${scene}_basis.nsf" ] ||
     "$nsf" train "data/$scene" --out "models/${scene}_basis.nsf" --decoder basis \
       ${TRAIN_FLAGS:-} ${BASIS_FLAGS:-}
   for family in mlp basis; do
-    model=models/$scene.nsf
-    [ $family = basis ] && model=models/${scene}_basis.nsf
+    model=models/${scene}_$family.nsf
     "$nsf" eval "$model" "data/$scene" --refine 10 --json "docs/results/eval/${scene}_$family.json"
   done
 done
