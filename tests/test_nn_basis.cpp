@@ -261,6 +261,32 @@ TEST_F(BasisModel, HoldsTheFieldsAndItsProjectionBoundsTheModel) {
   }
 }
 
+// `nsf eval --held-out-particles`: every 5th particle read from the others. The synthetic fields
+// vary smoothly in X, so moving least squares reads them better than the nearest particle does,
+// and a held-out particle is never read from itself.
+TEST_F(BasisModel, HeldOutParticlesAreReadFromTheOthers) {
+  nsf::EvalOptions o;
+  o.held_out_stride = 5;
+  const std::vector<nsf::EvalRow> mls = nsf::evaluate_model(model(), data(), o);
+  o.interpolation = "nearest";
+  const std::vector<nsf::EvalRow> nearest = nsf::evaluate_model(model(), data(), o);
+  ASSERT_EQ(mls.size(), nearest.size());
+  for (size_t i = 0; i < mls.size(); ++i) {
+    const nsf::HeldOutErrors& h = mls[i].held_out;
+    EXPECT_EQ(h.particles, size_t(kParticles / 5));
+    EXPECT_NE(h.delta, h.own_delta);
+    EXPECT_LT(h.delta, nearest[i].held_out.delta);
+    EXPECT_LT(h.stress, nearest[i].held_out.stress);
+    EXPECT_EQ(h.own_delta, nearest[i].held_out.own_delta);
+    std::printf("held-out particles, run %s: delta %.4f%% (mls) %.4f%% (nearest) %.4f%% (model)\n",
+                mls[i].run.c_str(), 100 * h.delta, 100 * nearest[i].held_out.delta,
+                100 * h.own_delta);
+  }
+  o.held_out_stride = 1;
+  nsf::testing::expect_contains(
+      nsf::testing::error_of([&] { nsf::evaluate_model(model(), data(), o); }), "K >= 2");
+}
+
 // A model saved and loaded gives bit-identical fields, at particles and between them.
 TEST_F(BasisModel, SavedAndLoadedGivesBitIdenticalFields) {
   const std::vector<double> a = outputs(model(), data());

@@ -64,11 +64,32 @@ void write_json(const EvalArgs& a, const std::vector<EvalRow>& rows) {
     j["projection_bound"] = {{"delta", mean(&EvalRow::projection_delta)},
                              {"stress_error", mean(&EvalRow::projection_stress)},
                              {"affine_error", mean(&EvalRow::projection_affine)}};
+  std::string held;
+  if (a.opt.held_out_stride > 0) {
+    auto mean_of = [&](double HeldOutErrors::*field) {
+      double s = 0;
+      for (const EvalRow& r : rows) s += r.held_out.*field;
+      return number(rows.empty() ? NAN : s / double(rows.size()));
+    };
+    j["held_out"] = {{"stride", a.opt.held_out_stride},
+                     {"particles", rows.empty() ? 0 : rows[0].held_out.particles},
+                     {"interpolation", a.opt.interpolation},
+                     {"neighbours", a.opt.neighbours},
+                     {"delta", mean_of(&HeldOutErrors::delta)},
+                     {"stress_error", mean_of(&HeldOutErrors::stress)},
+                     {"affine_error", mean_of(&HeldOutErrors::affine)},
+                     {"at_particles",
+                      {{"delta", mean_of(&HeldOutErrors::own_delta)},
+                       {"stress_error", mean_of(&HeldOutErrors::own_stress)},
+                       {"affine_error", mean_of(&HeldOutErrors::own_affine)}}}};
+    held = " --held-out-particles " + std::to_string(a.opt.held_out_stride) + " --interpolation " +
+           a.opt.interpolation + " --neighbours " + std::to_string(a.opt.neighbours);
+  }
   j["command"] =
       "nsf eval " + a.model + " " + a.data +
       (a.opt.refine_iterations > 0 ? " --refine " + std::to_string(a.opt.refine_iterations)
                                    : std::string()) +
-      " --json " + a.json;
+      held + " --json " + a.json;
   for (const EvalRow& r : rows) {
     nlohmann::json run = {{"run", r.run},
                           {"frames", r.frames},
@@ -132,6 +153,22 @@ void run_eval(const EvalArgs& a) {
         "stress %s, affine %s\n",
         percent(pd / n).c_str(), percent(ps / n).c_str(), percent(pa / n).c_str());
   }
+  if (!rows.empty() && rows[0].held_out.particles > 0) {
+    double d = 0, s = 0, c = 0, od = 0, os = 0, oc = 0;
+    for (const EvalRow& r : rows) {
+      const HeldOutErrors& h = r.held_out;
+      d += h.delta, s += h.stress, c += h.affine, od += h.own_delta, os += h.own_stress,
+          oc += h.own_affine;
+    }
+    const double n = double(rows.size());
+    std::printf(
+        "held-out particles (every %zu-th, %zu of them; %s over %d particles): read from the "
+        "others delta %s, stress %s, affine %s; the model at those particles delta %s, stress "
+        "%s, affine %s\n",
+        a.opt.held_out_stride, rows[0].held_out.particles, a.opt.interpolation.c_str(),
+        a.opt.neighbours, percent(d / n).c_str(), percent(s / n).c_str(), percent(c / n).c_str(),
+        percent(od / n).c_str(), percent(os / n).c_str(), percent(oc / n).c_str());
+  }
   if (!a.json.empty()) {
     write_json(a, rows);
     std::printf("wrote %s\n", a.json.c_str());
@@ -165,6 +202,19 @@ void add_eval_command(CLI::App& app) {
                   "Degree of the per-frame polynomial fits (poly columns)")
       ->capture_default_str()
       ->check(in_range(0, 8));
+  cmd->add_option("--held-out-particles", a->opt.held_out_stride,
+                  "Basis models: hold out every k-th particle and read its fields from the "
+                  "others (the error at points that are not particles; 0 = off)")
+      ->capture_default_str()
+      ->check(in_range<long>(0, 1000000));
+  cmd->add_option("--interpolation", a->opt.interpolation,
+                  "How --held-out-particles reads between particles: mls or nearest")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"mls", "nearest"}));
+  cmd->add_option("--neighbours", a->opt.neighbours,
+                  "Particles the interpolation of --held-out-particles reads from")
+      ->capture_default_str()
+      ->check(in_range(1, 1000));
   cmd->add_option("--json", a->json,
                   "Also write the means and each run's row as JSON (docs/results/eval/)");
   add_threads_option(cmd, a->threads);

@@ -9,6 +9,7 @@
 #include "nn/basis_decoders.h"
 #include "nn/dataset.h"
 #include "nn/field_checks.h"
+#include "nn/held_out_points.h"
 #include "nn/latent_inversion.h"
 #include "nn/model.h"
 #include "nn/neural_fields.h"
@@ -34,12 +35,6 @@ void project(const PointBasis& b, const std::vector<double>& weights, const floa
   const Eigen::VectorXf cf = c.cast<float>();
   out.resize(b.points * d);
   for (size_t p = 0; p < b.points; ++p) b.value(p, cf, &out[p * d]);
-}
-
-Mat3 symmetric(const float* s) {
-  Mat3 t;
-  t << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
-  return t;
 }
 
 }  // namespace
@@ -74,6 +69,8 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
   }
   const NeuralFields::Points pts = nf.prepare(X);
   const SmoothFit smooth(X, object, o.poly_degree);
+  std::optional<HeldOutPoints> held;
+  if (o.held_out_stride > 0) held.emplace(nf, o.held_out_stride, o.interpolation, o.neighbours);
   std::optional<FrameLatentRefiner> refiner;
   if (o.refine_iterations > 0)
     refiner.emplace(nf.model(), data.rest_positions(), o.refine_iterations);
@@ -90,6 +87,7 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
     double ex = 0, nx = 0, px = 0, ex_encoded = 0;
     ErrorSum stress, affine, force, stress_poly_fit, affine_poly_fit, stress_proj, affine_proj;
     const BasisDecoders* bases = nf.bases();
+    if (held) held->start();
     // Eq. (11) sums over n = 1…N: frame 0 is the initial state, not a prediction.
     for (size_t k = std::min<size_t>(1, run.frames - 1); k < run.frames;
          k += std::max<size_t>(1, o.frame_stride)) {
@@ -108,14 +106,14 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
       for (size_t i = 0; i < n; ++i) {
         const size_t p = subset[i];
         ex += (x[i] - full[p]).squaredNorm(), nx += full[p].squaredNorm();
-        const Mat3 t = symmetric(&f.tau[6 * p]);
+        const Mat3 t = stored_stress(&f.tau[6 * p]);
         stress.add(tau[i], t);
-        const Mat3 c = Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(&f.C[9 * p])
-                           .cast<double>();
+        const Mat3 c = stored_affine(&f.C[9 * p]);
         affine.add(C[i], c);
         x_true[i] = full[p], tau_true[i] = t, C_true[i] = c;
       }
       add_grid_force_error(x_true, volume, tau, tau_true, data.domain_lo(), data.grid_dx(), force);
+      if (held) held->add_frame(nf, z, run.mu, full, f.tau.data(), f.C.data());
       smooth.add_residual(tau_true, stress_poly_fit);
       smooth.add_residual(C_true, affine_poly_fit);
       if (bases) {
@@ -131,13 +129,10 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
         const double r2 = M_SQRT2;
         project(bases->tau, {1, 1, 1, r2, r2, r2}, f.tau.data(), proj);
         for (size_t i = 0; i < n; ++i)
-          stress_proj.add(symmetric(&proj[6 * subset[i]]), tau_true[i]);
+          stress_proj.add(stored_stress(&proj[6 * subset[i]]), tau_true[i]);
         project(bases->C, std::vector<double>(9, 1.0), f.C.data(), proj);
         for (size_t i = 0; i < n; ++i)
-          affine_proj.add(
-              Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(&proj[9 * subset[i]])
-                  .cast<double>(),
-              C_true[i]);
+          affine_proj.add(stored_affine(&proj[9 * subset[i]]), C_true[i]);
       }
       ++row.frames;
     }
@@ -154,6 +149,7 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
       row.projection_stress = stress_proj.relative();
       row.projection_affine = affine_proj.relative();
     }
+    if (held) row.held_out = held->errors();
     rows.push_back(row);
   }
   return rows;

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "nn/held_out_points.h"
+
 namespace nsf {
 
 struct EvalOptions {
@@ -16,6 +18,11 @@ struct EvalOptions {
   int refine_iterations = 0;
   int poly_degree = 4;            // degree of the per-frame polynomial fits (poly columns)
   bool allow_incomplete = false;  // evaluate on a dataset an interrupted sweep left incomplete
+  // > 0 (basis models): hold out every k-th particle and read its fields from the others'
+  // through `interpolation` over `neighbours` particles (nn/held_out_points.h).
+  size_t held_out_stride = 0;
+  std::string interpolation = "mls";
+  int neighbours = kInterpolationNeighbours;
 };
 
 struct EvalRow {
@@ -36,6 +43,8 @@ struct EvalRow {
   // A basis model's own bound: the same frames projected onto its bases (the best any
   // coefficients can do), as δ and relative errors; NaN for an MLP model.
   double projection_delta = NAN, projection_stress = NAN, projection_affine = NAN;
+  // With EvalOptions::held_out_stride: the held-out particles' errors (particles = 0 without).
+  HeldOutErrors held_out;
 };
 
 std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::string& data_dir,

@@ -14,6 +14,16 @@
 
 namespace nsf {
 
+Mat3 stored_stress(const float* s) {
+  Mat3 t;
+  t << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
+  return t;
+}
+
+Mat3 stored_affine(const float* c) {
+  return Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>>(c).cast<double>();
+}
+
 double ErrorSum::relative() const {
   return ref > 0 ? std::sqrt(err / ref) : NAN;
 }
