@@ -5,7 +5,8 @@
 #     for the per-point bases and for the MLP fields, every step within a relative 1e-3;
 #  2. the two-process run stopped twice (--stop-after, once mid-stage and once across a stage's
 #     end) and resumed under mpirun writes the loss curve of the uninterrupted run, byte for byte;
-#  3. one process killed mid-training ends the job (no process left waiting for it).
+#  3. one process killed mid-training, or an error on one process, ends the job (no process is
+#     left waiting for it).
 # Tolerance: the processes draw the same batches from the same seed and sum gradients that are
 # each weighted by the global batch, so a step differs from one process's only in the order of
 # float sums (about 1e-7 relative); over the 180 steps here that grew to at most 1e-5
@@ -104,4 +105,15 @@ if kill -0 "$mpirun_pid" 2>/dev/null; then die "30 s after the kill the job stil
 if wait "$mpirun_pid"; then die "mpirun succeeded with a process killed"; fi
 mpirun_pid=""
 [[ ! -e killed/m.nsf ]] || die "a model written by a killed job"
+
+step "an error on process 0 alone ends the job"
+# Process 0 cannot write its checkpoint (a folder where its temporary file goes) while process 1,
+# which writes nothing, waits for it in the next step's sum: MPI_Abort must end both.
+mkdir -p failed/m.nsf.ckpt.tmp
+status=0
+timeout 120 "${two[@]}" data --out failed/m.nsf --steps 60,1,1 --frames-per-batch 4 --widths 32 \
+  -r 4 --modes 8 --refine-latents 0 --checkpoint-every 1 -q >failed.log 2>&1 || status=$?
+[[ $status != 124 ]] || die "the job hung after process 0's error"
+[[ $status != 0 ]] || die "mpirun succeeded although process 0 failed"
+grep -q "nsf: error (process 0 of 2): .*cannot create" failed.log || { cat failed.log; die "no message"; }
 step "passed"
