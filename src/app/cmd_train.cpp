@@ -12,6 +12,7 @@
 #include "app/common_options.h"
 #include "app/pipeline.h"
 #include "app/train_size_options.h"
+#include "app/train_team.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/path_clash.h"
@@ -137,28 +138,34 @@ void write_json(const TrainArgs& a, const TrainReport& r, int threads) {
   write_file_atomic(a.json, j.dump(2) + "\n");
 }
 
-void run_train(TrainArgs& a) {
+void run_train(TrainArgs& a, const SweepRanks& ranks) {
   TrainConfig& c = a.opt.config;
+  // Under mpirun: process 0 speaks and writes; each process takes its share of its machine.
+  const bool lead = ranks.rank() == 0;
+  if (!lead) c.quiet = true;
+  if (ranks.size() > 1 && c.threads <= 0) c.threads = ranks.cores();
   const int threads = set_nn_threads(c.threads);
   std::string row;
   {
     const Dataset data(a.data, a.opt.allow_incomplete);
-    if (!data.incomplete().empty())
+    if (!data.incomplete().empty() && lead)
       std::fprintf(stderr, "WARNING: %s\n  --allow-incomplete: training on the runs it has\n",
                    data.incomplete().c_str());
     refuse_overwriting_inputs(a, data);
     c.net = default_net_config(data.scene_name(), &row);
-    std::fprintf(stderr,
-                 "nsf train: %s, scene '%s', %zu particles, %zu training runs, %zu test "
-                 "runs%s\n",
-                 a.data.c_str(), data.scene_name().c_str(), data.particle_count(),
-                 data.train().size(), data.test().size(), data.has_mu() ? " (with mu)" : "");
+    if (lead)
+      std::fprintf(stderr,
+                   "nsf train: %s, scene '%s', %zu particles, %zu training runs, %zu test "
+                   "runs%s\n",
+                   a.data.c_str(), data.scene_name().c_str(), data.particle_count(),
+                   data.train().size(), data.test().size(), data.has_mu() ? " (with mu)" : "");
     const std::optional<TrainSection> recipe = scene_recipe(data);
     if (recipe && a.no_scene_recipe) {
-      std::fprintf(stderr, "  the scene's \"train\" recipe is ignored (--no-scene-recipe)\n");
+      if (lead)
+        std::fprintf(stderr, "  the scene's \"train\" recipe is ignored (--no-scene-recipe)\n");
     } else if (recipe) {
       const std::string set = apply_recipe(*recipe, a, c);
-      if (!set.empty())
+      if (!set.empty() && lead)
         std::fprintf(stderr,
                      "  the scene's \"train\" recipe: %s (flags on the command line take "
                      "precedence; --no-scene-recipe for the defaults)\n",
@@ -199,22 +206,30 @@ void run_train(TrainArgs& a) {
       fail("--base-model ", a.opt.base_model,
            " fixes the networks' shapes: drop -r, --depth, --widths, --encoder-*, --no-mu, "
            "--decoder, --modes and --coefficient-*");
-    std::fprintf(stderr, "  networks: those of %s\n", a.opt.base_model.c_str());
+    if (lead) std::fprintf(stderr, "  networks: those of %s\n", a.opt.base_model.c_str());
   } else if (c.net.decoder == "basis") {
-    std::fprintf(stderr,
-                 "  decoders: per-point bases of K = %d (x), %d (tau), %d (C) modes, coefficient "
-                 "networks %d x %d; r = %d (Table 1 row '%s')\n",
-                 c.net.modes[0], c.net.modes[1], c.net.modes[2], c.net.coefficient_depth,
-                 c.net.coefficient_width, c.net.latent_dim, row.c_str());
-  } else {
+    if (lead)
+      std::fprintf(stderr,
+                   "  decoders: per-point bases of K = %d (x), %d (tau), %d (C) modes, coefficient "
+                   "networks %d x %d; r = %d (Table 1 row '%s')\n",
+                   c.net.modes[0], c.net.modes[1], c.net.modes[2], c.net.coefficient_depth,
+                   c.net.coefficient_width, c.net.latent_dim, row.c_str());
+  } else if (lead) {
     std::fprintf(
         stderr, "  networks (Table 1 row '%s'): r = %d, depth %d, widths g %d, h %d, l %d\n",
         row.c_str(), c.net.latent_dim, c.net.depth, c.net.width_g, c.net.width_h, c.net.width_l);
   }
-  std::fprintf(stderr, "  %d threads, BLAS: %s; networks on %s\n", threads, blas_info().c_str(),
-               a.opt.device.c_str());
+  if (lead && ranks.size() > 1)
+    std::fprintf(stderr, "  %d processes x %d threads, BLAS: %s; networks on %s\n", ranks.size(),
+                 threads, blas_info().c_str(), a.opt.device.c_str());
+  else if (lead)
+    std::fprintf(stderr, "  %d threads, BLAS: %s; networks on %s\n", threads, blas_info().c_str(),
+                 a.opt.device.c_str());
 
+  const std::unique_ptr<GradientTeam> team = make_gradient_team(ranks);
+  a.opt.team = team.get();
   const TrainReport r = train_model(a.data, a.out, a.opt);
+  if (!lead) return;
   if (!r.completed) {
     std::fprintf(stderr, "stopped early (--stop-after); continue with --resume from %s\n",
                  r.checkpoint_path.c_str());
@@ -365,7 +380,17 @@ void add_nn_commands(CLI::App& app) {
       fail("--base-model ", a->opt.base_model, ": no such file");
     for (const std::string& dir : a->opt.rom_latents)
       if (!std::filesystem::is_directory(dir)) fail("--rom-latents ", dir, ": no such directory");
-    run_train(*a);
+    SweepRanks ranks;  // MPI, when mpirun started this process (app/train_team.h)
+    try {
+      run_train(*a, ranks);
+    } catch (const std::exception& e) {
+      if (ranks.size() == 1) throw;
+      // The other processes may be waiting for this one in a collective: end the job.
+      std::fprintf(stderr, "\nnsf: error (process %d of %d): %s\n", ranks.rank(), ranks.size(),
+                   e.what());
+      std::fflush(stderr);
+      ranks.abort(1);
+    }
   });
   add_eval_command(app);
 }

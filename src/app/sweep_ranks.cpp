@@ -94,7 +94,7 @@ SweepRanks::SweepRanks() {
 #if !NSF_WITH_MPI
   fail(
       "started by mpirun, but this nsf was built without MPI (cmake -DNSF_WITH_MPI=OFF): run "
-      "the sweep as one process, or rebuild with Open MPI's development files");
+      "it as one process, or rebuild with Open MPI's development files");
 #else
   // Only this (the main) thread calls MPI; the simulation threads never do.
   int provided = 0;

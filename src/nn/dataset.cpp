@@ -227,16 +227,21 @@ std::vector<Vec3> Dataset::read_positions(const SimulationFile& sim, size_t k) c
   return reader(sim).read_positions(k);
 }
 
-FrameStore::FrameStore(const Dataset& data, double budget_gib) : data_(data) {
+FrameStore::FrameStore(const Dataset& data, double budget_gib, int share, int shares)
+    : data_(data), share_(share), shares_(shares) {
+  if (shares < 1 || share < 0 || share >= shares)
+    fail("frame store: share ", share, " of ", shares, " does not exist");
   for (size_t s = 0; s < data.train().size(); ++s) {
     run_start_.push_back(index_.size());
     for (size_t k = 0; k < data.train()[s].frames; ++k) index_.emplace_back(s, k);
   }
-  const double bytes = double(index_.size()) * data.particle_count() * 18 * sizeof(float);
+  const size_t held = (index_.size() + size_t(shares - share - 1)) / size_t(shares);
+  const double bytes = double(held) * data.particle_count() * 18 * sizeof(float);
   cached_ = bytes <= budget_gib * 1024.0 * 1024.0 * 1024.0;
   if (cached_) {
-    frames_.reserve(index_.size());
-    for (const auto& [s, k] : index_) frames_.push_back(data.read_frame(data.train()[s], k));
+    frames_.reserve(held);
+    for (size_t i = size_t(share); i < index_.size(); i += size_t(shares))
+      frames_.push_back(data.read_frame(data.train()[index_[i].first], index_[i].second));
   }
 }
 
@@ -246,7 +251,7 @@ size_t FrameStore::index_of(size_t sim, size_t k) const {
 }
 
 const FrameData& FrameStore::get(size_t i) const {
-  if (cached_) return frames_[i];
+  if (cached_ && holds(i)) return frames_[i / size_t(shares_)];
   scratch_ = data_.read_frame(data_.train()[index_[i].first], index_[i].second);
   return scratch_;
 }

@@ -74,17 +74,22 @@ class Dataset {
 };
 
 // The training frames, all (run, frame) pairs of the train split, cached in RAM while they fit
-// a budget and streamed from the run files otherwise.
+// a budget and streamed from the run files otherwise. A process of a team of `shares`
+// (`mpirun -np K nsf train`, nn/gradient_team.h) holds only its share: the frames i with
+// i mod shares == share; every index stays global.
 class FrameStore {
  public:
-  FrameStore(const Dataset& data, double budget_gib);
+  FrameStore(const Dataset& data, double budget_gib, int share = 0, int shares = 1);
   size_t size() const { return index_.size(); }  // frames over all training runs
   size_t sim_of(size_t i) const { return index_[i].first; }
   size_t frame_of(size_t i) const { return index_[i].second; }
   // The training frame of frame k of training run `sim`; kNone when there is no such frame.
   static constexpr size_t kNone = size_t(-1);
   size_t index_of(size_t sim, size_t k) const;
-  // Frame i; valid until the next call when streaming.
+  // Whether frame i is of this process's share (always, for a single process).
+  bool holds(size_t i) const { return i % size_t(shares_) == size_t(share_); }
+  // Frame i; valid until the next call when streaming. A frame outside this process's share is
+  // read from its run file each time (and is valid until the next such call).
   const FrameData& get(size_t i) const;
   bool cached() const { return cached_; }
   // Per frame, the frames at the same time in the runs next to its run in order of μ (without μ:
@@ -95,8 +100,9 @@ class FrameStore {
   const Dataset& data_;
   std::vector<std::pair<size_t, size_t>> index_;
   std::vector<size_t> run_start_;  // per training run, the index of its frame 0
+  int share_ = 0, shares_ = 1;
   bool cached_ = false;
-  mutable std::vector<FrameData> frames_;
+  mutable std::vector<FrameData> frames_;  // the share's frames, frame i at i / shares_
   mutable FrameData scratch_;
 };
 

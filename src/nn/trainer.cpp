@@ -123,8 +123,9 @@ class Trainer {
         out_(out),
         ckpt_(checkpoint_path_for(out)),
         dev_(training_device(o.device)),
+        team_(o.team),
         data_(data_dir, o.allow_incomplete),
-        store_(data_, checked_budget(data_, cfg_)),
+        store_(data_, checked_budget(data_, cfg_), team_rank(), team_size()),
         model_(cfg_.net, SceneFingerprint::of(data_.scene_name(), data_.rest_positions()),
                data_.has_mu()),
         rng_(cfg_.seed) {
@@ -149,8 +150,16 @@ class Trainer {
     return cfg_.frames_per_batch[s] * particles_per_batch_frame(s);
   }
   void say(const std::string& s) const {
-    if (!cfg_.quiet) std::fprintf(stderr, "%s\n", s.c_str());
+    if (!cfg_.quiet && team_rank() == 0) std::fprintf(stderr, "%s\n", s.c_str());
   }
+  int team_rank() const { return team_ ? team_->rank() : 0; }
+  int team_size() const { return team_ ? team_->size() : 1; }
+  // Rows `rows` of t over a team (the entries this process computes); all of t alone.
+  torch::Tensor entries(const torch::Tensor& t, const std::vector<int64_t>& rows) const;
+  // Over a team: the gradients and `loss` summed over the processes (the gradients in place).
+  double sum_over_team(double loss);
+  // Over a team: process 0's model, basis targets and resume decision to every process.
+  void share_setup();
   std::string config_key() const;
   void compute_statistics();
   void compute_latents();
@@ -172,7 +181,8 @@ class Trainer {
   TrainOptions opt_;
   TrainConfig cfg_;
   std::string out_, ckpt_;
-  torch::Device dev_;  // where the networks and the batches' tensors live (model_ too, in run())
+  torch::Device dev_;   // where the networks and the batches' tensors live (model_ too, in run())
+  GradientTeam* team_;  // null for a single process
   Dataset data_;
   FrameStore store_;
   NeuralModel model_;
@@ -265,16 +275,20 @@ void Trainer::compute_statistics() {
 void Trainer::compute_latents() {
   const int64_t P = static_cast<int64_t>(data_.particle_count());
   const int64_t n = static_cast<int64_t>(store_.size());
-  latents_ = torch::empty({n, model_.latent_dim()});
+  // Over a team each process encodes (and refines) the frames it holds; the sum gives everyone
+  // every row, as a row is zero on every other process.
+  latents_ = torch::zeros({n, model_.latent_dim()});
   {
     torch::NoGradGuard no_grad;
     for (int64_t i = 0; i < n; ++i) {
+      if (!store_.holds(size_t(i))) continue;
       const FrameData& f = store_.get(i);
       const torch::Tensor x = torch::from_blob(const_cast<float*>(f.x.data()), {1, P, 3});
       latents_[i] = model_.encode(x.to(dev_))[0].cpu();
     }
   }
   if (cfg_.refine_latents > 0) refine_latents();  // needs autodiff for its Jacobians
+  if (team_) team_->sum(latents_.data_ptr<float>(), size_t(latents_.numel()));
   std::vector<double> s(model_.latent_dim(), 0.0), q(model_.latent_dim(), 0.0);
   auto acc = latents_.accessor<float, 2>();
   for (int64_t i = 0; i < n; ++i)
@@ -360,7 +374,8 @@ void Trainer::start_from_base_model() {
   base.basis[2].net = fresh.basis[2].net;
   model_ = std::move(base);
   stage_ = 1;
-  if (model_.is_basis()) fit_bases(1);  // τ's and C's bases from this dataset
+  // τ's and C's bases from this dataset; over a team process 0 fits them (share_setup).
+  if (model_.is_basis() && team_rank() == 0) fit_bases(1);
 }
 
 void Trainer::refine_latents() {
@@ -372,24 +387,28 @@ void Trainer::refine_latents() {
   const FrameLatentRefiner refiner(model_, data_.rest_positions(), cfg_.refine_latents);
   // As many frames at a time as refine_many runs in parallel: streamed frames must be copied out.
   const size_t batch = size_t(std::max(1, blas_thread_count()));
-  const int64_t frames = int64_t(store_.size());
+  std::vector<int64_t> own;  // the frames this process holds (all of them, alone)
+  for (size_t i = 0; i < store_.size(); ++i)
+    if (store_.holds(i)) own.push_back(int64_t(i));
+  const size_t frames = own.size();
   std::vector<std::vector<float>> x(batch);
   Progress progress("refining latents", long(frames), "frames");
-  for (int64_t first = 0; first < frames; first += int64_t(batch)) {
-    const size_t count = size_t(std::min<int64_t>(int64_t(batch), frames - first));
+  for (size_t first = 0; first < frames; first += batch) {
+    const size_t count = std::min(batch, frames - first);
     std::vector<const float*> xs(count);
     std::vector<Eigen::VectorXd> z(count);
     for (size_t k = 0; k < count; ++k) {
-      x[k] = store_.get(size_t(first) + k).x;  // a copy: streamed frames share one buffer
+      const int64_t i = own[first + k];
+      x[k] = store_.get(size_t(i)).x;  // a copy: streamed frames share one buffer
       xs[k] = x[k].data();
-      const torch::Tensor z0 = latents_[first + int64_t(k)].to(torch::kFloat64).contiguous();
+      const torch::Tensor z0 = latents_[i].to(torch::kFloat64).contiguous();
       z[k] = Eigen::Map<const Eigen::VectorXd>(z0.data_ptr<double>(), z0.size(0));
     }
     refiner.refine_many(xs, z);
     for (size_t k = 0; k < count; ++k)
-      latents_[first + int64_t(k)] =
+      latents_[own[first + k]] =
           torch::from_blob(z[k].data(), {z[k].size()}, torch::kFloat64).to(torch::kFloat32);
-    if (!cfg_.quiet) progress.update(long(first + int64_t(count)));
+    if (!cfg_.quiet) progress.update(long(first + count));
   }
   if (!cfg_.quiet) progress.finish();
   model_.to(dev_);
@@ -485,13 +504,22 @@ double Trainer::basis_step() {
     rows[b] = int64_t(pick(rng_));
     frames[b] = stage_ == 0 ? rows[b] : latent_frame_[size_t(rows[b])];
   }
+  // This process's entries: in stage 1 those whose frame it holds, in stages 2 and 3 (latent
+  // rows, no frame data) every size-th.
+  std::vector<int64_t> mine;
+  for (int64_t b = 0; b < B; ++b)
+    if (stage_ == 0 ? store_.holds(size_t(frames[b])) : b % team_size() == team_rank())
+      mine.push_back(b);
   torch::Tensor goal = targets.index_select(0, torch::tensor(frames, torch::kInt64));  // CPU
   torch::Tensor pred;
   if (stage_ == 0) {
     torch::Tensor full_x = torch::empty({B, P, 3});
     for (int64_t b = 0; b < B; ++b) {
-      const FrameData& f = store_.get(size_t(frames[b]));
-      std::copy(f.x.begin(), f.x.end(), full_x[b].data_ptr<float>());
+      const bool held = store_.holds(size_t(frames[b]));
+      if (held) {
+        const FrameData& f = store_.get(size_t(frames[b]));
+        std::copy(f.x.begin(), f.x.end(), full_x[b].data_ptr<float>());
+      }
       // A blend of two frames is its own target, and so is the blend of their projections.
       if (cfg_.mix_frames > 0 && uniform(rng_) < cfg_.mix_frames) {
         const std::vector<size_t>& partners = mix_partners_[size_t(frames[b])];
@@ -499,24 +527,34 @@ double Trainer::basis_step() {
         const size_t other =
             partners[std::uniform_int_distribution<size_t>(0, partners.size() - 1)(rng_)];
         const float a = uniform(rng_);
+        if (!held) continue;  // the same draws as the process that holds it
         const FrameData& g = store_.get(other);
         float* xb = full_x[b].data_ptr<float>();
         for (int64_t k = 0; k < 3 * P; ++k) xb[k] += a * (g.x[size_t(k)] - xb[k]);
         goal[b] += a * (targets[int64_t(other)] - goal[b]);
       }
     }
-    pred = model_.coefficients(0, model_.encode(full_x.to(dev_)), torch::Tensor());
+    if (!mine.empty())
+      pred = model_.coefficients(0, model_.encode(entries(full_x, mine).to(dev_)), torch::Tensor());
   } else {
     const torch::Tensor z = noisy(latents_.index_select(0, torch::tensor(rows, torch::kInt64)));
     const torch::Tensor mu = mu_.index_select(0, torch::tensor(frames, torch::kInt64));
-    pred = model_.coefficients(stage_, z, mu.to(dev_));
+    if (!mine.empty())
+      pred = model_.coefficients(stage_, entries(z, mine), entries(mu, mine).to(dev_));
   }
   const double variance = targets.pow(2).sum(1).mean().item<double>();
-  torch::Tensor loss = (pred - goal.to(dev_)).pow(2).sum(1).mean() / variance;
   adam_->zero_grad();
-  loss.backward();
+  double loss = 0;
+  if (!mine.empty()) {
+    const torch::Tensor error = (pred - entries(goal, mine).to(dev_)).pow(2).sum(1);
+    // Over a team, each process's share of the global batch's mean.
+    const torch::Tensor l = (team_ ? error.sum() / double(B) : error.mean()) / variance;
+    l.backward();
+    loss = l.item<double>();
+  }
+  loss = sum_over_team(loss);
   adam_->step();
-  return loss.item<double>();
+  return loss;
 }
 
 double Trainer::train_step() {
@@ -538,15 +576,24 @@ double Trainer::train_step() {
   torch::Tensor full_x = stage_ == 0 ? torch::empty({B, P, 3}) : torch::Tensor();
   float* t = target.data_ptr<float>();
   std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  // Over a team every process draws the whole global batch, and fills the entries whose frames
+  // it holds (mine, and their points: keep).
+  std::vector<int64_t> mine, keep;
   for (int64_t b = 0; b < B; ++b) {
     rows[b] = static_cast<int64_t>(pick_frame(rng_));
     frames[b] = stage_ == 0 ? rows[b] : latent_frame_[size_t(rows[b])];
-    const FrameData& f = store_.get(frames[b]);
-    const std::vector<float>& src = stage_ == 0 ? f.x : stage_ == 1 ? f.tau : f.C;
-    if (stage_ == 0) std::copy(f.x.begin(), f.x.end(), full_x[b].data_ptr<float>());
+    const bool held = store_.holds(size_t(frames[b]));
+    if (held) {
+      mine.push_back(b);
+      for (int64_t j = 0; j < n; ++j) keep.push_back(b * n + j);
+    }
+    const FrameData* f = held ? &store_.get(frames[b]) : nullptr;
+    if (stage_ == 0 && held) std::copy(f->x.begin(), f->x.end(), full_x[b].data_ptr<float>());
     for (int64_t j = 0; j < n; ++j) {
       const int64_t p = n == P ? j : pick_particle(rng_);
       particles[b * n + j] = p;
+      if (!held) continue;
+      const std::vector<float>& src = stage_ == 0 ? f->x : stage_ == 1 ? f->tau : f->C;
       std::copy(&src[d * p], &src[d * p] + d, t + (b * n + j) * d);
     }
     // No draws at all when off, so that runs without the option stay bit-identical.
@@ -556,6 +603,7 @@ double Trainer::train_step() {
       const size_t other =
           partners[std::uniform_int_distribution<size_t>(0, partners.size() - 1)(rng_)];
       const float a = uniform(rng_);
+      if (!held) continue;                     // the same draws as the process that holds it
       const FrameData& g = store_.get(other);  // `f` may be invalid from here on (streaming)
       float* xb = full_x[b].data_ptr<float>();
       for (int64_t k = 0; k < 3 * P; ++k) xb[k] += a * (g.x[size_t(k)] - xb[k]);
@@ -569,32 +617,75 @@ double Trainer::train_step() {
   const torch::Tensor pidx = torch::tensor(particles, torch::kInt64);
   const torch::Tensor fidx = torch::tensor(frames, torch::kInt64).repeat_interleave(n);
   const torch::Tensor ridx = torch::tensor(rows, torch::kInt64).repeat_interleave(n);
-  const torch::Tensor Xn = Xn_.index_select(0, pidx).to(dev_);
-  target = target.to(dev_);
-
-  torch::Tensor pred, goal;
-  if (stage_ == 0) {
-    const torch::Tensor z = model_.encode(full_x.to(dev_)).repeat_interleave(n, 0);
-    pred = model_.g->forward(model_.g_input(Xn, z));
-    goal = model_.displacement ? model_.norm_u.apply(target - model_.norm_X.invert(Xn))
-                               : model_.norm_x.apply(target);
-  } else if (stage_ == 1) {
-    const torch::Tensor z = noisy(latents_.index_select(0, ridx));
-    pred = model_.h->forward(model_.h_input(Xn, z, mu_.index_select(0, fidx).to(dev_)));
-    goal = model_.norm_tau.apply(target);
-  } else {
-    const torch::Tensor z = noisy(latents_.index_select(0, ridx));
-    pred = model_.l->forward(model_.l_input(Xn, z));
-    goal = model_.norm_C.apply(target);
-  }
-  torch::Tensor loss = torch::mse_loss(pred, goal);
+  // The noise of the whole global batch, so that every process's generator moves alike.
+  const torch::Tensor z_all = stage_ == 0 ? torch::Tensor() : noisy(latents_.index_select(0, ridx));
   adam_->zero_grad();
-  loss.backward();
+  double loss_value = 0;
+  if (!keep.empty()) {
+    const torch::Tensor Xn = entries(Xn_.index_select(0, pidx), keep).to(dev_);
+    target = entries(target, keep).to(dev_);
+    torch::Tensor pred, goal;
+    if (stage_ == 0) {
+      const torch::Tensor z = model_.encode(entries(full_x, mine).to(dev_)).repeat_interleave(n, 0);
+      pred = model_.g->forward(model_.g_input(Xn, z));
+      goal = model_.displacement ? model_.norm_u.apply(target - model_.norm_X.invert(Xn))
+                                 : model_.norm_x.apply(target);
+    } else if (stage_ == 1) {
+      const torch::Tensor mu = entries(mu_.index_select(0, fidx), keep).to(dev_);
+      pred = model_.h->forward(model_.h_input(Xn, entries(z_all, keep), mu));
+      goal = model_.norm_tau.apply(target);
+    } else {
+      pred = model_.l->forward(model_.l_input(Xn, entries(z_all, keep)));
+      goal = model_.norm_C.apply(target);
+    }
+    // Over a team, each process's share of the global batch's mean.
+    const torch::Tensor loss =
+        team_ ? torch::mse_loss(pred, goal, torch::Reduction::Sum) / double(B * n * d)
+              : torch::mse_loss(pred, goal);
+    loss.backward();
+    loss_value = loss.item<double>();
+  }
+  loss_value = sum_over_team(loss_value);
   adam_->step();
-  return loss.item<double>();
+  return loss_value;
+}
+
+torch::Tensor Trainer::entries(const torch::Tensor& t, const std::vector<int64_t>& rows) const {
+  if (!team_) return t;  // a single process computes every entry
+  return t.index_select(0, torch::tensor(rows, torch::kInt64).to(t.device()));
+}
+
+double Trainer::sum_over_team(double loss) {
+  if (!team_) return loss;
+  // Every parameter's gradient (zeros where this process computed no entry) and the loss, in
+  // one buffer: one MPI_Allreduce per step.
+  std::vector<torch::Tensor> grads;
+  size_t count = 1;
+  for (auto& group : adam_->param_groups())
+    for (auto& p : group.params()) {
+      if (!p.grad().defined()) p.mutable_grad() = torch::zeros_like(p);
+      grads.push_back(p.grad());
+      count += size_t(p.numel());
+    }
+  std::vector<float> flat(count);
+  size_t at = 0;
+  for (const torch::Tensor& g : grads) {
+    const torch::Tensor c = g.to(torch::kCPU).contiguous();
+    std::copy_n(c.data_ptr<float>(), c.numel(), flat.data() + at);
+    at += size_t(c.numel());
+  }
+  flat[at] = float(loss);
+  team_->sum(flat.data(), flat.size());
+  at = 0;
+  for (torch::Tensor& g : grads) {
+    g.copy_(torch::from_blob(flat.data() + at, g.sizes()));
+    at += size_t(g.numel());
+  }
+  return double(flat[at]);
 }
 
 void Trainer::save_checkpoint() const {
+  if (team_rank() != 0) return;  // every process holds the same state: process 0 writes it
   torch::serialize::OutputArchive a, m, o;
   model_.write(m);
   a.write("model", m);
@@ -700,7 +791,12 @@ TrainReport Trainer::run() {
   TrainReport report;
   report.model_path = out_;
   report.checkpoint_path = ckpt_;
-  const bool resumed = opt_.resume && fs::exists(ckpt_);
+  bool resumed = opt_.resume && fs::exists(ckpt_);
+  if (team_) {  // process 0's view of the (shared) folder decides; every process loads the file
+    std::string yes = resumed ? "1" : "0";
+    team_->broadcast(yes);
+    resumed = yes == "1";
+  }
   if (opt_.resume && !resumed) say("no checkpoint " + ckpt_ + " yet: starting from scratch");
   if (resumed) {
     load_checkpoint();
@@ -708,12 +804,18 @@ TrainReport Trainer::run() {
         std::to_string(step_));
   } else if (!opt_.base_model.empty()) {
     start_from_base_model();
+    share_setup();
     model_.to(dev_);
     start_stage();
     say("stage 1 skipped: encoder and g from " + opt_.base_model);
   } else {
-    compute_statistics();
-    if (model_.is_basis()) fit_bases(0);
+    // Over a team, process 0 makes the one-time statistics and bases (reading the frames it does
+    // not hold from their files) and sends them to the others: bit for bit the same everywhere.
+    if (team_rank() == 0) {
+      compute_statistics();
+      if (model_.is_basis()) fit_bases(0);
+    }
+    share_setup();
     model_.to(dev_);
     start_stage();
   }
@@ -805,13 +907,38 @@ TrainReport Trainer::run() {
       stage_ = next - 1;
     }
   }
+  report.completed = true;
+  if (team_rank() != 0) return report;  // process 0 writes the model and the loss curves
   model_.to(torch::kCPU);
   if (latents_.defined()) store_trajectories();
   model_.save(out_);
   write_loss_curves(report);
   fs::remove(ckpt_);
-  report.completed = true;
   return report;
+}
+
+void Trainer::share_setup() {
+  if (!team_) return;
+  std::string bytes;
+  if (team_rank() == 0) {
+    torch::serialize::OutputArchive a, m;
+    model_.write(m);
+    a.write("model", m);
+    for (int f = 0; f < kStageCount; ++f)
+      if (targets_[f].defined()) a.write("basis_targets_" + std::to_string(f), targets_[f], true);
+    std::ostringstream os;
+    a.save_to(os);
+    bytes = os.str();
+  }
+  team_->broadcast(bytes);
+  if (team_rank() == 0) return;
+  std::istringstream is(bytes);
+  torch::serialize::InputArchive a, m;
+  a.load_from(is);
+  a.read("model", m);
+  model_ = NeuralModel::read(m, "the model of process 0");
+  for (int f = 0; f < kStageCount; ++f)
+    a.try_read("basis_targets_" + std::to_string(f), targets_[f], true);
 }
 
 }  // namespace
@@ -824,13 +951,14 @@ TrainReport train_model(const std::string& data_dir, const std::string& out_path
                         const TrainOptions& options) {
   const std::string ckpt = checkpoint_path_for(out_path);
   if (options.resume && options.fresh) fail("--resume and --fresh exclude each other");
+  const bool lead = !options.team || options.team->rank() == 0;  // the one that writes files
   if (!options.resume && fs::exists(ckpt)) {
     if (!options.fresh)
       fail(ckpt, " holds the checkpoint of an interrupted training run of ", out_path,
            ": continue it with --resume, or give --fresh to delete it and start over");
-    if (!options.config.quiet)
+    if (!options.config.quiet && lead)
       std::fprintf(stderr, "--fresh: deleting the checkpoint %s and starting over\n", ckpt.c_str());
-    fs::remove(ckpt);
+    if (lead) fs::remove(ckpt);
   }
   if (fs::path(out_path).has_parent_path())
     fs::create_directories(fs::path(out_path).parent_path());

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "nn/config.h"
+#include "nn/gradient_team.h"
 
 namespace nsf {
 
@@ -37,6 +38,11 @@ struct TrainOptions {
   // (docs/TRAINING.md, "Training on a GPU"). Batches are drawn and assembled on the CPU either
   // way, with the same random numbers; the model file and the checkpoint hold CPU tensors.
   std::string device = "cpu";
+  // Several processes training together (`mpirun -np K nsf train`; nn/gradient_team.h): each
+  // holds its share of the frames, computes its share of every global batch of
+  // frames_per_batch frames, and the gradients are summed; process 0 writes the checkpoints,
+  // the model and the loss curves. Null: this process alone.
+  GradientTeam* team = nullptr;
 };
 
 struct StageReport {

@@ -1,0 +1,62 @@
+// FrameStore's shares (`mpirun -np K nsf train`, nn/gradient_team.h): K processes each hold the
+// frames i with i mod K == their share, every frame exactly once, and read any other frame from
+// its run file, the same values as a store that holds them all.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "error_matchers.h"
+#include "nn/dataset.h"
+#include "nn_fixtures.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path shares_dataset() {
+  const fs::path dir =
+      fs::temp_directory_path() / ("nsf_nn_frame_shares_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  nsf::test::write_synthetic_dataset(dir, 20, 7, 3, {0.5, 1.0, 1.5});
+  return dir;
+}
+
+void expect_same_frame(const nsf::FrameData& a, const nsf::FrameData& b, size_t i) {
+  EXPECT_EQ(a.x, b.x) << "frame " << i;
+  EXPECT_EQ(a.tau, b.tau) << "frame " << i;
+  EXPECT_EQ(a.C, b.C) << "frame " << i;
+}
+
+TEST(NnFrameShares, EveryFrameOnceAndTheSameValuesEverywhere) {
+  const fs::path dir = shares_dataset();
+  const nsf::Dataset d(dir.string());
+  const nsf::FrameStore all(d, 1.0);
+  ASSERT_EQ(all.size(), 9u);                // 3 runs of 3 frames
+  for (const double budget : {1.0, 0.0}) {  // cached, then streamed from the files
+    const nsf::FrameStore s0(d, budget, 0, 2), s1(d, budget, 1, 2);
+    EXPECT_EQ(s0.cached(), budget > 0);
+    ASSERT_EQ(s0.size(), all.size());  // indices stay global
+    for (size_t i = 0; i < all.size(); ++i) {
+      EXPECT_NE(s0.holds(i), s1.holds(i)) << "frame " << i << " held by one share exactly";
+      EXPECT_EQ(s0.holds(i), i % 2 == 0);
+      EXPECT_EQ(s0.sim_of(i), all.sim_of(i));
+      expect_same_frame(s0.get(i), all.get(i), i);  // held or read from the file
+      expect_same_frame(s1.get(i), all.get(i), i);
+    }
+  }
+  fs::remove_all(dir);
+}
+
+TEST(NnFrameShares, AShareThatDoesNotExistIsRefused) {
+  const fs::path dir = shares_dataset();
+  const nsf::Dataset d(dir.string());
+  using nsf::testing::expect_error;
+  expect_error([&] { nsf::FrameStore(d, 1.0, 2, 2); }, {"share 2 of 2 does not exist"});
+  expect_error([&] { nsf::FrameStore(d, 1.0, 0, 0); }, {"share 0 of 0 does not exist"});
+  fs::remove_all(dir);
+}
+
+}  // namespace
