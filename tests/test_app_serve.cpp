@@ -251,3 +251,69 @@ TEST_F(ServeEndToEnd, RefusesABadAddressAndStopsAfterItsFrames) {
 }
 
 }  // namespace
+
+namespace {
+
+// Runs `command` and returns its standard output.
+std::string capture(const std::string& command) {
+  std::string out;
+  if (FILE* p = ::popen(command.c_str(), "r")) {
+    char buf[65536];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    ::pclose(p);
+  }
+  return out;
+}
+
+// The text of <pre id="ID"> in a dumped DOM ("" when absent or empty).
+std::string pre_text(const std::string& dom, const std::string& id) {
+  const std::string open = "<pre id=\"" + id + "\">";
+  const size_t a = dom.find(open);
+  if (a == std::string::npos) return "";
+  const size_t b = dom.find("</pre>", a);
+  return dom.substr(a + open.size(), b - a - open.size());
+}
+
+}  // namespace
+
+// The page in headless Chromium (Debian's `chromium`): it connects, reconstructs a frame in
+// JavaScript, and its positions are the runtime's at that frame's latent to float32 precision; it
+// also draws them (WebGL, software) into a PNG it leaves in the DOM.
+TEST_F(ServeEndToEnd, PageInHeadlessChromiumReconstructsTheRuntimesPositions) {
+  if (std::system("command -v chromium >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "no chromium on this machine (scripts/install-deps.sh installs it)";
+  const int port = start({"--fps", "20", "--frames", "100000"});
+  ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
+  std::string dump, dom;
+  for (int attempt = 0; attempt < 3 && dump.empty(); ++attempt) {
+    dom = capture(
+        "timeout 120 chromium --headless --no-sandbox --enable-unsafe-swiftshader "
+        "--window-size=320,240 --virtual-time-budget=10000 --dump-dom "
+        "'http://127.0.0.1:" +
+        std::to_string(port) + "/?dump=3' 2>/dev/null");
+    dump = pre_text(dom, "dump");
+  }
+  ASSERT_FALSE(dump.empty()) << "the page wrote no positions; its DOM:\n" << dom.substr(0, 2000);
+  const nlohmann::json j = nlohmann::json::parse(dump);
+  const uint32_t frame = j.at("frame");
+  EXPECT_GE(frame, 3u);
+  const std::vector<double> x = j.at("positions");
+
+  // The runtime's positions at the page's latent: g(X, ẑ), as nsf::Runtime::positions gives them
+  // (that the streamed ẑ is the stepper's own is checked above).
+  const nsf::NeuralFields fields = nsf::NeuralFields::load(model());
+  const std::vector<double> z = j.at("z");
+  ASSERT_EQ(z.size(), 3u);
+  std::vector<nsf::Vec3> xr;
+  fields.deform(fields.prepare(fields.bases()->rest),
+                Eigen::Map<const Eigen::VectorXd>(z.data(), 3), xr);
+  ASSERT_EQ(x.size(), 3 * xr.size());
+  double worst = 0;
+  for (size_t p = 0; p < xr.size(); ++p)
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, std::abs(x[3 * p + size_t(k)] - double(float(xr[p][k]))));
+  EXPECT_LT(worst, 4e-7) << "frame " << frame << ": the page's positions are not the runtime's";
+  EXPECT_EQ(pre_text(dom, "snapshot").rfind("data:image/png;base64,", 0), 0u)
+      << "the page drew nothing";
+}

@@ -11,6 +11,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "net/base64.h"
 #include "net/websocket.h"
@@ -86,6 +87,31 @@ class WsClient {
       if (!fill(end)) return std::nullopt;
     }
   }
+  // The frames already complete after one non-blocking read (none if nothing came).
+  std::vector<net::Frame> drain() {
+    char tmp[65536];
+    for (;;) {
+      const ssize_t r = ::recv(fd_, tmp, sizeof tmp, MSG_DONTWAIT);
+      if (r > 0) {
+        buf_.append(tmp, size_t(r));
+        continue;
+      }
+      if (r == 0) eof_ = true;
+      break;
+    }
+    std::vector<net::Frame> out;
+    size_t at = 0;
+    for (;;) {
+      const net::FrameParse f = net::parse_frame(reinterpret_cast<const uint8_t*>(buf_.data()) + at,
+                                                 buf_.size() - at, false, size_t(1) << 30);
+      if (f.status != net::Parse::done) break;
+      at += f.consumed;
+      out.push_back(f.frame);
+    }
+    buf_.erase(0, at);
+    return out;
+  }
+  bool eof() const { return eof_; }
   // Whether the server closed the connection (a close frame or EOF) within timeout_s; data
   // frames before it are skipped.
   bool closed_by_server(double timeout_s = 5.0) {
