@@ -21,7 +21,8 @@ serve() {  # serve LABEL FPS FRAMES CLIENTS
   local pid=$!
   for _ in $(seq 100); do grep -q "ws://" "/tmp/serve_$$.out" 2>/dev/null && break; sleep 0.1; done
   if ((clients > 0)); then
-    NSF_SERVE_PORT=$port NSF_LOAD_CLIENTS=$clients NSF_LOAD_SECONDS=$s build/nsf_tests \
+    NSF_SERVE_PORT=$port NSF_LOAD_CLIENTS=$clients NSF_LOAD_SECONDS=$s NSF_LOAD_WARMUP=${WARMUP:-10} \
+      build/nsf_tests \
       --gtest_also_run_disabled_tests --gtest_filter='ServeLoad.*' | grep "clients,"
   fi
   wait "$pid"

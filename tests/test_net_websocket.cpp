@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -173,6 +174,57 @@ TEST(NetFrames, RefusesWhatTheRfcForbidsAndOversizedFrames) {
   EXPECT_EQ(code(encode_frame(kText, std::string(4096, 'a'), m), true, 4096), -int(Parse::done));
   EXPECT_EQ(close_payload(1009, "big"), bytes({0x03, 0xF1, 'b', 'i', 'g'}));
   EXPECT_EQ(close_payload(1000, std::string(500, 'r')).size(), 125u);
+}
+
+}  // namespace
+
+namespace {
+
+// A bounded fuzz of the parsers alone: 100,000 random and mutated frames and 20,000 mutated
+// request heads. Nothing may crash (a crash fails the suite), and every answer must hold together.
+TEST(NetFrames, BoundedFuzzOfTheParsers) {
+  std::mt19937 rng(6455);
+  const uint8_t mask[4] = {0xA1, 0xB2, 0xC3, 0xD4};
+  const size_t max = 512;
+  int done = 0, errors = 0;
+  for (int k = 0; k < 100000; ++k) {
+    std::string f;
+    if (k % 2) {
+      for (int i = int(rng() % 40); i > 0; --i) f += char(rng());
+    } else {
+      f = encode_frame(uint8_t(rng() % 16), std::string(rng() % 700, 'x'),
+                       rng() % 8 ? mask : nullptr, rng() % 4);
+      for (int i = int(rng() % 4); i > 0; --i) f[rng() % f.size()] = char(rng());
+      if (rng() % 2) f.resize(rng() % (f.size() + 1));
+    }
+    const FrameParse p = parse(f, true, max);
+    if (p.status == Parse::done) {
+      ++done;
+      ASSERT_LE(p.consumed, f.size());
+      ASSERT_LE(p.frame.payload.size(), max);
+    } else if (p.status == Parse::error) {
+      ++errors;
+      ASSERT_TRUE(p.close_code == kCloseProtocol || p.close_code == kCloseTooBig) << p.close_code;
+      ASSERT_FALSE(p.why.empty());
+    }
+  }
+  EXPECT_GT(done, 1000);
+  EXPECT_GT(errors, 1000);
+  const std::string head =
+      "GET / HTTP/1.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+      "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n";
+  for (int k = 0; k < 20000; ++k) {
+    std::string h = head;
+    for (int i = int(rng() % 6); i > 0; --i) h[rng() % h.size()] = char(rng());
+    h.resize(rng() % (h.size() + 1));
+    HttpRequest r;
+    size_t used = 0;
+    std::string why;
+    if (parse_http_request(h, r, used, why) == Parse::done) {
+      ASSERT_LE(used, h.size());
+      upgrade_problem(r);  // must not throw
+    }
+  }
 }
 
 }  // namespace
