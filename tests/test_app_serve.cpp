@@ -223,12 +223,24 @@ TEST_F(ServeEndToEnd, ClientsReconstructTheRuntimesPositionsAndMoveAColliderToge
       g = h;
     }
   }
+  // A client flooding commands is dropped too.
+  WsClient flood;
+  ASSERT_TRUE(flood.connect(port));
+  std::string burst;
+  const uint8_t mask[4] = {1, 2, 3, 4};
+  for (int k = 0; k < 200; ++k)
+    burst += nsf::net::encode_frame(nsf::net::kText,
+                                    R"({"type":"move","collider":0,"position":[0,0.2,0]})", mask);
+  ASSERT_TRUE(flood.send_raw(burst));
+  EXPECT_TRUE(flood.closed_by_server(10.0));
+  ASSERT_TRUE(next_frame(a));
   const std::string log = nsf::testing::read_text(log_);
   size_t drops = 0;
   for (size_t at = log.find("dropped client"); at != std::string::npos;
        at = log.find("dropped client", at + 1))
     ++drops;
-  EXPECT_EQ(drops, 1u) << log;
+  EXPECT_EQ(drops, 2u) << log;
+  EXPECT_NE(log.find("over 64 commands in one frame"), std::string::npos) << log;
   EXPECT_NE(log.find("a command that is not JSON"), std::string::npos) << log;
 
   // The page, from the same port.
@@ -239,11 +251,26 @@ TEST_F(ServeEndToEnd, ClientsReconstructTheRuntimesPositionsAndMoveAColliderToge
   EXPECT_NE(page.find("NSFF"), std::string::npos);
 }
 
-TEST_F(ServeEndToEnd, RefusesABadAddressAndStopsAfterItsFrames) {
+TEST_F(ServeEndToEnd, RefusesABadAddressAndAnMlpModelAndStopsAfterItsFrames) {
   const auto bad = nsf::testing::run_cli("serve '" + model() + "' '" + kScene +
                                          "' --mu 1.0 --bind localhost --port 0");
   EXPECT_EQ(bad.exit_code, 1) << bad.output;
   EXPECT_NE(bad.output.find("not an IPv4 address"), std::string::npos) << bad.output;
+  // A model with MLP decoders has no coefficients to stream.
+  nsf::TrainOptions o;
+  o.config.net.decoder = "mlp";
+  o.config.net.latent_dim = 2;
+  o.config.net.depth = 2;
+  o.config.net.width_g = o.config.net.width_h = o.config.net.width_l = 8;
+  o.config.net.encoder_hidden = 4;
+  o.config.steps = {5, 2, 2};
+  o.config.quiet = true;
+  const std::string mlp = (root_ / "tiny_mlp.nsf").string();
+  nsf::train_model((root_ / "data").string(), mlp, o);
+  const auto refused =
+      nsf::testing::run_cli("serve '" + mlp + "' '" + kScene + "' --mu 1.0 --port 0");
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_NE(refused.output.find("MLP decoders"), std::string::npos) << refused.output;
   const auto run = nsf::testing::run_cli("serve '" + model() + "' '" + kScene +
                                          "' --mu 1.0 --port 0 --fps 0 --frames 5 -j 1");
   EXPECT_EQ(run.exit_code, 0) << run.output;

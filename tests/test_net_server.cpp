@@ -96,6 +96,35 @@ TEST(NetServer, ServesThePageAndRefusesOtherPaths) {
   EXPECT_EQ(c.http_get(r.port(), "/").find("Connection: close"), page.find("Connection: close"));
 }
 
+TEST(NetServer, AnswersPingsAndRefusesConnectionsOverTheCap) {
+  ServerOptions o = ephemeral();
+  o.max_clients = 2;
+  Running r(o);
+  WsClient a, b, c;
+  ASSERT_TRUE(a.connect(r.port()));
+  ASSERT_TRUE(a.send_frame(nsf::net::kPing, "hello"));
+  const auto pong = a.next_frame(5.0);
+  ASSERT_TRUE(pong);
+  EXPECT_EQ(pong->opcode, nsf::net::kPong);
+  EXPECT_EQ(pong->payload, "hello");
+  ASSERT_TRUE(b.connect(r.port()));
+  ASSERT_TRUE(c.connect_tcp(r.port()));
+  EXPECT_EQ(c.read_until_eof().rfind("HTTP/1.1 503", 0), 0u);
+  // A close is answered with a close, and the slot is free again.
+  ASSERT_TRUE(a.send_frame(nsf::net::kClose, nsf::net::close_payload(1000, "")));
+  EXPECT_TRUE(a.closed_by_server(5.0));
+  WsClient d;
+  bool connected = false;
+  for (int i = 0; i < 50 && !connected; ++i) {
+    connected = d.connect(r.port());
+    if (!connected) {
+      d.close();
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+  EXPECT_TRUE(connected);
+}
+
 TEST(NetServer, BindsWhereToldAndRefusesBadAddresses) {
   ServerOptions o = ephemeral();
   o.bind = "localhost";

@@ -68,7 +68,9 @@ class Server {
       if (last_) net_.send(id, last_, true);
       max_clients_ = std::max(max_clients_, net_.client_count());
     };
-    net_.on_message = [this](int, const std::string& text) -> std::string {
+    net_.on_message = [this](int id, const std::string& text) -> std::string {
+      if (++commands_this_frame_[id] > kMaxCommandsPerFrame)
+        return "over " + std::to_string(kMaxCommandsPerFrame) + " commands in one frame";
       try {
         pending_.push_back(parse_command(text, stepper_->colliders().size()));
         return "";
@@ -99,6 +101,7 @@ class Server {
         net_.poll(std::max(0, int(1000 * (due - mono_now()))));
       } while (mono_now() < due);
       apply_commands();
+      commands_this_frame_.clear();
       const double t0 = mono_now();
       try {
         stepper_->advance_frame();
@@ -206,6 +209,9 @@ class Server {
   net::Message model_, last_;
   std::vector<ServeCommand> pending_;
   std::map<size_t, bool> moving_;
+  // A client sending more commands than this between two frames is flooding: it is dropped.
+  static constexpr int kMaxCommandsPerFrame = 64;
+  std::map<int, int> commands_this_frame_;
   size_t max_clients_ = 0;
 };
 
