@@ -107,7 +107,10 @@ class ServeEndToEnd : public ::testing::Test {
 
   // Starts `nsf serve` on an ephemeral port; returns the port (0 if it never said which).
   int start(const std::vector<std::string>& extra) {
-    log_ = (root_ / ("serve_" + std::to_string(::getpid()) + ".log")).string();
+    // A log of its own: reading another test's log would find that server's (dead) port.
+    static int started = 0;
+    log_ = (root_ / ("serve_" + std::to_string(++started) + ".log")).string();
+    fs::remove(log_);
     std::vector<std::string> args = {"serve",  model(), kScene, "--mu", "1.0",
                                      "--port", "0",     "-j",   "1"};
     args.insert(args.end(), extra.begin(), extra.end());
@@ -312,16 +315,24 @@ TEST_F(ServeEndToEnd, PageInHeadlessChromiumReconstructsTheRuntimesPositions) {
     GTEST_SKIP() << "no chromium on this machine (scripts/install-deps.sh installs it)";
   const int port = start({"--fps", "20", "--frames", "100000"});
   ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
+  // A profile of its own (a second chromium on a shared profile hands its page to the first and
+  // exits), its messages kept for a failure.
+  const std::string profile = (root_ / "chromium_profile").string(),
+                    err = (root_ / "chromium.err").string();
   std::string dump, dom;
   for (int attempt = 0; attempt < 3 && dump.empty(); ++attempt) {
     dom = capture(
         "timeout 120 chromium --headless --no-sandbox --enable-unsafe-swiftshader "
-        "--window-size=320,240 --virtual-time-budget=10000 --dump-dom "
-        "'http://127.0.0.1:" +
-        std::to_string(port) + "/?dump=3' 2>/dev/null");
+        "--no-first-run --user-data-dir='" +
+        profile +
+        "' --window-size=320,240 "
+        "--virtual-time-budget=10000 --dump-dom 'http://127.0.0.1:" +
+        std::to_string(port) + "/?dump=3' 2>'" + err + "'");
     dump = pre_text(dom, "dump");
   }
-  ASSERT_FALSE(dump.empty()) << "the page wrote no positions; its DOM:\n" << dom.substr(0, 2000);
+  ASSERT_FALSE(dump.empty()) << "the page wrote no positions; its DOM:\n"
+                             << dom.substr(0, 2000) << "\nchromium said:\n"
+                             << nsf::testing::read_text(err).substr(0, 4000);
   const nlohmann::json j = nlohmann::json::parse(dump);
   const uint32_t frame = j.at("frame");
   EXPECT_GE(frame, 3u);
