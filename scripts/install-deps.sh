@@ -12,6 +12,8 @@ PACKAGES=(
   libassimp-dev
   openmpi-bin libopenmpi-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-h5py
+  # The page of `nsf serve` checked in a headless browser (tests/test_app_serve.cpp, ...Chromium...).
+  chromium
 )
 
 missing=()

@@ -6,6 +6,7 @@
 #   io, data, nn   core, mpm and one another; not rom or app
 #   rom   core, mpm, data, nn; not io (files are the harness's job) or app
 #   runtime   core, mpm, data, nn, rom (the embedding API; it writes no files either)
+#   net   core (the WebSocket server of nsf serve: no model, no engine)
 #   app   anything
 # The embedding API's public header, include/nsf/runtime.h, includes nothing of src/ at all.
 # Usage: tests/check_layers.sh [SRC_DIR] (default: the src/ next to this script). Run by ctest.
@@ -20,7 +21,8 @@ allowed() {
     io | data | nn) echo "core mpm io data nn" ;;
     rom) echo "core mpm data nn rom" ;;
     runtime) echo "core mpm data nn rom runtime" ;;
-    app) echo "core mpm io data nn rom runtime app" ;;
+    net) echo "core net" ;;
+    app) echo "core mpm io data nn rom runtime net app" ;;
     *) return 1 ;;
   esac
 }

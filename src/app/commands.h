@@ -13,6 +13,7 @@ void add_contact_sheet_command(CLI::App& app);
 void add_rom_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
 void add_report_command(CLI::App& app);
+void add_serve_command(CLI::App& app);  // cmd_serve.cpp
 
 // Sets the OpenMP thread count (0 = all cores) and returns the count in use.
 int set_threads(int requested);

@@ -1,0 +1,273 @@
+// `nsf serve MODEL SCENE`: runs the reduced-order model and streams, per frame, the latent ẑ, the
+// deformation coefficients c_x(ẑ), the time and the colliders' poses over WebSocket to any number
+// of clients, which may move a collider; GET / serves a page that draws it (docs/SERVE.md).
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <memory>
+
+#include "app/commands.h"
+#include "app/common_options.h"
+#include "app/scene_file.h"
+#include "app/serve_page.h"
+#include "app/serve_protocol.h"
+#include "core/error.h"
+#include "mpm/colliders/rigid_collider.h"
+#include "net/ws_server.h"
+#include "nn/basis_decoders.h"
+#include "nn/runtime.h"
+#include "rom/latent_stepper.h"
+#include "runtime/rom_setup.h"
+
+namespace nsf::app {
+
+namespace {
+
+struct ServeArgs {
+  std::string model, scene;
+  std::optional<double> mu;
+  std::vector<std::string> overrides;
+  int samples = 0, threads = 0;
+  bool quiet = false;
+  net::ServerOptions net;
+  double fps = -1;  // < 0: real time
+  long frames = 0;  // 0: forever
+};
+
+double wall_now() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+double mono_now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+class Server {
+ public:
+  explicit Server(const ServeArgs& a) : a_(a), fields_(NeuralFields::load(a.model)), net_(a.net) {
+    if (!fields_.bases())
+      fail(a.model,
+           ": nsf serve streams the coefficients of a per-point basis model; this one has "
+           "MLP decoders (train it with --decoder basis, the default)");
+    restart();
+    const SceneFile file = read_scene_file(a.scene, a.overrides);
+    nlohmann::json info;
+    info["scene"] = fields_.scene_name();
+    info["latent_dim"] = fields_.latent_dim();
+    info["frame_time"] = frame_time_;
+    info["frames"] = frames_;
+    info["steps_per_frame"] = stepper_->steps_per_frame();
+    info["mu"] = mu_;
+    info["colliders"] = file.json.value("colliders", nlohmann::json::array());
+    info["domain"] = {file.json["simulation"].value("domain_lo", nlohmann::json()),
+                      file.json["simulation"].value("domain_hi", nlohmann::json())};
+    model_ = net::WsServer::binary_message(model_message(*fields_.bases(), info));
+    net_.set_page(serve_page());
+    net_.on_open = [this](int id) {
+      net_.send(id, model_, true);
+      if (last_) net_.send(id, last_, true);
+      max_clients_ = std::max(max_clients_, net_.client_count());
+    };
+    net_.on_message = [this](int id, const std::string& text) -> std::string {
+      if (++commands_this_frame_[id] > kMaxCommandsPerFrame)
+        return "over " + std::to_string(kMaxCommandsPerFrame) + " commands in one frame";
+      try {
+        pending_.push_back(parse_command(text, stepper_->colliders().size()));
+        return "";
+      } catch (const Error& e) {
+        return e.what();
+      }
+    };
+    net_.log = [this](const std::string& line) {
+      if (!a_.quiet) std::cerr << line << std::endl;
+    };
+  }
+
+  int port() const { return net_.port(); }
+
+  void run() {
+    const double fps = a_.fps < 0 ? 1.0 / frame_time_ : a_.fps;
+    const double start = mono_now();
+    double last_status = start, stepping = 0;
+    for (long frame = 0;; ++frame) {
+      last_ =
+          net::WsServer::binary_message(frame_message(uint32_t(frame), stepper_->time(), wall_now(),
+                                                      stepper_->latent(), coefficients(), poses()));
+      net_.broadcast(last_);
+      if (a_.frames > 0 && frame >= a_.frames) break;
+      // Serve the sockets until the next frame is due (at once, with --fps 0).
+      const double due = fps > 0 ? start + double(frame + 1) / fps : 0;
+      do {
+        net_.poll(std::max(0, int(1000 * (due - mono_now()))));
+      } while (mono_now() < due);
+      apply_commands();
+      commands_this_frame_.clear();
+      const double t0 = mono_now();
+      try {
+        stepper_->advance_frame();
+      } catch (const Error& e) {
+        std::cerr << "nsf serve: the reduced-order model failed at t = " << stepper_->time()
+                  << " s (" << e.what() << "); starting the scene again" << std::endl;
+        restart();
+      }
+      stepping += mono_now() - t0;
+      if (!a_.quiet && mono_now() - last_status > 10) {
+        last_status = mono_now();
+        std::cerr << "nsf serve: frame " << frame + 1 << ", " << net_.client_count() << " clients, "
+                  << status(frame + 1, stepping, last_status - start) << std::endl;
+      }
+    }
+    std::cout << "nsf serve: " << a_.frames << " frames, "
+              << status(a_.frames, stepping, mono_now() - start) << ", at most " << max_clients_
+              << " clients" << std::endl;
+  }
+
+ private:
+  std::string status(long frames, double stepping, double wall) const {
+    char b[256];
+    std::snprintf(b, sizeof b,
+                  "%.1f frames/s over %.1f s (the ROM alone: %.1f frames/s, %.1f steps/s), "
+                  "%llu messages dropped, %llu clients dropped",
+                  double(frames) / wall, wall, double(frames) / stepping,
+                  double(frames) * stepper_->steps_per_frame() / stepping,
+                  static_cast<unsigned long long>(net_.messages_dropped()),
+                  static_cast<unsigned long long>(net_.clients_dropped()));
+    return b;
+  }
+
+  void restart() {
+    RomSetup s = rom_setup(fields_, a_.scene, a_.mu, a_.overrides, a_.samples);
+    frames_ = s.scene.settings.frames;
+    frame_time_ = s.scene.settings.substeps * s.scene.settings.dt;
+    mu_ = s.mu;
+    stepper_.reset();
+    stepper_ = std::make_unique<LatentStepper>(fields_, std::move(s.scene), s.mu, s.options);
+    moving_.clear();
+  }
+
+  Eigen::VectorXf coefficients() const {
+    return fields_.bases()->deformation_coefficients(stepper_->latent());
+  }
+
+  RigidCollider* rigid(size_t i) const {
+    return dynamic_cast<RigidCollider*>(stepper_->colliders()[i].get());
+  }
+
+  std::vector<StreamPose> poses() const {
+    std::vector<StreamPose> out;
+    for (size_t i = 0; i < stepper_->colliders().size(); ++i) {
+      StreamPose p{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+      if (RigidCollider* c = rigid(i)) {
+        c->set_time(stepper_->time());
+        const RigidPose& q = c->pose();
+        for (int k = 0; k < 3; ++k) p[size_t(k)] = float(q.center[k]);
+        for (int r = 0; r < 3; ++r)
+          for (int k = 0; k < 3; ++k) p[size_t(3 + 3 * r + k)] = float(q.rotation(r, k));
+      }
+      out.push_back(p);
+    }
+    return out;
+  }
+
+  // The commands received since the last frame, in order: a collider asked to move goes there
+  // over the next frame (its velocity is what the material feels) and stops the frame after.
+  void apply_commands() {
+    std::map<size_t, ServeCommand> moves;
+    for (const ServeCommand& c : pending_) {
+      if (c.kind == ServeCommand::reset) {
+        restart();
+        moves.clear();
+      } else {
+        moves[c.collider] = c;
+      }
+    }
+    pending_.clear();
+    const double t = stepper_->time();
+    for (size_t i = 0; i < stepper_->colliders().size(); ++i) {
+      RigidCollider* c = rigid(i);
+      const auto m = moves.find(i);
+      if (!c || (m == moves.end() && !moving_[i])) continue;
+      c->set_time(t);
+      RigidPose p = c->pose();
+      p.angular_velocity.setZero();
+      p.velocity.setZero();
+      if (m != moves.end()) {
+        p.velocity = (m->second.position - p.center) / frame_time_;
+        if (m->second.rotation) p.rotation = *m->second.rotation;
+      }
+      c->drive(p, t);
+      moving_[i] = m != moves.end();
+    }
+  }
+
+  const ServeArgs& a_;
+  NeuralFields fields_;
+  net::WsServer net_;
+  std::unique_ptr<LatentStepper> stepper_;
+  int frames_ = 0;
+  double frame_time_ = 0, mu_ = 0;
+  net::Message model_, last_;
+  std::vector<ServeCommand> pending_;
+  std::map<size_t, bool> moving_;
+  // A client sending more commands than this between two frames is flooding: it is dropped.
+  static constexpr int kMaxCommandsPerFrame = 64;
+  std::map<int, int> commands_this_frame_;
+  size_t max_clients_ = 0;
+};
+
+}  // namespace
+
+void add_serve_command(CLI::App& app) {
+  auto a = std::make_shared<ServeArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "serve",
+      "Run the reduced-order model and stream its latent over WebSocket, with a page that "
+      "draws it (docs/SERVE.md)");
+  cmd->add_option("model", a->model, "Model file (nsf train; per-point bases)")->required();
+  cmd->add_option("scene", a->scene, "Scene JSON (the model's scene)")->required();
+  auto* mu =
+      cmd->add_option("--mu", a->mu, "The scene's sweep parameter")->check(in_range(-1e300, 1e300));
+  (void)mu;
+  cmd->add_option("--set", a->overrides, "Override a scene value, e.g. --set material.E=5")
+      ->type_name("KEY=VALUE");
+  cmd->add_option("--samples,-k", a->samples, "Sample particles |S| (default: the scene's)")
+      ->check(in_range(1, 100000000));
+  cmd->add_option("--bind", a->net.bind,
+                  "Address to listen on (0.0.0.0: every interface; anyone who can reach it may "
+                  "watch and move colliders)")
+      ->capture_default_str();
+  cmd->add_option("--port,-p", a->net.port, "Port (0: any free one; the address is printed)")
+      ->capture_default_str()
+      ->check(in_range(0, 65535));
+  cmd->add_option("--fps", a->fps,
+                  "Frames per second to stream (default: real time, 1 / the scene's frame time; "
+                  "0: as fast as the model steps)")
+      ->check(in_range(0.0, 10000.0));
+  cmd->add_option("--frames", a->frames, "Stop after this many frames (0: run until killed)")
+      ->capture_default_str()
+      ->check(in_range(0L, 1000000000L));
+  cmd->add_option("--max-message", a->net.max_message,
+                  "Largest message a client may send, bytes (larger: the client is dropped)")
+      ->capture_default_str()
+      ->check(in_range<size_t>(64, 1 << 20));
+  cmd->add_option("--queue", a->net.max_queue,
+                  "Messages waiting for one client; a client this far behind loses frames")
+      ->capture_default_str()
+      ->check(in_range<size_t>(2, 100000));
+  cmd->add_option("--max-clients", a->net.max_clients, "Open connections at most")
+      ->capture_default_str()
+      ->check(in_range<size_t>(1, 10000));
+  add_threads_option(cmd, a->threads, "Threads of the model");
+  add_quiet_flag(cmd, a->quiet, "No log lines (clients dropped, status every 10 s)");
+  cmd->callback([a] {
+    set_threads(a->threads);
+    set_nn_threads(a->threads);
+    Server server(*a);
+    std::cout << "nsf serve: http://" << a->net.bind << ":" << server.port()
+              << "/ (the page), ws://" << a->net.bind << ":" << server.port() << "/stream"
+              << std::endl;
+    server.run();
+  });
+}
+
+}  // namespace nsf::app

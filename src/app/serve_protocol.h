@@ -1,0 +1,69 @@
+#pragma once
+// The messages of `nsf serve` (docs/SERVE.md): the model message a client receives once, the
+// frame message it receives per frame, and the commands it may send. Binary messages are
+// little-endian; the server writes them on a little-endian machine (checked at compile time).
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace nsf {
+struct BasisDecoders;
+}
+
+namespace nsf::app {
+
+// "NSFM", uint32 H, H bytes of JSON (padded with spaces to a multiple of 4), then the float32
+// arrays the JSON's "arrays" list names, each at its byte "offset" from the message's start:
+// rest (P × 3), mean (P × 3) and modes (P × 3 × K) of the deformation basis. `info` is merged
+// into the JSON (scene, colliders, frame time, ...).
+std::string model_message(const BasisDecoders& bases, const nlohmann::json& info);
+
+// A collider's pose as streamed: its reference point and its rotation (row-major, body → world).
+using StreamPose = std::array<float, 12>;
+
+// "NSFF", uint32 frame, float64 time, float64 sent (the server's wall clock, Unix seconds),
+// uint32 r, uint32 K, uint32 colliders, uint32 0; then r float64 ẑ, K float32 c = c_x(ẑ), and
+// 12 float32 per collider (position, rotation). 40 + 8r + 4K + 48·colliders bytes.
+std::string frame_message(uint32_t frame, double time, double sent, const Eigen::VectorXd& z,
+                          const Eigen::VectorXf& c, const std::vector<StreamPose>& poses);
+constexpr size_t kFrameHeaderBytes = 40;
+
+// What a client decodes (the reference client: tests, tools).
+struct StreamModel {
+  nlohmann::json header;
+  int K = 0;
+  std::vector<float> rest, mean, modes;
+};
+struct StreamFrame {
+  uint32_t frame = 0;
+  double time = 0, sent = 0;
+  std::vector<double> z;
+  std::vector<float> c;
+  std::vector<StreamPose> poses;
+};
+// nullopt when the bytes are not such a message.
+std::optional<StreamModel> decode_model(const std::string& bytes);
+std::optional<StreamFrame> decode_frame(const std::string& bytes);
+// x_p = rest_p + (mean_p + modes_p · c), in float32 as a client computes it (P × 3).
+std::vector<float> reconstruct(const StreamModel& model, const std::vector<float>& c);
+
+// A client's command, a JSON text message:
+//   {"type": "move", "collider": i, "position": [x, y, z]}      (optional "rotation": 9 numbers)
+//   {"type": "reset"}                                             (back to the scene's start)
+struct ServeCommand {
+  enum Kind { move, reset } kind = move;
+  size_t collider = 0;
+  Vec3 position = Vec3::Zero();
+  std::optional<Mat3> rotation;
+};
+// Throws nsf::Error saying what is wrong (not JSON, an unknown type or key, a collider that does
+// not exist, a value that is not finite, a rotation that is not one).
+ServeCommand parse_command(const std::string& text, size_t collider_count);
+
+}  // namespace nsf::app

@@ -1,0 +1,290 @@
+#include "net/ws_server.h"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <iostream>
+#include <vector>
+
+#include "core/error.h"
+#include "net/websocket.h"
+
+namespace nsf::net {
+
+namespace {
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+constexpr double kCloseGraceS = 2.0;    // a closing socket gets this long to take its last bytes
+constexpr size_t kReadPerPoll = 65536;  // bytes read from one client per poll(), at most
+
+}  // namespace
+
+WsServer::WsServer(const ServerOptions& options) : options_(options) {
+  in_addr addr{};
+  if (::inet_pton(AF_INET, options.bind.c_str(), &addr) != 1)
+    fail("--bind ", options.bind, ": not an IPv4 address (e.g. 127.0.0.1 or 0.0.0.0)");
+  if (options.port < 0 || options.port > 65535)
+    fail("--port ", options.port, ": not a port number (0-65535)");
+  listen_fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (listen_fd_ < 0) fail("cannot open a socket: ", std::strerror(errno));
+  const int one = 1;
+  ::setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+  sockaddr_in sa{};
+  sa.sin_family = AF_INET;
+  sa.sin_port = htons(uint16_t(options.port));
+  sa.sin_addr = addr;
+  if (::bind(listen_fd_, reinterpret_cast<sockaddr*>(&sa), sizeof sa) < 0 ||
+      ::listen(listen_fd_, 64) < 0) {
+    const std::string why = std::strerror(errno);
+    ::close(listen_fd_);
+    fail("cannot listen on ", options.bind, ":", options.port, ": ", why);
+  }
+  socklen_t len = sizeof sa;
+  ::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&sa), &len);
+  port_ = ntohs(sa.sin_port);
+}
+
+WsServer::~WsServer() {
+  for (auto& [id, c] : clients_) ::close(c.fd);
+  if (listen_fd_ >= 0) ::close(listen_fd_);
+}
+
+void WsServer::emit(const std::string& line) const {
+  if (log)
+    log(line);
+  else
+    std::cerr << line << "\n";
+}
+
+Message WsServer::binary_message(const std::string& payload) {
+  return std::make_shared<const std::string>(encode_frame(kBinary, payload));
+}
+Message WsServer::text_message(const std::string& payload) {
+  return std::make_shared<const std::string>(encode_frame(kText, payload));
+}
+
+size_t WsServer::client_count() const {
+  size_t n = 0;
+  for (const auto& [id, c] : clients_) n += c.state == State::websocket;
+  return n;
+}
+
+void WsServer::send(int id, const Message& m, bool bypass_cap) {
+  auto it = clients_.find(id);
+  if (it == clients_.end() || it->second.state != State::websocket) return;
+  Client& c = it->second;
+  if (!bypass_cap && c.out.size() >= options_.max_queue) {
+    ++c.dropped;
+    ++dropped_;
+    return;
+  }
+  c.out.push_back(m);
+}
+
+void WsServer::broadcast(const Message& m) {
+  for (auto& [id, c] : clients_) send(id, m);
+}
+
+void WsServer::poll(int timeout_ms) {
+  std::vector<pollfd> fds;
+  std::vector<int> ids;
+  fds.push_back({listen_fd_, POLLIN, 0});
+  ids.push_back(0);
+  for (const auto& [id, c] : clients_) {
+    short ev = c.state == State::closing ? 0 : POLLIN;
+    if (!c.out.empty()) ev |= POLLOUT;
+    fds.push_back({c.fd, ev, 0});
+    ids.push_back(id);
+  }
+  // A closing socket that cannot take its last bytes is closed after a grace period: wake for it.
+  for (const auto& [id, c] : clients_)
+    if (c.state == State::closing) timeout_ms = std::min(timeout_ms, 100);
+  const int n = ::poll(fds.data(), nfds_t(fds.size()), timeout_ms);
+  if (n < 0) return;  // EINTR: the host's loop calls again
+  if (fds[0].revents & POLLIN) accept_all();
+  for (size_t k = 1; k < fds.size(); ++k) {
+    auto it = clients_.find(ids[k]);
+    if (it == clients_.end()) continue;
+    Client& c = it->second;
+    const short re = fds[k].revents;
+    if (re & (POLLIN | POLLHUP | POLLERR)) read_from(ids[k], c);
+    it = clients_.find(ids[k]);
+    if (it == clients_.end()) continue;
+    if (!c.out.empty()) write_to(c);
+    if (c.state == State::closing &&
+        (c.out.empty() || now_s() - c.closing_since > kCloseGraceS || c.fd < 0))
+      close_now(ids[k], c, "");
+  }
+}
+
+void WsServer::accept_all() {
+  for (;;) {
+    sockaddr_in sa{};
+    socklen_t len = sizeof sa;
+    const int fd =
+        ::accept4(listen_fd_, reinterpret_cast<sockaddr*>(&sa), &len, SOCK_NONBLOCK | SOCK_CLOEXEC);
+    if (fd < 0) return;  // EAGAIN, or a connection that went away before we took it
+    char ip[INET_ADDRSTRLEN] = "?";
+    ::inet_ntop(AF_INET, &sa.sin_addr, ip, sizeof ip);
+    const std::string peer = std::string(ip) + ":" + std::to_string(ntohs(sa.sin_port));
+    if (clients_.size() >= options_.max_clients) {
+      const std::string r =
+          http_response(503, "Service Unavailable", "text/plain", "nsf serve: too many clients\n");
+      [[maybe_unused]] ssize_t w = ::send(fd, r.data(), r.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+      ::close(fd);
+      emit("nsf serve: refused " + peer + ": " + std::to_string(options_.max_clients) +
+           " clients already (--max-clients)");
+      continue;
+    }
+    const int one = 1;
+    ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    Client c;
+    c.fd = fd;
+    c.peer = peer;
+    clients_.emplace(next_id_++, std::move(c));
+  }
+}
+
+void WsServer::read_from(int id, Client& c) {
+  char buf[16384];
+  size_t total = 0;
+  while (total < kReadPerPoll) {
+    const ssize_t r = ::recv(c.fd, buf, sizeof buf, MSG_DONTWAIT);
+    if (r > 0) {
+      if (c.state != State::closing) c.in.append(buf, size_t(r));
+      total += size_t(r);
+      if (c.state == State::http) handle_http(id, c);
+      if (clients_.find(id) == clients_.end()) return;
+      if (c.state == State::websocket) handle_frames(id, c);
+      if (clients_.find(id) == clients_.end()) return;
+      continue;
+    }
+    if (r < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) return;
+    if (r < 0 && errno == EINTR) continue;
+    // 0: the peer closed; < 0: a reset. Either way it is gone.
+    close_now(id, c, c.state == State::websocket ? "disconnected" : "");
+    return;
+  }
+}
+
+void WsServer::handle_http(int id, Client& c) {
+  HttpRequest req;
+  size_t used = 0;
+  std::string why;
+  const Parse p = parse_http_request(c.in, req, used, why);
+  if (p == Parse::incomplete) {
+    if (c.in.size() > options_.max_request)
+      drop(id, c, 431,
+           "an HTTP request head over " + std::to_string(options_.max_request) + " bytes");
+    return;
+  }
+  if (p == Parse::error) return drop(id, c, 400, "a malformed HTTP request: " + why);
+  c.in.erase(0, used);
+  const bool wants_upgrade = !req.header("Upgrade").empty();
+  if (!wants_upgrade) {
+    c.state = State::closing;
+    c.closing_since = now_s();
+    c.in.clear();
+    const std::string path = req.target.substr(0, req.target.find('?'));
+    if (req.method != "GET" && req.method != "HEAD")
+      c.out.push_back(std::make_shared<const std::string>(
+          http_response(405, "Method Not Allowed", "text/plain", "GET only\n")));
+    else if (path == "/" || path == "/index.html")
+      c.out.push_back(std::make_shared<const std::string>(
+          http_response(200, "OK", "text/html; charset=utf-8", page_)));
+    else
+      c.out.push_back(std::make_shared<const std::string>(
+          http_response(404, "Not Found", "text/plain", "not found\n")));
+    return;
+  }
+  if (const std::string problem = upgrade_problem(req); !problem.empty())
+    return drop(id, c, 400, "a bad WebSocket upgrade: " + problem);
+  c.out.push_back(std::make_shared<const std::string>(upgrade_response(req)));
+  c.state = State::websocket;
+  if (on_open) on_open(id);
+}
+
+void WsServer::handle_frames(int id, Client& c) {
+  size_t at = 0;
+  while (c.state == State::websocket) {
+    const FrameParse f = parse_frame(reinterpret_cast<const uint8_t*>(c.in.data()) + at,
+                                     c.in.size() - at, true, options_.max_message);
+    if (f.status == Parse::incomplete) break;
+    if (f.status == Parse::error) return drop(id, c, f.close_code, f.why);
+    at += f.consumed;
+    const Frame& fr = f.frame;
+    if (fr.opcode == kPing) {
+      c.out.push_back(std::make_shared<const std::string>(encode_frame(kPong, fr.payload)));
+    } else if (fr.opcode == kPong) {
+    } else if (fr.opcode == kClose) {
+      c.out.push_back(std::make_shared<const std::string>(
+          encode_frame(kClose, close_payload(kCloseNormal, ""))));
+      c.state = State::closing;
+      c.closing_since = now_s();
+      emit("nsf serve: client " + std::to_string(id) + " (" + c.peer + ") closed" +
+           (c.dropped ? ", " + std::to_string(c.dropped) + " messages dropped for it" : ""));
+    } else if (!fr.fin || fr.opcode == kContinuation) {
+      return drop(id, c, kCloseUnsupported, "a fragmented message (not accepted)");
+    } else if (on_message) {
+      const std::string why = on_message(id, fr.payload);
+      if (!why.empty()) return drop(id, c, kClosePolicy, why);
+    }
+  }
+  c.in.erase(0, at);
+}
+
+void WsServer::write_to(Client& c) {
+  while (!c.out.empty()) {
+    const std::string& m = *c.out.front();
+    const ssize_t w =
+        ::send(c.fd, m.data() + c.out_offset, m.size() - c.out_offset, MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (w < 0) {
+      if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return;
+      c.out.clear();  // a broken socket: the next read sees it go
+      c.state = State::closing;
+      return;
+    }
+    c.out_offset += size_t(w);
+    if (c.out_offset < m.size()) return;
+    c.out.pop_front();
+    c.out_offset = 0;
+  }
+}
+
+void WsServer::drop(int id, Client& c, uint16_t code, const std::string& why) {
+  ++malformed_;
+  emit("nsf serve: dropped client " + std::to_string(id) + " (" + c.peer + "): " + why);
+  // Whatever was queued for it goes unsent, except the part of a message already on the wire.
+  while (c.out.size() > (c.out_offset ? 1u : 0u)) c.out.pop_back();
+  if (c.state == State::websocket)
+    c.out.push_back(
+        std::make_shared<const std::string>(encode_frame(kClose, close_payload(code, why))));
+  else
+    c.out.push_back(std::make_shared<const std::string>(
+        http_response(code, code == 431 ? "Request Header Fields Too Large" : "Bad Request",
+                      "text/plain", why + "\n")));
+  c.state = State::closing;
+  c.closing_since = now_s();
+  c.in.clear();
+  write_to(c);
+}
+
+void WsServer::close_now(int id, Client& c, const std::string& why) {
+  if (!why.empty())
+    emit("nsf serve: client " + std::to_string(id) + " (" + c.peer + ") " + why +
+         (c.dropped ? ", " + std::to_string(c.dropped) + " messages dropped for it" : ""));
+  ::close(c.fd);
+  clients_.erase(id);
+}
+
+}  // namespace nsf::net

@@ -1,0 +1,95 @@
+#pragma once
+// A single-threaded WebSocket + HTTP server over poll() and non-blocking sockets (RFC 6455,
+// net/websocket.h). GET / answers a page given by the host; any other GET that asks for an upgrade
+// becomes a WebSocket. The host calls poll() between its own work; nothing in it blocks.
+//
+// Each client has a bounded send queue: broadcast() encodes a message once and queues it for every
+// client; a client whose queue already holds max_queue messages loses that message (counted), so a
+// slow reader never holds up the others or the host, and its memory stays bounded. A client that
+// sends anything malformed (bad HTTP, a protocol error, an oversized or fragmented message, a
+// message the host's handler rejects) is dropped with one log line.
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+namespace nsf::net {
+
+struct ServerOptions {
+  std::string bind = "127.0.0.1";  // an IPv4 address; "0.0.0.0" for every interface
+  int port = 8080;                 // 0: an ephemeral port (port() says which)
+  size_t max_message = 4096;       // bytes of one incoming message (payload)
+  size_t max_request = 8192;       // bytes of an HTTP request head
+  size_t max_queue = 64;           // messages waiting to be sent to one client
+  size_t max_clients = 256;        // open connections; more are refused with 503
+};
+
+using Message = std::shared_ptr<const std::string>;  // an encoded frame, shared by all queues
+
+class WsServer {
+ public:
+  // Binds and listens; throws nsf::Error naming the address when it cannot.
+  explicit WsServer(const ServerOptions& options);
+  ~WsServer();
+  WsServer(const WsServer&) = delete;
+  WsServer& operator=(const WsServer&) = delete;
+
+  int port() const { return port_; }
+
+  // What GET / answers (text/html).
+  void set_page(std::string html) { page_ = std::move(html); }
+  // A WebSocket opened: the host queues its first messages with send().
+  std::function<void(int client)> on_open;
+  // A text or binary message; return an empty string to accept it, else why it is malformed
+  // (the client is then dropped with that reason).
+  std::function<std::string(int client, const std::string& payload)> on_message;
+  // One line per event worth a log (a client dropped, refused or gone); default: stderr.
+  std::function<void(const std::string&)> log;
+
+  // Waits up to timeout_ms for socket events, then accepts, reads and writes what it can.
+  void poll(int timeout_ms);
+  // An encoded binary (or text) message, to one client or every open WebSocket.
+  static Message binary_message(const std::string& payload);
+  static Message text_message(const std::string& payload);
+  void send(int client, const Message& m, bool bypass_cap = false);
+  void broadcast(const Message& m);
+
+  size_t client_count() const;  // open WebSockets
+  uint64_t messages_dropped() const { return dropped_; }
+  uint64_t clients_dropped() const { return malformed_; }
+
+ private:
+  enum class State { http, websocket, closing };
+  struct Client {
+    int fd = -1;
+    std::string peer;
+    State state = State::http;
+    std::string in;
+    std::deque<Message> out;
+    size_t out_offset = 0;  // bytes of out.front() already sent
+    uint64_t dropped = 0;
+    double closing_since = 0;
+  };
+  void accept_all();
+  void read_from(int id, Client& c);
+  void handle_http(int id, Client& c);
+  void handle_frames(int id, Client& c);
+  void write_to(Client& c);
+  // Queues a close frame (or an HTTP error) and stops reading: the socket closes once it is sent.
+  void drop(int id, Client& c, uint16_t code, const std::string& why);
+  void close_now(int id, Client& c, const std::string& why);
+  void emit(const std::string& line) const;
+
+  ServerOptions options_;
+  int listen_fd_ = -1;
+  int port_ = 0;
+  std::string page_;
+  std::map<int, Client> clients_;
+  int next_id_ = 1;
+  uint64_t dropped_ = 0, malformed_ = 0;
+};
+
+}  // namespace nsf::net

@@ -1,0 +1,357 @@
+// `nsf serve` end to end (docs/SERVE.md): a tiny basis model of rom_tiny served on an ephemeral
+// port; two clients reconstruct the runtime's positions from the streamed coefficients, one moves
+// the floor and both see it move, a malformed client is dropped while the others keep receiving,
+// and GET / answers the page. Plus the protocol's parts: the messages' layouts and the commands.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <cmath>
+#include <filesystem>
+#include <thread>
+
+#include "app/serve_protocol.h"
+#include "cli_child.h"
+#include "cli_runner.h"
+#include "core/error.h"
+#include "data/sweep.h"
+#include "nn/basis_decoders.h"
+#include "nn/neural_fields.h"
+#include "nn/runtime.h"
+#include "nn/trainer.h"
+#include "rom/latent_stepper.h"
+#include "runtime/rom_setup.h"
+#include "ws_client.h"
+
+namespace fs = std::filesystem;
+using nsf::app::decode_frame;
+using nsf::app::decode_model;
+using nsf::app::StreamFrame;
+using nsf::app::StreamModel;
+using nsf::testing::WsClient;
+
+namespace {
+
+const std::string kScene =
+    (fs::path(NSF_SOURCE_DIR) / "scenes" / "examples" / "rom_tiny.json").string();
+
+TEST(ServeProtocol, CommandsAreCheckedStrictly) {
+  using nsf::app::parse_command;
+  const auto c = parse_command(R"({"type":"move","collider":1,"position":[0.1,0.2,0.3]})", 2);
+  EXPECT_EQ(c.kind, nsf::app::ServeCommand::move);
+  EXPECT_EQ(c.collider, 1u);
+  EXPECT_DOUBLE_EQ(c.position[2], 0.3);
+  EXPECT_EQ(parse_command(R"({"type":"reset"})", 0).kind, nsf::app::ServeCommand::reset);
+  for (const char* bad :
+       {"", "nope", "[]", "{}", R"({"type":"fly"})",
+        R"({"type":"move","collider":2,"position":[0,0,0]})",
+        R"({"type":"move","collider":-1,"position":[0,0,0]})",
+        R"({"type":"move","collider":0.5,"position":[0,0,0]})",
+        R"({"type":"move","collider":0,"position":[0,0]})",
+        R"({"type":"move","collider":0,"position":[0,0,"a"]})",
+        R"({"type":"move","collider":0,"position":[0,0,1e999]})",
+        R"({"type":"move","collider":0,"position":[0,0,0],"speed":1})",
+        R"({"type":"move","collider":0,"position":[0,0,0],"rotation":[2,0,0,0,1,0,0,0,1]})",
+        R"({"type":"reset","x":1})", "{\"type\":\"move\xff\"}"})
+    EXPECT_THROW(parse_command(bad, 2), nsf::Error) << bad;
+}
+
+TEST(ServeProtocol, FrameLayoutRoundTrips) {
+  Eigen::VectorXd z(3);
+  z << 0.25, -1.5, 3;
+  Eigen::VectorXf c(4);
+  c << 1, 2, 3, 4;
+  std::vector<nsf::app::StreamPose> poses(2);
+  poses[1][5] = 7;
+  const std::string m = nsf::app::frame_message(12, 0.5, 1e9, z, c, poses);
+  EXPECT_EQ(m.size(), 40u + 8 * 3 + 4 * 4 + 48 * 2);
+  const auto f = decode_frame(m);
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->frame, 12u);
+  EXPECT_EQ(f->time, 0.5);
+  EXPECT_EQ(f->z, (std::vector<double>{0.25, -1.5, 3}));
+  EXPECT_EQ(f->c, (std::vector<float>{1, 2, 3, 4}));
+  EXPECT_EQ(f->poses[1][5], 7.f);
+  EXPECT_FALSE(decode_frame(m.substr(0, m.size() - 1)));
+}
+
+class ServeEndToEnd : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    nsf::set_nn_threads(2);
+    root_ = fs::temp_directory_path() / ("nsf_serve_" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    nsf::SweepOptions so;
+    so.out_dir = (root_ / "data").string();
+    so.jobs = 2;
+    so.quiet = true;
+    nsf::run_sweep(kScene, so);
+    nsf::TrainOptions o;
+    nsf::TrainConfig& c = o.config;
+    c.net.decoder = "basis";
+    c.net.latent_dim = 3;
+    c.net.depth = 2;
+    c.net.width_g = c.net.width_h = c.net.width_l = 16;
+    c.net.encoder_hidden = 8;
+    c.net.modes = {8, 8, 8};
+    c.net.coefficient_width = 16;
+    c.net.coefficient_depth = 2;
+    c.steps = {300, 100, 100};
+    c.frames_per_batch = {4, 16, 16};
+    c.particles_per_frame = {128, 128, 128};
+    c.seed = 3;
+    c.quiet = true;
+    nsf::train_model((root_ / "data").string(), model(), o);
+  }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+  static std::string model() { return (root_ / "tiny_basis.nsf").string(); }
+
+  // Starts `nsf serve` on an ephemeral port; returns the port (0 if it never said which).
+  int start(const std::vector<std::string>& extra) {
+    // A log of its own: reading another test's log would find that server's (dead) port.
+    static int started = 0;
+    log_ = (root_ / ("serve_" + std::to_string(++started) + ".log")).string();
+    fs::remove(log_);
+    std::vector<std::string> args = {"serve",  model(), kScene, "--mu", "1.0",
+                                     "--port", "0",     "-j",   "1"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    pid_ = nsf::testing::spawn_cli(args, log_);
+    for (int i = 0; i < 600; ++i) {
+      const std::string text = nsf::testing::read_text(log_);
+      const size_t at = text.find("ws://127.0.0.1:");
+      if (at != std::string::npos) return std::stoi(text.substr(at + 15));
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return 0;
+  }
+  void TearDown() override {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGTERM);
+      nsf::testing::wait_child(pid_);
+    }
+  }
+
+  static fs::path root_;
+  pid_t pid_ = -1;
+  std::string log_;
+};
+fs::path ServeEndToEnd::root_;
+
+// The next data message (a frame or the model), skipping pings.
+std::optional<std::string> next_message(WsClient& c) {
+  for (;;) {
+    const auto f = c.next_frame(20.0);
+    if (!f || f->opcode == nsf::net::kClose) return std::nullopt;
+    if (f->opcode == nsf::net::kBinary) return f->payload;
+  }
+}
+std::optional<StreamFrame> next_frame(WsClient& c) {
+  const auto m = next_message(c);
+  return m ? decode_frame(*m) : std::nullopt;
+}
+
+TEST_F(ServeEndToEnd, ClientsReconstructTheRuntimesPositionsAndMoveAColliderTogether) {
+  const int port = start({"--fps", "30", "--frames", "2000"});
+  ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
+  WsClient a, b;
+  ASSERT_TRUE(a.connect(port));
+  ASSERT_TRUE(b.connect(port));
+
+  // Each client gets the model once, first.
+  const auto ma = next_message(a), mb = next_message(b);
+  ASSERT_TRUE(ma && mb);
+  EXPECT_EQ(*ma, *mb);
+  const std::optional<StreamModel> m = decode_model(*ma);
+  ASSERT_TRUE(m);
+  const nsf::NeuralFields fields = nsf::NeuralFields::load(model());
+  const nsf::BasisDecoders& bases = *fields.bases();
+  ASSERT_EQ(m->header.at("particles").get<size_t>(), bases.rest.size());
+  EXPECT_EQ(m->K, bases.u.K);
+  EXPECT_EQ(m->header.at("colliders").size(), 1u);
+
+  // A frame: ẑ and c; the positions a client reconstructs from c are g(ẑ), as the runtime's.
+  std::optional<StreamFrame> f = next_frame(a);
+  ASSERT_TRUE(f);
+  f = next_frame(a);  // the first may be the frame held for newcomers: take a fresh one too
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->z.size(), 3u);
+  ASSERT_EQ(f->c.size(), size_t(m->K));
+  EXPECT_EQ(f->poses.size(), 1u);
+  const std::vector<float> x = nsf::app::reconstruct(*m, f->c);
+  // The runtime stepped in this process to the same frame, on one thread like the server.
+  nsf::set_nn_threads(1);
+  nsf::RomSetup s = nsf::rom_setup(fields, kScene, 1.0, {}, 0);
+  nsf::LatentStepper stepper(const_cast<nsf::NeuralFields&>(fields), std::move(s.scene), s.mu,
+                             s.options);
+  for (uint32_t k = 0; k < f->frame; ++k) stepper.advance_frame();
+  nsf::set_nn_threads(2);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_NEAR(stepper.latent()[i], f->z[size_t(i)], 1e-9 * (1 + std::abs(f->z[size_t(i)])));
+  std::vector<nsf::Vec3> xr;
+  stepper.particle_state(xr, nullptr);
+  ASSERT_EQ(x.size(), 3 * xr.size());
+  double worst = 0;
+  for (size_t p = 0; p < xr.size(); ++p)
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, std::abs(double(x[3 * p + size_t(k)]) - double(float(xr[p][k]))));
+  EXPECT_LT(worst, 4e-7) << "frame " << f->frame << ": the streamed coefficients reconstruct "
+                         << "positions other than the runtime's (float32 spacing near 1 m: 6e-8)";
+
+  // b moves the floor up; both clients see it in later frames.
+  const float y0 = f->poses[0][1];
+  ASSERT_TRUE(b.send_text(R"({"type":"move","collider":0,"position":[0,0.2,0]})"));
+  auto sees_floor_at = [](WsClient& c, float y) {
+    for (int k = 0; k < 60; ++k) {
+      const auto g = next_frame(c);
+      if (!g) return false;
+      if (std::abs(g->poses[0][1] - y) < 1e-5) return true;
+    }
+    return false;
+  };
+  EXPECT_NEAR(y0, 0.12f, 1e-6);
+  EXPECT_TRUE(sees_floor_at(a, 0.2f));
+  EXPECT_TRUE(sees_floor_at(b, 0.2f));
+
+  // A malformed client is dropped with one log line; a and b go on without a gap.
+  WsClient bad;
+  ASSERT_TRUE(bad.connect(port));
+  ASSERT_TRUE(bad.send_text("{not json"));
+  EXPECT_TRUE(bad.closed_by_server(10.0));
+  for (WsClient* c : {&a, &b}) {
+    auto g = next_frame(*c);
+    ASSERT_TRUE(g);
+    for (int k = 0; k < 10; ++k) {
+      const auto h = next_frame(*c);
+      ASSERT_TRUE(h);
+      EXPECT_EQ(h->frame, g->frame + 1) << "a frame was lost";
+      g = h;
+    }
+  }
+  // A client flooding commands is dropped too.
+  WsClient flood;
+  ASSERT_TRUE(flood.connect(port));
+  std::string burst;
+  const uint8_t mask[4] = {1, 2, 3, 4};
+  for (int k = 0; k < 200; ++k)
+    burst += nsf::net::encode_frame(nsf::net::kText,
+                                    R"({"type":"move","collider":0,"position":[0,0.2,0]})", mask);
+  ASSERT_TRUE(flood.send_raw(burst));
+  EXPECT_TRUE(flood.closed_by_server(10.0));
+  ASSERT_TRUE(next_frame(a));
+  const std::string log = nsf::testing::read_text(log_);
+  size_t drops = 0;
+  for (size_t at = log.find("dropped client"); at != std::string::npos;
+       at = log.find("dropped client", at + 1))
+    ++drops;
+  EXPECT_EQ(drops, 2u) << log;
+  EXPECT_NE(log.find("over 64 commands in one frame"), std::string::npos) << log;
+  EXPECT_NE(log.find("a command that is not JSON"), std::string::npos) << log;
+
+  // The page, from the same port.
+  WsClient browser;
+  const std::string page = browser.http_get(port, "/");
+  EXPECT_EQ(page.rfind("HTTP/1.1 200 OK", 0), 0u);
+  EXPECT_NE(page.find("new WebSocket("), std::string::npos);
+  EXPECT_NE(page.find("NSFF"), std::string::npos);
+}
+
+TEST_F(ServeEndToEnd, RefusesABadAddressAndAnMlpModelAndStopsAfterItsFrames) {
+  const auto bad = nsf::testing::run_cli("serve '" + model() + "' '" + kScene +
+                                         "' --mu 1.0 --bind localhost --port 0");
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_NE(bad.output.find("not an IPv4 address"), std::string::npos) << bad.output;
+  // A model with MLP decoders has no coefficients to stream.
+  nsf::TrainOptions o;
+  o.config.net.decoder = "mlp";
+  o.config.net.latent_dim = 2;
+  o.config.net.depth = 2;
+  o.config.net.width_g = o.config.net.width_h = o.config.net.width_l = 8;
+  o.config.net.encoder_hidden = 4;
+  o.config.steps = {5, 2, 2};
+  o.config.quiet = true;
+  const std::string mlp = (root_ / "tiny_mlp.nsf").string();
+  nsf::train_model((root_ / "data").string(), mlp, o);
+  const auto refused =
+      nsf::testing::run_cli("serve '" + mlp + "' '" + kScene + "' --mu 1.0 --port 0");
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_NE(refused.output.find("MLP decoders"), std::string::npos) << refused.output;
+  const auto run = nsf::testing::run_cli("serve '" + model() + "' '" + kScene +
+                                         "' --mu 1.0 --port 0 --fps 0 --frames 5 -j 1");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("nsf serve: 5 frames"), std::string::npos) << run.output;
+}
+
+}  // namespace
+
+namespace {
+
+// Runs `command` and returns its standard output.
+std::string capture(const std::string& command) {
+  std::string out;
+  if (FILE* p = ::popen(command.c_str(), "r")) {
+    char buf[65536];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    ::pclose(p);
+  }
+  return out;
+}
+
+// The text of <pre id="ID"> in a dumped DOM ("" when absent or empty).
+std::string pre_text(const std::string& dom, const std::string& id) {
+  const std::string open = "<pre id=\"" + id + "\">";
+  const size_t a = dom.find(open);
+  if (a == std::string::npos) return "";
+  const size_t b = dom.find("</pre>", a);
+  return dom.substr(a + open.size(), b - a - open.size());
+}
+
+}  // namespace
+
+// The page in headless Chromium (Debian's `chromium`): it connects, reconstructs a frame in
+// JavaScript, and its positions are the runtime's at that frame's latent to float32 precision; it
+// also draws them (WebGL, software) into a PNG it leaves in the DOM.
+TEST_F(ServeEndToEnd, PageInHeadlessChromiumReconstructsTheRuntimesPositions) {
+  if (std::system("command -v chromium >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "no chromium on this machine (scripts/install-deps.sh installs it)";
+  const int port = start({"--fps", "20", "--frames", "100000"});
+  ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
+  // A profile of its own (a second chromium on a shared profile hands its page to the first and
+  // exits), its messages kept for a failure.
+  const std::string profile = (root_ / "chromium_profile").string(),
+                    err = (root_ / "chromium.err").string();
+  std::string dump, dom;
+  for (int attempt = 0; attempt < 3 && dump.empty(); ++attempt) {
+    dom = capture(
+        "timeout 120 chromium --headless --no-sandbox --enable-unsafe-swiftshader "
+        "--no-first-run --user-data-dir='" +
+        profile +
+        "' --window-size=320,240 "
+        "--virtual-time-budget=10000 --dump-dom 'http://127.0.0.1:" +
+        std::to_string(port) + "/?dump=3' 2>'" + err + "'");
+    dump = pre_text(dom, "dump");
+  }
+  ASSERT_FALSE(dump.empty()) << "the page wrote no positions; its DOM:\n"
+                             << dom.substr(0, 2000) << "\nchromium said:\n"
+                             << nsf::testing::read_text(err).substr(0, 4000);
+  const nlohmann::json j = nlohmann::json::parse(dump);
+  const uint32_t frame = j.at("frame");
+  EXPECT_GE(frame, 3u);
+  const std::vector<double> x = j.at("positions");
+
+  // The runtime's positions at the page's latent: g(X, ẑ), as nsf::Runtime::positions gives them
+  // (that the streamed ẑ is the stepper's own is checked above).
+  const nsf::NeuralFields fields = nsf::NeuralFields::load(model());
+  const std::vector<double> z = j.at("z");
+  ASSERT_EQ(z.size(), 3u);
+  std::vector<nsf::Vec3> xr;
+  fields.deform(fields.prepare(fields.bases()->rest),
+                Eigen::Map<const Eigen::VectorXd>(z.data(), 3), xr);
+  ASSERT_EQ(x.size(), 3 * xr.size());
+  double worst = 0;
+  for (size_t p = 0; p < xr.size(); ++p)
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, std::abs(x[3 * p + size_t(k)] - double(float(xr[p][k]))));
+  EXPECT_LT(worst, 4e-7) << "frame " << frame << ": the page's positions are not the runtime's";
+  EXPECT_EQ(pre_text(dom, "snapshot").rfind("data:image/png;base64,", 0), 0u)
+      << "the page drew nothing";
+}

@@ -1,0 +1,270 @@
+// The WebSocket server of `nsf serve` (src/net/ws_server.h) on loopback: the page, broadcasts to
+// several clients, malformed clients dropped while the others keep receiving, a slow client losing
+// messages instead of stalling anyone, and a bounded fuzz of hostile clients (zero crashes).
+#include <gtest/gtest.h>
+#include <sys/socket.h>
+
+#include <atomic>
+#include <mutex>
+#include <random>
+#include <thread>
+#include <vector>
+
+#include "core/error.h"
+#include "net/websocket.h"
+#include "net/ws_server.h"
+#include "ws_client.h"
+
+namespace {
+
+using nsf::net::Message;
+using nsf::net::ServerOptions;
+using nsf::net::WsServer;
+using nsf::testing::WsClient;
+
+// The server polled on its own thread; `tick` runs on it between polls (the host's work).
+class Running {
+ public:
+  explicit Running(ServerOptions o, std::function<void(WsServer&)> tick = {})
+      : server_(o), tick_(std::move(tick)) {
+    server_.set_page("<html>the page</html>");
+    server_.log = [this](const std::string& l) {
+      std::lock_guard<std::mutex> g(m_);
+      log_.push_back(l);
+    };
+    server_.on_message = [](int, const std::string& p) -> std::string {
+      return p.rfind("ok", 0) == 0 ? "" : "not a command";
+    };
+    thread_ = std::thread([this] {
+      while (!stop_) {
+        server_.poll(2);
+        if (tick_) tick_(server_);
+      }
+    });
+  }
+  ~Running() {
+    stop_ = true;
+    thread_.join();
+  }
+  int port() const { return server_.port(); }
+  WsServer& server() { return server_; }
+  std::vector<std::string> log() {
+    std::lock_guard<std::mutex> g(m_);
+    return log_;
+  }
+
+ private:
+  WsServer server_;
+  std::function<void(WsServer&)> tick_;
+  std::atomic<bool> stop_{false};
+  std::mutex m_;
+  std::vector<std::string> log_;
+  std::thread thread_;
+};
+
+ServerOptions ephemeral() {
+  ServerOptions o;
+  o.port = 0;
+  return o;
+}
+
+// Broadcasts "m<n>" every tick, n counting up.
+std::function<void(WsServer&)> counter(std::atomic<int>& n) {
+  return [&n](WsServer& s) { s.broadcast(WsServer::text_message("m" + std::to_string(n++))); };
+}
+
+// Reads `count` text messages and checks they count up without a gap.
+bool receives_in_order(WsClient& c, int count) {
+  int last = -1;
+  for (int k = 0; k < count; ++k) {
+    const auto f = c.next_frame(5.0);
+    if (!f || f->opcode != nsf::net::kText) return false;
+    const int v = std::stoi(f->payload.substr(1));
+    if (last >= 0 && v != last + 1) return false;
+    last = v;
+  }
+  return true;
+}
+
+TEST(NetServer, ServesThePageAndRefusesOtherPaths) {
+  Running r(ephemeral());
+  WsClient a, b, c;
+  const std::string page = a.http_get(r.port(), "/");
+  EXPECT_EQ(page.rfind("HTTP/1.1 200 OK", 0), 0u) << page;
+  EXPECT_NE(page.find("<html>the page</html>"), std::string::npos);
+  EXPECT_EQ(b.http_get(r.port(), "/etc/passwd").rfind("HTTP/1.1 404", 0), 0u);
+  EXPECT_EQ(c.http_get(r.port(), "/").find("Connection: close"), page.find("Connection: close"));
+}
+
+TEST(NetServer, AnswersPingsAndRefusesConnectionsOverTheCap) {
+  ServerOptions o = ephemeral();
+  o.max_clients = 2;
+  Running r(o);
+  WsClient a, b, c;
+  ASSERT_TRUE(a.connect(r.port()));
+  ASSERT_TRUE(a.send_frame(nsf::net::kPing, "hello"));
+  const auto pong = a.next_frame(5.0);
+  ASSERT_TRUE(pong);
+  EXPECT_EQ(pong->opcode, nsf::net::kPong);
+  EXPECT_EQ(pong->payload, "hello");
+  ASSERT_TRUE(b.connect(r.port()));
+  ASSERT_TRUE(c.connect_tcp(r.port()));
+  EXPECT_EQ(c.read_until_eof().rfind("HTTP/1.1 503", 0), 0u);
+  // A close is answered with a close, and the slot is free again.
+  ASSERT_TRUE(a.send_frame(nsf::net::kClose, nsf::net::close_payload(1000, "")));
+  EXPECT_TRUE(a.closed_by_server(5.0));
+  WsClient d;
+  bool connected = false;
+  for (int i = 0; i < 50 && !connected; ++i) {
+    connected = d.connect(r.port());
+    if (!connected) {
+      d.close();
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+  EXPECT_TRUE(connected);
+}
+
+TEST(NetServer, BindsWhereToldAndRefusesBadAddresses) {
+  ServerOptions o = ephemeral();
+  o.bind = "localhost";
+  EXPECT_THROW(WsServer{o}, nsf::Error);
+  o.bind = "127.0.0.1";
+  WsServer s(o);
+  ServerOptions taken = o;
+  taken.port = s.port();
+  EXPECT_THROW(WsServer{taken}, nsf::Error);  // the port is in use
+}
+
+TEST(NetServer, MalformedClientsAreDroppedWhileOthersKeepReceiving) {
+  std::atomic<int> n{0};
+  Running r(ephemeral(), counter(n));
+  WsClient good1, good2;
+  ASSERT_TRUE(good1.connect(r.port()));
+  ASSERT_TRUE(good2.connect(r.port()));
+  EXPECT_TRUE(good1.send_text("ok move"));
+  ASSERT_TRUE(receives_in_order(good1, 20));
+
+  const std::vector<std::function<void(WsClient&)>> hostile = {
+      [](WsClient& c) { c.send_raw(nsf::net::encode_frame(nsf::net::kText, "unmasked")); },
+      [](WsClient& c) { c.send_text("not ok"); },                // the handler rejects it
+      [](WsClient& c) { c.send_text(std::string(5000, 'o')); },  // over max_message
+      [](WsClient& c) { c.send_frame(nsf::net::kText, "ok part", false); },  // fragmented
+      [](WsClient& c) { c.send_raw(std::string("\x83\x80\1\2\3\4", 6)); },   // opcode 3
+  };
+  for (size_t k = 0; k < hostile.size(); ++k) {
+    WsClient bad;
+    ASSERT_TRUE(bad.connect(r.port()));
+    hostile[k](bad);
+    EXPECT_TRUE(bad.closed_by_server(5.0)) << "hostile client " << k;
+    EXPECT_TRUE(receives_in_order(good1, 10)) << k;
+    EXPECT_TRUE(receives_in_order(good2, 10)) << k;
+  }
+  // Each dropped client is one log line naming it and why.
+  const auto log = r.log();
+  int drops = 0;
+  for (const auto& l : log) drops += l.find("dropped client") != std::string::npos;
+  EXPECT_EQ(drops, int(hostile.size()));
+  EXPECT_EQ(r.server().clients_dropped(), hostile.size());
+  // A bad HTTP request and an oversized one get an HTTP error and a close.
+  WsClient h1, h2;
+  ASSERT_TRUE(h1.connect_tcp(r.port()));
+  h1.send_raw("BLAH\r\n\r\n");
+  EXPECT_EQ(h1.read_until_eof().rfind("HTTP/1.1 400", 0), 0u);
+  ASSERT_TRUE(h2.connect_tcp(r.port()));
+  h2.send_raw("GET / HTTP/1.1\r\n" + std::string(10000, 'x'));
+  EXPECT_EQ(h2.read_until_eof().rfind("HTTP/1.1 431", 0), 0u);
+  EXPECT_TRUE(receives_in_order(good2, 10));
+}
+
+TEST(NetServer, ASlowClientLosesMessagesAndStallsNoOne) {
+  ServerOptions o = ephemeral();
+  o.max_queue = 8;
+  std::atomic<int> sent{0};
+  std::atomic<bool> go{false};
+  const std::string big(64 * 1024, 'b');
+  const int total = 300;  // 19 MB: more than any socket buffer holds
+  Running r(o, [&](WsServer& s) {
+    if (!go || sent >= total) return;
+    s.broadcast(WsServer::text_message("m" + std::to_string(sent++) + big));
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  });
+  WsClient slow, fast;
+  ASSERT_TRUE(slow.connect(r.port()));  // never reads
+  ASSERT_TRUE(fast.connect(r.port()));
+  go = true;
+  int got = 0, last = -1;
+  bool in_order = true;
+  while (got < total) {
+    const auto f = fast.next_frame(10.0);
+    if (!f) break;
+    const int v = std::stoi(f->payload.substr(1, f->payload.size() - 1 - big.size()));
+    in_order = in_order && v == last + 1;
+    last = v;
+    ++got;
+  }
+  EXPECT_EQ(got, total) << "the fast client lost messages";
+  EXPECT_TRUE(in_order);
+  EXPECT_GT(r.server().messages_dropped(), 0u) << "the slow client's queue never filled";
+  EXPECT_EQ(r.server().client_count(), 2u) << "the slow client was disconnected";
+}
+
+// Random bytes, mutated handshakes and frames, and connections cut mid-message, from many short
+// clients; the server must survive them all and still serve a good client.
+TEST(NetServer, BoundedFuzzOfHostileClientsCrashesNothing) {
+  std::atomic<int> n{0};
+  ServerOptions o = ephemeral();
+  o.max_message = 256;
+  Running r(o, counter(n));
+  WsClient watcher;
+  ASSERT_TRUE(watcher.connect(r.port()));
+  std::mt19937 rng(27);
+  auto byte = [&] { return char(rng()); };
+  const std::string handshake =
+      "GET / HTTP/1.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+      "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n";
+  const uint8_t mask[4] = {1, 2, 3, 4};
+  const int rounds = 300;
+  for (int k = 0; k < rounds; ++k) {
+    WsClient c;
+    ASSERT_TRUE(c.connect_tcp(r.port())) << k;
+    std::string msg;
+    switch (k % 4) {
+      case 0:  // random bytes
+        for (int i = int(rng() % 400); i > 0; --i) msg += byte();
+        break;
+      case 1: {  // a handshake with a few bytes flipped
+        msg = handshake;
+        for (int i = int(rng() % 4); i >= 0; --i) msg[rng() % msg.size()] = byte();
+        break;
+      }
+      default: {  // a good handshake, then frames with mutations, cut anywhere
+        msg = handshake;
+        for (int f = 0; f < 3; ++f) {
+          std::string fr = nsf::net::encode_frame(uint8_t(rng() % 11),
+                                                  std::string(rng() % 300, 'o'), mask, rng() % 4);
+          for (int i = int(rng() % 3); i > 0; --i) fr[rng() % fr.size()] = byte();
+          msg += fr;
+        }
+        msg.resize(handshake.size() + rng() % (msg.size() - handshake.size() + 1));
+      }
+    }
+    c.send_raw(msg);
+    if (k % 3 == 0) {
+      // Abrupt: a reset instead of a close.
+      linger l{1, 0};
+      ::setsockopt(c.fd(), SOL_SOCKET, SO_LINGER, &l, sizeof l);
+    }
+    c.close();
+    if (k % 50 == 0) {
+      ASSERT_TRUE(receives_in_order(watcher, 3)) << "after round " << k;
+    }
+  }
+  EXPECT_TRUE(receives_in_order(watcher, 10));
+  EXPECT_GT(r.server().clients_dropped(), uint64_t(rounds / 4)) << "the fuzz reached no parser";
+  WsClient late;
+  ASSERT_TRUE(late.connect(r.port()));
+  EXPECT_TRUE(receives_in_order(late, 10));
+}
+
+}  // namespace
