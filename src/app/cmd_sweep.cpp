@@ -56,16 +56,7 @@ void sweep(const SweepArgs& a, SweepRanks& ranks) {
 
 void run_sweep_command(const SweepArgs& a) {
   SweepRanks ranks;
-  try {
-    sweep(a, ranks);
-  } catch (const std::exception& e) {
-    if (ranks.size() == 1) throw;
-    // The other processes may be waiting for this one: end the job.
-    std::fprintf(stderr, "\nnsf: error (process %d of %d): %s\n", ranks.rank(), ranks.size(),
-                 e.what());
-    std::fflush(stderr);
-    ranks.abort(1);
-  }
+  ranks.run([&] { sweep(a, ranks); });
 }
 
 }  // namespace

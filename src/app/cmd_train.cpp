@@ -381,16 +381,7 @@ void add_nn_commands(CLI::App& app) {
     for (const std::string& dir : a->opt.rom_latents)
       if (!std::filesystem::is_directory(dir)) fail("--rom-latents ", dir, ": no such directory");
     SweepRanks ranks;  // MPI, when mpirun started this process (app/train_team.h)
-    try {
-      run_train(*a, ranks);
-    } catch (const std::exception& e) {
-      if (ranks.size() == 1) throw;
-      // The other processes may be waiting for this one in a collective: end the job.
-      std::fprintf(stderr, "\nnsf: error (process %d of %d): %s\n", ranks.rank(), ranks.size(),
-                   e.what());
-      std::fflush(stderr);
-      ranks.abort(1);
-    }
+    ranks.run([&] { run_train(*a, ranks); });
   });
   add_eval_command(app);
 }

@@ -3,32 +3,18 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <thread>
 
+#include "app/mpi_call.h"
 #include "core/error.h"
-
-// NSF_WITH_MPI: set by CMake unless configured with -DNSF_WITH_MPI=OFF.
-#if NSF_WITH_MPI
-// MPI's C interface only: its C++ bindings (gone from the standard) need another library.
-#define OMPI_SKIP_MPICXX 1
-#define MPICH_SKIP_MPICXX 1
-#include <mpi.h>
-#endif
 
 namespace nsf::app {
 
 #if NSF_WITH_MPI
 namespace {
-
-void check(int code, const char* what) {
-  if (code == MPI_SUCCESS) return;
-  char text[MPI_MAX_ERROR_STRING];
-  int length = 0;
-  MPI_Error_string(code, text, &length);
-  fail("MPI: ", what, ": ", std::string(text, size_t(length)));
-}
 
 // The sweep's processes over MPI_COMM_WORLD. Process 0 decides what is pending and writes the
 // manifest.
@@ -40,10 +26,10 @@ class MpiTeam : public SweepTeam {
     // Process 0's view decides, so that every run goes to exactly one process even where
     // processes see the shared folder differently (a network file system's caches).
     int count = int(pending.size());
-    check(MPI_Bcast(&count, 1, MPI_INT, 0, MPI_COMM_WORLD), "broadcast of the pending runs");
+    check_mpi(MPI_Bcast(&count, 1, MPI_INT, 0, MPI_COMM_WORLD), "broadcast of the pending runs");
     std::vector<int> all = rank_ == 0 ? pending : std::vector<int>(size_t(count));
-    check(MPI_Bcast(all.data(), count, MPI_INT, 0, MPI_COMM_WORLD),
-          "broadcast of the pending runs");
+    check_mpi(MPI_Bcast(all.data(), count, MPI_INT, 0, MPI_COMM_WORLD),
+              "broadcast of the pending runs");
     std::vector<int> mine;
     for (int k = rank_; k < count; k += size_) mine.push_back(all[size_t(k)]);
     return mine;
@@ -53,14 +39,14 @@ class MpiTeam : public SweepTeam {
                const std::function<void(const std::vector<int>&)>& write_manifest) override {
     int count = int(done.size());
     std::vector<int> counts(size_t(size_), 0), offsets(size_t(size_), 0);
-    check(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD),
-          "gathering the finished runs");
+    check_mpi(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD),
+              "gathering the finished runs");
     for (int r = 1; r < size_; ++r)
       offsets[size_t(r)] = offsets[size_t(r - 1)] + counts[size_t(r - 1)];
     std::vector<int> all(rank_ == 0 ? size_t(offsets.back() + counts.back()) : 0);
-    check(MPI_Gatherv(done.data(), count, MPI_INT, all.data(), counts.data(), offsets.data(),
-                      MPI_INT, 0, MPI_COMM_WORLD),
-          "gathering the finished runs");
+    check_mpi(MPI_Gatherv(done.data(), count, MPI_INT, all.data(), counts.data(), offsets.data(),
+                          MPI_INT, 0, MPI_COMM_WORLD),
+              "gathering the finished runs");
     std::exception_ptr error;
     if (rank_ == 0) {
       std::sort(all.begin(), all.end());
@@ -72,7 +58,7 @@ class MpiTeam : public SweepTeam {
     }
     // No process goes on (and may end the job on an error of its own) before the manifest is
     // written.
-    check(MPI_Barrier(MPI_COMM_WORLD), "waiting for the manifest");
+    check_mpi(MPI_Barrier(MPI_COMM_WORLD), "waiting for the manifest");
     if (error) std::rethrow_exception(error);
   }
 
@@ -98,13 +84,13 @@ SweepRanks::SweepRanks() {
 #else
   // Only this (the main) thread calls MPI; the simulation threads never do.
   int provided = 0;
-  check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided), "initialisation");
+  check_mpi(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided), "initialisation");
   mpi_ = true;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
   MPI_Comm local;
-  check(MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &local),
-        "finding the processes on this machine");
+  check_mpi(MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &local),
+            "finding the processes on this machine");
   MPI_Comm_size(local, &local_size_);
   MPI_Comm_free(&local);
   if (size_ > 1) team_ = std::make_unique<MpiTeam>(rank_, size_);
@@ -122,6 +108,17 @@ int SweepRanks::cores() const {
   if (local_size_ <= 1) return usable;
   const int machine = std::max(1, int(std::thread::hardware_concurrency()));
   return std::max(1, std::min(usable, machine / local_size_));
+}
+
+void SweepRanks::run(const std::function<void()>& body) const {
+  try {
+    body();
+  } catch (const std::exception& e) {
+    if (size_ == 1) throw;
+    std::fprintf(stderr, "\nnsf: error (process %d of %d): %s\n", rank_, size_, e.what());
+    std::fflush(stderr);
+    abort(1);
+  }
 }
 
 void SweepRanks::abort(int code) const {

@@ -4,6 +4,7 @@
 // i mod K; each writes its runs as one process would (temporary file, then rename); process 0
 // writes the manifest once all have finished. Started without a launcher, nothing of MPI is
 // touched and the sweep runs in this one process, as it always did.
+#include <functional>
 #include <memory>
 
 #include "data/sweep.h"
@@ -31,6 +32,10 @@ class SweepRanks {
   // After an error on this process: ends every process of the job (MPI_Abort), so that none
   // waits forever for this one. Their runs in progress are lost; finished runs stay.
   [[noreturn]] void abort(int code) const;
+  // Runs `body`. An error on one process of several is printed with the process's number and
+  // ends the job (abort), since the others may be waiting for this one in a collective; a single
+  // process rethrows it.
+  void run(const std::function<void()>& body) const;
 
  private:
   bool mpi_ = false;

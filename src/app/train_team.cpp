@@ -6,27 +6,13 @@
 #include <string>
 #include <thread>
 
+#include "app/mpi_call.h"
 #include "core/error.h"
-
-// NSF_WITH_MPI: set by CMake unless configured with -DNSF_WITH_MPI=OFF.
-#if NSF_WITH_MPI
-#define OMPI_SKIP_MPICXX 1
-#define MPICH_SKIP_MPICXX 1
-#include <mpi.h>
-#endif
 
 namespace nsf::app {
 
 #if NSF_WITH_MPI
 namespace {
-
-void check(int code, const char* what) {
-  if (code == MPI_SUCCESS) return;
-  char text[MPI_MAX_ERROR_STRING];
-  int length = 0;
-  MPI_Error_string(code, text, &length);
-  fail("MPI: ", what, ": ", std::string(text, size_t(length)));
-}
 
 // MPI counts are ints: longer buffers go in pieces.
 constexpr size_t kPiece = size_t(INT_MAX) / 2;
@@ -38,7 +24,7 @@ constexpr size_t kPiece = size_t(INT_MAX) / 2;
 void wait_for(MPI_Request& request, const char* what) {
   for (;;) {
     int done = 0;
-    check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), what);
+    check_mpi(MPI_Test(&request, &done, MPI_STATUS_IGNORE), what);
     if (done) return;
     std::this_thread::sleep_for(std::chrono::microseconds(50));
   }
@@ -58,9 +44,9 @@ class MpiGradientTeam : public GradientTeam {
     // partial sum is formed once, or by commutative pairs, which floats add exactly alike.
     for (size_t at = 0; at < n; at += kPiece) {
       MPI_Request request;
-      check(MPI_Iallreduce(MPI_IN_PLACE, data + at, int(std::min(kPiece, n - at)), MPI_FLOAT,
-                           MPI_SUM, MPI_COMM_WORLD, &request),
-            "summing the gradients");
+      check_mpi(MPI_Iallreduce(MPI_IN_PLACE, data + at, int(std::min(kPiece, n - at)), MPI_FLOAT,
+                               MPI_SUM, MPI_COMM_WORLD, &request),
+                "summing the gradients");
       wait_for(request, "summing the gradients");
     }
   }
@@ -69,13 +55,13 @@ class MpiGradientTeam : public GradientTeam {
     const char* what = "broadcast from process 0";
     unsigned long long length = bytes.size();
     MPI_Request request;
-    check(MPI_Ibcast(&length, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD, &request), what);
+    check_mpi(MPI_Ibcast(&length, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD, &request), what);
     wait_for(request, what);
     bytes.resize(size_t(length));
     for (size_t at = 0; at < bytes.size(); at += kPiece) {
-      check(MPI_Ibcast(bytes.data() + at, int(std::min(kPiece, bytes.size() - at)), MPI_CHAR, 0,
-                       MPI_COMM_WORLD, &request),
-            what);
+      check_mpi(MPI_Ibcast(bytes.data() + at, int(std::min(kPiece, bytes.size() - at)), MPI_CHAR, 0,
+                           MPI_COMM_WORLD, &request),
+                what);
       wait_for(request, what);
     }
   }
