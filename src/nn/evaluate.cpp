@@ -71,6 +71,10 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
   const SmoothFit smooth(X, object, o.poly_degree);
   std::optional<HeldOutPoints> held;
   if (o.held_out_stride > 0) held.emplace(nf, o.held_out_stride, o.interpolation, o.neighbours);
+  // The held-out particles read the fields of every particle: those of the subset when it is all
+  // of them, else their own evaluation.
+  std::optional<NeuralFields::Points> all_pts;
+  if (held && n < P) all_pts.emplace(nf.prepare(data.rest_positions()));
   std::optional<FrameLatentRefiner> refiner;
   if (o.refine_iterations > 0)
     refiner.emplace(nf.model(), data.rest_positions(), o.refine_iterations);
@@ -113,7 +117,15 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
         x_true[i] = full[p], tau_true[i] = t, C_true[i] = c;
       }
       add_grid_force_error(x_true, volume, tau, tau_true, data.domain_lo(), data.grid_dx(), force);
-      if (held) held->add_frame(nf, z, run.mu, full, f.tau.data(), f.C.data());
+      if (held && !all_pts) held->add_frame(x, tau, C, full, f.tau.data(), f.C.data());
+      if (all_pts) {
+        std::vector<Vec3> xa;
+        std::vector<Mat3> ta, ca;
+        nf.deform(*all_pts, z, xa);
+        nf.stress(*all_pts, z, run.mu, ta);
+        nf.affine(*all_pts, z, ca);
+        held->add_frame(xa, ta, ca, full, f.tau.data(), f.C.data());
+      }
       smooth.add_residual(tau_true, stress_poly_fit);
       smooth.add_residual(C_true, affine_poly_fit);
       if (bases) {

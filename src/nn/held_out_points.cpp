@@ -25,7 +25,6 @@ HeldOutPoints::HeldOutPoints(const NeuralFields& nf, size_t stride, const std::s
     }
   }
   weights_ = interpolate_points(others_X, held_X, scheme, neighbours);
-  all_ = nf.prepare(X_);
 }
 
 void HeldOutPoints::start() {
@@ -33,13 +32,9 @@ void HeldOutPoints::start() {
   stress_ = affine_ = own_stress_ = own_affine_ = ErrorSum();
 }
 
-void HeldOutPoints::add_frame(const NeuralFields& nf, const Latent& z, double mu,
-                              const std::vector<Vec3>& x, const float* tau, const float* C) {
-  std::vector<Vec3> xm;
-  std::vector<Mat3> tm, cm;
-  nf.deform(all_, z, xm);
-  nf.stress(all_, z, mu, tm);
-  nf.affine(all_, z, cm);
+void HeldOutPoints::add_frame(const std::vector<Vec3>& xm, const std::vector<Mat3>& tm,
+                              const std::vector<Mat3>& cm, const std::vector<Vec3>& x,
+                              const float* tau, const float* C) {
   for (size_t i = 0; i < held_.size(); ++i) {
     // The displacement x − X is what varies smoothly between particles: read it, then add X.
     Vec3 u = Vec3::Zero();

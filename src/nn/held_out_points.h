@@ -27,10 +27,11 @@ class HeldOutPoints {
   // nothing to interpolate), a stride < 2, or an unknown scheme.
   HeldOutPoints(const NeuralFields& nf, size_t stride, const std::string& scheme, int neighbours);
 
-  // One frame: the model's fields at latent z (and μ) against the truth at every particle
-  // (x: 3|P| positions, tau: 6|P| as stored, C: 9|P| row-major).
-  void add_frame(const NeuralFields& nf, const Latent& z, double mu, const std::vector<Vec3>& x,
-                 const float* tau, const float* C);
+  // One frame: the model's fields at every particle (xm, tm, cm, in particle order) against
+  // the truth (x: positions, tau: 6|P| as stored, C: 9|P| row-major).
+  void add_frame(const std::vector<Vec3>& xm, const std::vector<Mat3>& tm,
+                 const std::vector<Mat3>& cm, const std::vector<Vec3>& x, const float* tau,
+                 const float* C);
   // The sums so far as errors; start() clears them for the next run.
   HeldOutErrors errors() const;
   void start();
@@ -38,7 +39,6 @@ class HeldOutPoints {
  private:
   std::vector<size_t> held_, others_;
   PointInterpolation weights_;  // held-out point → entries of others_
-  NeuralFields::Points all_;
   std::vector<Vec3> X_;
   double ex_ = 0, nx_ = 0, own_ex_ = 0;
   ErrorSum stress_, affine_, own_stress_, own_affine_;
