@@ -9,24 +9,9 @@
 set -euo pipefail
 nsf=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 mpirun=${2:-mpirun}
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/nsf_mpi.XXXXXX")
-mpirun_pid=""
-cleanup() {
-  if [[ -n "$mpirun_pid" ]]; then kill -9 "$mpirun_pid" 2>/dev/null || true; fi
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-die() {
-  echo "check_mpi_sweep: $*" >&2
-  exit 1
-}
-step() { echo "== $* ($SECONDS s)"; }
-
-# Open MPI refuses to run as root unless told; a container has no cross-memory attach for the
-# shared-memory transport and may have fewer cores than processes (--oversubscribe); binding
-# each process to one core is left to the cluster.
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-export OMPI_MCA_btl_vader_single_copy_mechanism=none
+check=check_mpi_sweep
+# shellcheck source=tests/mpi_localhost.sh
+source "$(dirname "$0")/mpi_localhost.sh"
 two=("$mpirun" --oversubscribe --bind-to none -np 2 "$nsf" sweep)
 
 # Four runs of a soft bar of 864 particles thrown onto the floor, a few seconds each.

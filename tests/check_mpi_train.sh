@@ -18,22 +18,9 @@ set -euo pipefail
 nsf=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 src=$(cd "$2" && pwd)
 mpirun=${3:-mpirun}
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/nsf_mpi_train.XXXXXX")
-mpirun_pid=""
-cleanup() {
-  if [[ -n "$mpirun_pid" ]]; then kill -9 "$mpirun_pid" 2>/dev/null || true; fi
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
-die() {
-  echo "check_mpi_train: $*" >&2
-  exit 1
-}
-step() { echo "== $* ($SECONDS s)"; }
-
-# As tests/check_mpi_sweep.sh: root allowed, no cross-memory attach, more processes than cores.
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-export OMPI_MCA_btl_vader_single_copy_mechanism=none
+check=check_mpi_train
+# shellcheck source=tests/mpi_localhost.sh
+source "$(dirname "$0")/mpi_localhost.sh"
 two=("$mpirun" --oversubscribe --bind-to none -np 2 "$nsf" train)
 
 cd "$tmp"
