@@ -31,6 +31,22 @@ TEST(RomResults, TablePrintsMeasuredAndPaperFiguresPerScene) {
                            "| 50 | 3456 | 2 mm | 1.23% | 71% | 2.50× | 200.0 | 500.0 | 400 / 300 |",
                            "| 20 | 30 | 1 |", "71,363, 0.4%", "results/sand_small.png"})
     EXPECT_NE(md.find(part), std::string::npos) << "missing '" << part << "' in\n" << md;
+  // The baselines' section: a dash for each one the row did not measure.
+  EXPECT_NE(md.find("| sand_small | 31.25 | 1.23% | 2.50× | — | — | — | — | — |"),
+            std::string::npos)
+      << md;
+  r.baselines.lookup_delta = 0.004, r.baselines.lookup_mu = 30;
+  r.baselines.interp_delta = 0.0021, r.baselines.interp_mu_lo = 27.5;
+  r.baselines.interp_mu_hi = 30, r.baselines.interp_extrapolated = true;
+  r.baselines.coarse_delta = 0.03, r.baselines.coarse_seconds = 0.5;
+  r.baselines.coarse_particles = 1500, r.baselines.coarse_scene = "sand_small at 1.5x dx";
+  const auto with = nsf::result_json(r, "s.json", "m.nsf", "p.png", "");
+  EXPECT_EQ(with.at("coarse_speedup").get<double>(), 10.0);  // 5 s of full order over 0.5 s
+  const std::string md_with = nsf::results_markdown({with}, "nsf report");
+  EXPECT_NE(md_with.find("| 0.40% (30) | 0.21% (extrapolated) | 3.00% | 10.00× | sand_small at "
+                         "1.5x dx, 1500 particles |"),
+            std::string::npos)
+      << md_with;
   // Rows stored before the stress error was measured show a dash, not a made-up figure.
   nlohmann::json old = row;
   old.erase("stress_error");

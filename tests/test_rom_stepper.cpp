@@ -6,6 +6,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -892,6 +893,55 @@ TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
                                          "' --mu 1.0 --no-full-order --latent-prior -1");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_THAT(bad.output, HasSubstr("--latent-prior"));
+}
+
+// The baselines beside the ROM (app/baselines.h; issue #25 point 4): `nsf rom --baselines DATA
+// --coarse-factor k` prints look-up, interpolation and the coarse engine, and its JSON row holds
+// them under the keys docs/results uses; bad baseline inputs stop the run before it starts.
+TEST_F(RomEndToEnd, BaselinesSitBesideTheRomInItsSummaryAndRow) {
+  const std::string row = (root_ / "baselines_row.json").string();
+  const std::string data = (root_ / "data").string();
+  const auto r = nsf::testing::run_cli("rom '" + basis_model() + "' '" + kTinyScene +
+                                       "' --mu 1.0 -j 2 -q --baselines '" + data +
+                                       "' --coarse-factor 1.5 --json '" + row + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(row);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  for (const char* key : {"lookup_delta", "interp_delta", "coarse_delta", "coarse_speedup"}) {
+    ASSERT_TRUE(j.contains(key)) << key;
+    EXPECT_GT(j.at(key).get<double>(), 0) << key;
+  }
+  char printed[96];
+  std::snprintf(printed, sizeof printed, "played back: %.3f%%",
+                100 * j.at("lookup_delta").get<double>());
+  EXPECT_THAT(r.output, HasSubstr(printed));
+  std::snprintf(printed, sizeof printed, ": %.3f%%", 100 * j.at("interp_delta").get<double>());
+  EXPECT_THAT(r.output, HasSubstr(printed));
+  std::snprintf(printed, sizeof printed, "%.2fx faster than full order",
+                j.at("coarse_speedup").get<double>());
+  EXPECT_THAT(r.output, HasSubstr(printed));
+  EXPECT_EQ(j.at("coarse_scene").get<std::string>(), "rom_tiny at 1.5x dx");
+  // The sweep's training runs lie at 0.5, 0.833, 1.167, 1.5: μ = 1 sits between the middle two.
+  const nsf::Dataset d(data);
+  std::vector<double> mus;
+  for (const auto& s : d.train()) mus.push_back(s.mu);
+  std::sort(mus.begin(), mus.end());
+  EXPECT_EQ(j.at("interp_mu").at(0).get<double>(), mus[1]);
+  EXPECT_EQ(j.at("interp_mu").at(1).get<double>(), mus[2]);
+  EXPECT_FALSE(j.at("interp_extrapolated").get<bool>());
+
+  const auto not_data =
+      nsf::testing::run_cli("rom '" + basis_model() + "' '" + kTinyScene +
+                            "' --mu 1.0 -q --baselines '" + (root_ / "nothing").string() + "'");
+  EXPECT_NE(not_data.exit_code, 0);
+  EXPECT_THAT(not_data.output, HasSubstr("nothing"));
+  EXPECT_THAT(not_data.output, Not(HasSubstr("reduced order:")));
+  const auto no_scene =
+      nsf::testing::run_cli("rom '" + basis_model() + "' '" + kTinyScene +
+                            "' --mu 1.0 -q --coarse '" + (root_ / "none.json").string() + "'");
+  EXPECT_NE(no_scene.exit_code, 0);
+  EXPECT_THAT(no_scene.output, HasSubstr("none.json"));
+  EXPECT_THAT(no_scene.output, Not(HasSubstr("reduced order:")));
 }
 
 // `nsf demo` end to end on the tiny scene, reusing the fixture's dataset and basis model: its

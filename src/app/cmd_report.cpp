@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 
 #include "app/commands.h"
 #include "app/common_options.h"
@@ -39,7 +40,7 @@ struct ReportArgs {
 
 // One reduced-order run, its picture and its stored row.
 void report_run(const ReportArgs& a, const std::string& scene, const std::string& model,
-                const std::string& name, double mu, std::string label) {
+                const std::string& data, const std::string& name, double mu, std::string label) {
   std::string tag = label.empty() ? name : name + "_" + label;
   if (a.quadrature > 0) {
     const std::string q = "quadrature " + std::to_string(a.quadrature) + "/cell";
@@ -62,6 +63,13 @@ void report_run(const ReportArgs& a, const std::string& scene, const std::string
   ro.quiet = a.quiet;
   ro.out_path = a.out + "/" + tag + "_rom.h5";
   ro.fom_out = a.out + "/" + tag + "_full_order.h5";
+  // The baselines beside the ROM: look-up and interpolation from the training runs; the
+  // engine on the small scene (for a paper-size row), or on the small scene at 1.5× Δx.
+  ro.baseline_data = data;
+  if (a.size == "paper")
+    ro.coarse_scene = std::regex_replace(scene, std::regex("_paper\\.json$"), "_small.json");
+  else
+    ro.coarse_factor = 1.5;
   const RomReport r = run_rom(ro);
   std::printf("%s", format_rom_report(r).c_str());
   const ComparisonFiles pics = write_comparison(ro.fom_out, ro.out_path, "ground truth",
@@ -95,9 +103,10 @@ void run_report(const ReportArgs& a) {
     const Dataset dataset(data);
     if (dataset.test().empty() || !dataset.test()[0].has_mu)
       fail("report: dataset ", data, " has no test run with a parameter to hold out");
-    report_run(a, scene, model, name, dataset.test()[0].mu, "");
+    report_run(a, scene, model, data, name, dataset.test()[0].mu, "");
     // App. B: sand beyond its training range.
-    if (base == "sand") report_run(a, scene, model, name, a.sand_extrapolation, "extrapolation");
+    if (base == "sand")
+      report_run(a, scene, model, data, name, a.sand_extrapolation, "extrapolation");
   }
   std::vector<nlohmann::json> rows;
   for (const auto& e : fs::directory_iterator(a.docs + "/results"))

@@ -123,7 +123,7 @@ void add_rom_command(CLI::App& app) {
       ->check(in_range(0.0, 100.0));
   cmd->add_option("--halo", a->opt.rom.halo, "Candidate margin around the grid nodes I, in cells")
       ->capture_default_str()
-      ->check(in_range(2, 64));
+      ->check(in_range(1.01, 64.0));
   auto* quadrature =
       cmd->add_option("--quadrature", a->quadrature,
                       "Integrate the MPM step on N with this many points per grid cell of the "
@@ -138,6 +138,18 @@ void add_rom_command(CLI::App& app) {
   cmd->add_flag("--budget", a->opt.budget,
                 "Also measure the error budget on the truth's frames: the truth encoded, and the "
                 "truth's sample positions fitted by the inversion (docs/ROM.md)");
+  cmd->add_option("--baselines", a->opt.baseline_data,
+                  "Also score look-up (the nearest training run in mu, played back) and "
+                  "interpolation in mu of this dataset's training runs against the same truth")
+      ->type_name("DATA");
+  cmd->add_option("--coarse", a->opt.coarse_scene,
+                  "Also score the full-order engine on this coarser scene at the same mu, its "
+                  "particles carried to the truth's (delta and its speed-up; docs/RESULTS.md)")
+      ->type_name("SCENE");
+  cmd->add_option("--coarse-factor", a->opt.coarse_factor,
+                  "Make the coarse scene (--coarse, else this scene) k times coarser in dx (and "
+                  "dt where the substeps divide by k)")
+      ->check(in_range(1.01, 64.0));
   cmd->add_option("--json", a->json,
                   "Also write the summary as one JSON row, the format of docs/results/*.json "
                   "(delta, speed-up, times, memory)");
@@ -153,15 +165,17 @@ void add_rom_command(CLI::App& app) {
     if (*latent_prior) a->opt.latent_prior = a->latent_prior;
     a->opt.full_order = !a->no_full_order;
     const RomRunOptions& o = a->opt;
-    refuse_path_clash(
-        {{"--out", o.out_path},
-         {"the XDMF sidecar of --out",
-          o.out_path.empty() ? std::string() : xdmf_path_for(o.out_path)},
-         {"--fom-out", o.fom_out},
-         {"the XDMF sidecar of --fom-out",
-          o.fom_out.empty() ? std::string() : xdmf_path_for(o.fom_out)},
-         {"--json", a->json}},
-        {{"the model", o.model_path}, {"the scene", o.scene_path}, {"--truth", o.truth_path}});
+    refuse_path_clash({{"--out", o.out_path},
+                       {"the XDMF sidecar of --out",
+                        o.out_path.empty() ? std::string() : xdmf_path_for(o.out_path)},
+                       {"--fom-out", o.fom_out},
+                       {"the XDMF sidecar of --fom-out",
+                        o.fom_out.empty() ? std::string() : xdmf_path_for(o.fom_out)},
+                       {"--json", a->json}},
+                      {{"the model", o.model_path},
+                       {"the scene", o.scene_path},
+                       {"--truth", o.truth_path},
+                       {"--coarse", o.coarse_scene}});
     set_threads(a->opt.threads);
     const RomReport r = run_rom(a->opt);
     std::printf("%s", format_rom_report(r).c_str());

@@ -96,6 +96,22 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
     j["stress_error_projected"] = r.budget->projected.stress;
     j["affine_error_projected"] = r.budget->projected.affine;
   }
+  // The baselines (app/baselines.h), where measured.
+  const Baselines& b = r.baselines;
+  if (b.lookup_delta >= 0) {
+    j["lookup_delta"] = b.lookup_delta;
+    j["lookup_mu"] = b.lookup_mu;
+    j["interp_delta"] = b.interp_delta;
+    j["interp_mu"] = {b.interp_mu_lo, b.interp_mu_hi};
+    j["interp_extrapolated"] = b.interp_extrapolated;
+  }
+  if (b.coarse_delta >= 0) {
+    j["coarse_delta"] = b.coarse_delta;
+    j["coarse_seconds"] = b.coarse_seconds;
+    j["coarse_speedup"] = r.coarse_speedup();
+    j["coarse_particles"] = b.coarse_particles;
+    j["coarse_scene"] = b.coarse_scene;
+  }
   j["energy_kept"] = r.energy_kept;
   j["rom_setup_seconds"] = r.rom_setup_seconds;
   j["warnings"] = r.warnings;
@@ -159,6 +175,37 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
       << " | " << fmt("%.1f", 1e3 * j["rom_seconds"].get<double>() / frames) << " | "
       << fmt("%.1f", 1e3 * j["fom_seconds"].get<double>() / frames) << " | "
       << fmt("%.0f", j["fom_peak_mib"]) << " / " << fmt("%.0f", j["rom_peak_mib"]) << " | " << paper
+      << " |\n";
+  }
+  s << "\n## Against the simple baselines\n\n"
+    << "What a user could run instead, each scored with δ against the same ground truth in the "
+       "same `nsf report` run (app/baselines.h): *look-up* plays back the training run nearest "
+       "in μ; *interpolation* blends the two training runs around μ linearly in μ, frame by "
+       "frame (the two nearest, extrapolating, outside the training range); the *coarse engine* "
+       "is nsf's full-order engine on the small scene (for a paper-size row) or on the scene at "
+       "1.5× Δx (for a small one), every particle following the coarse particles around it in "
+       "the rest configuration, with its own speed-up against full order. — for rows stored "
+       "before the baselines were measured.\n\n"
+    << "| scene | μ | ROM δ | ROM speed-up | look-up δ (run at μ) | interpolation δ | coarse "
+       "engine δ | coarse engine speed-up | coarse engine |\n"
+    << "|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& j : rows) {
+    const std::string label = j["label"].get<std::string>();
+    std::string lookup = percent_or_dash(j, "lookup_delta", "%.2f%%");
+    if (j.contains("lookup_mu")) lookup += fmt(" (%g)", j["lookup_mu"]);
+    std::string interp = percent_or_dash(j, "interp_delta", "%.2f%%");
+    if (j.value("interp_extrapolated", false)) interp += " (extrapolated)";
+    s << "| " << j["scene"].get<std::string>() << (label.empty() ? "" : " (" + label + ")") << " | "
+      << fmt("%g", j["mu"]) << " | " << percent_or_dash(j, "delta", "%.2f%%") << " | "
+      << fmt("%.2f×", j["speedup"]) << " | " << lookup << " | " << interp << " | "
+      << percent_or_dash(j, "coarse_delta", "%.2f%%") << " | "
+      << (j.contains("coarse_speedup") && j["coarse_speedup"].get<double>() > 0
+              ? fmt("%.2f×", j["coarse_speedup"])
+              : std::string("—"))
+      << " | "
+      << (j.contains("coarse_scene")
+              ? j["coarse_scene"].get<std::string>() + fmt(", %g particles", j["coarse_particles"])
+              : std::string("—"))
       << " |\n";
   }
   s << "\n## Where the reduced-order time goes\n\n"

@@ -17,6 +17,7 @@
 #include "io/run_reader.h"
 #include "io/run_writer.h"
 #include "mpm/simulation.h"
+#include "nn/dataset.h"
 #include "nn/field_checks.h"
 #include "nn/runtime.h"
 
@@ -96,6 +97,60 @@ void check_truth(const RunReader& truth, const Scene& scene, int frames, double 
            " s, the scene's frame ", f, " at t = ", f * frame_dt, " s");
 }
 
+// The baselines' inputs, read before any long run so that a bad one stops it at once.
+struct BaselineInputs {
+  std::vector<TrainingRun> runs;  // look-up and interpolation; empty: not asked for
+  std::optional<app::SceneFile> coarse;
+  nlohmann::json coarse_json;  // at μ
+  std::string label;           // what the coarse engine runs, for the report
+};
+
+BaselineInputs read_baseline_inputs(const RomRunOptions& o, const RomReport& rep,
+                                    const Scene& scene) {
+  BaselineInputs in;
+  if (o.baseline_data.empty() && o.coarse_scene.empty() && o.coarse_factor == 0) return in;
+  if (!o.full_order && o.truth_path.empty())
+    fail("rom: the baselines need a ground truth (--truth, or the full-order run)");
+  if (!o.baseline_data.empty()) {
+    const Dataset data(o.baseline_data);
+    if (!rep.has_mu || !data.has_mu())
+      fail("rom: look-up and interpolation (--baselines ", o.baseline_data,
+           ") need runs at other values of the scene's swept parameter mu");
+    if (data.rest_positions() != scene.particles.X)
+      fail("rom: dataset ", o.baseline_data, " is not scene ", o.scene_path,
+           " (other particles): its runs cannot stand in for this one");
+    for (const SimulationFile& s : data.train()) in.runs.push_back({s.path, s.mu});
+    if (in.runs.size() < 2)
+      fail("rom: dataset ", o.baseline_data, " has ", in.runs.size(),
+           " training runs; look-up and interpolation need at least two");
+  }
+  if (!o.coarse_scene.empty() || o.coarse_factor > 0) {
+    const std::string path = o.coarse_scene.empty() ? o.scene_path : o.coarse_scene;
+    std::vector<std::string> overrides =
+        o.coarse_scene.empty() ? o.overrides : std::vector<std::string>();
+    if (o.coarse_factor > 0) {
+      const std::vector<std::string> coarser =
+          coarser_overrides(app::read_scene_file(path, overrides).json, o.coarse_factor);
+      overrides.insert(overrides.end(), coarser.begin(), coarser.end());
+    }
+    in.coarse = app::read_scene_file(path, overrides);
+    in.coarse_json = in.coarse->json;
+    in.label = in.coarse_json.value("name", path);
+    if (o.coarse_factor > 0) {
+      char at[48];
+      std::snprintf(at, sizeof at, " at %gx dx", o.coarse_factor);
+      in.label += at;
+    }
+    if (rep.has_mu) {
+      if (!in.coarse->sections.sweep)
+        fail("rom: the coarse scene ", o.coarse_scene, " has no \"sweep\" section to set mu");
+      apply_overrides(in.coarse_json, sweep_overrides(*in.coarse->sections.sweep, rep.mu));
+    }
+    app::build_scene_file(*in.coarse, in.coarse_json);  // fails now on a scene it cannot build
+  }
+  return in;
+}
+
 }  // namespace
 
 RomReport run_rom(const RomRunOptions& o) {
@@ -111,6 +166,7 @@ RomReport run_rom(const RomRunOptions& o) {
   // Built once: the full-order run borrows it and hands it back at its initial state.
   Scene scene = app::build_scene_file(file, js);
   fields.check_scene(scene.name, scene.particles.X, "scene " + o.scene_path);
+  const BaselineInputs baseline_inputs = read_baseline_inputs(o, rep, scene);
 
   // The scene's rom section, then what the command line gave.
   RomOptions ro = with_rom_section(o.rom, file.sections.rom);
@@ -303,6 +359,15 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.linearization_anchors = d.anchors;
   rep.rom_times = d.times;
   if (budget) rep.budget = budget->result();
+
+  // The baselines, after the ROM so that its peak memory is its own.
+  if (!baseline_inputs.runs.empty())
+    measure_sweep_baselines(baseline_inputs.runs, rep.mu, *truth, settings.frames, rep.baselines);
+  if (baseline_inputs.coarse) {
+    measure_coarse_baseline(*baseline_inputs.coarse, baseline_inputs.coarse_json, *truth,
+                            settings.frames, threads, o.quiet, rep.baselines);
+    rep.baselines.coarse_scene = baseline_inputs.label;
+  }
   return rep;
 }
 
@@ -384,6 +449,22 @@ std::string format_rom_report(const RomReport& r) {
   } else {
     put("  peak memory: reduced order %.0f MiB (baseline %.0f MiB)", r.rom_peak_mib,
         r.baseline_mib);
+  }
+  const Baselines& b = r.baselines;
+  if (b.lookup_delta >= 0 || b.coarse_delta >= 0)
+    s << "  baselines (delta against the same truth; docs/RESULTS.md):\n";
+  if (b.lookup_delta >= 0) {
+    put("    look-up, the training run at mu = %g played back: %.3f%%", b.lookup_mu,
+        100 * b.lookup_delta);
+    put("    interpolation in mu of the training runs at %g and %g%s: %.3f%%", b.interp_mu_lo,
+        b.interp_mu_hi, b.interp_extrapolated ? " (extrapolated)" : "", 100 * b.interp_delta);
+  }
+  if (b.coarse_delta >= 0) {
+    char speed[64] = "";
+    if (r.coarse_speedup() > 0)
+      std::snprintf(speed, sizeof speed, ", %.2fx faster than full order", r.coarse_speedup());
+    put("    coarse engine, %s (%zu particles): %.3f%% in %.3f s%s", b.coarse_scene.c_str(),
+        b.coarse_particles, 100 * b.coarse_delta, b.coarse_seconds, speed);
   }
   if (!r.rom_file.empty()) s << "  wrote " << r.rom_file << "\n";
   return s.str();

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "app/baselines.h"
 #include "rom/error_budget.h"
 #include "rom/latent_stepper.h"
 
@@ -33,6 +34,13 @@ struct RomRunOptions {
   bool quiet = false;
   // Also measure the error budget on the truth's frames (rom/error_budget.h; needs a truth).
   bool budget = false;
+  // The simple baselines of app/baselines.h, against the same truth (needs one): look-up and
+  // interpolation from this dataset's training runs; the coarse engine on coarse_scene (at μ),
+  // or with coarse_factor k > 1 on coarse_scene (else this scene with its overrides) made k
+  // times coarser.
+  std::string baseline_data;
+  std::string coarse_scene;
+  double coarse_factor = 0;
 };
 
 // Gauss–Newton iterations the budget's projection allows per frame: its warm start is a frame
@@ -64,6 +72,7 @@ struct RomReport {
   double stress_error = -1, affine_error = -1;
   std::string field_sources;  // where τ and C come from (h and l, or what replaces them)
   std::optional<ErrorBudgetResult> budget;  // with RomRunOptions::budget
+  Baselines baselines;                      // those RomRunOptions asked for; the rest < 0
   double rom_seconds = 0;                   // the latent steps only
   double rom_setup_seconds = 0, rom_output_seconds = 0;
   RomTimes rom_times;
@@ -73,6 +82,11 @@ struct RomReport {
   std::vector<std::string> warnings;
   std::string truth_file, rom_file;
   double speedup() const { return fom_seconds > 0 ? fom_seconds / rom_seconds : 0.0; }
+  // The coarse engine's speed-up against full order; < 0 when either was not run.
+  double coarse_speedup() const {
+    return fom_seconds > 0 && baselines.coarse_seconds > 0 ? fom_seconds / baselines.coarse_seconds
+                                                           : -1.0;
+  }
 };
 
 RomReport run_rom(const RomRunOptions& options);
