@@ -24,12 +24,14 @@ TEST(RomResults, TablePrintsMeasuredAndPaperFiguresPerScene) {
   r.rom_peak_mib = 300, r.fom_peak_mib = 400;
   r.rom_steps_per_frame = 20, r.fom_steps_per_frame = 30;
   r.threads = 1;
+  r.field_sources = "x from g's basis, tau from h's basis, C from l's basis";
   const auto row = nsf::result_json(r, "scenes/paper/sand_small.json", "models/sand_small.nsf",
                                     "results/sand_small.png", "");
   const std::string md = nsf::results_markdown({row}, "nsf report --size small");
-  for (const char* part : {"`nsf report --size small`", "| sand_small | 31.25 | 12000 | 6 |",
-                           "| 50 | 3456 | 2 mm | 1.23% | 71% | 2.50× | 200.0 | 500.0 | 400 / 300 |",
-                           "| 20 | 30 | 1 |", "71,363, 0.4%", "results/sand_small.png"})
+  for (const char* part :
+       {"`nsf report --size small`", "| sand_small | 31.25 | 12000 | 6 | bases | 6e+03 |",
+        "| 50 | 3456 | 2 mm | 1.23% | 71% | 2.50× | 200.0 | 500.0 | 400 / 300 |", "| 20 | 30 | 1 |",
+        "71,363, 0.4%", "results/sand_small.png"})
     EXPECT_NE(md.find(part), std::string::npos) << "missing '" << part << "' in\n" << md;
   // The baselines' section: a dash for each one the row did not measure.
   EXPECT_NE(md.find("| sand_small | 31.25 | 1.23% | 2.50× | — | — | — | — | — |"),

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <regex>
 
+#include "app/beyond_sweep.h"
 #include "app/commands.h"
 #include "app/common_options.h"
 #include "app/pipeline.h"
@@ -36,12 +37,14 @@ struct ReportArgs {
   int quadrature = 0;  // > 0: the ROM's thinned quadrature, rows labelled with it
   double flip = 0;     // > 0: the ROM's FLIP-style correction, rows labelled with it
   bool page_only = false;
+  bool beyond_sweep = false;  // run the scenes' beyond-sweep cases (app/beyond_sweep.h) instead
 };
 
 // One reduced-order run, its picture and its stored row.
+// `tag` names the row's files (docs/results/TAG.json, …); `set` are the case's --set overrides.
 void report_run(const ReportArgs& a, const std::string& scene, const std::string& model,
-                const std::string& data, const std::string& name, double mu, std::string label) {
-  std::string tag = label.empty() ? name : name + "_" + label;
+                const std::string& data, double mu, std::string label, std::string tag,
+                const std::vector<std::string>& set = {}) {
   if (a.quadrature > 0) {
     const std::string q = "quadrature " + std::to_string(a.quadrature) + "/cell";
     label = label.empty() ? q : label + ", " + q;
@@ -57,6 +60,7 @@ void report_run(const ReportArgs& a, const std::string& scene, const std::string
   if (a.quadrature > 0) ro.quadrature = a.quadrature;
   ro.rom.flip = a.flip;
   ro.model_path = model;
+  ro.overrides = set;
   ro.scene_path = scene;
   ro.mu = mu;
   ro.threads = a.threads;
@@ -83,6 +87,16 @@ void report_run(const ReportArgs& a, const std::string& scene, const std::string
 void run_report(const ReportArgs& a) {
   if (a.size != "small" && a.size != "paper")
     fail("report: --size must be small or paper, got '", a.size, "'");
+  // A row that fails (a ROM that diverges, say) is named at the end; the others still run.
+  std::vector<std::string> failed;
+  auto row = [&](const std::string& tag, auto&& run) {
+    try {
+      run();
+    } catch (const Error& e) {
+      std::printf("   %s failed: %s\n", tag.c_str(), e.what());
+      failed.push_back(tag + ": " + e.what());
+    }
+  };
   fs::create_directories(a.out);
   fs::create_directories(a.docs + "/results");
   for (const std::string& base : a.page_only ? std::vector<std::string>{} : a.scenes) {
@@ -103,10 +117,24 @@ void run_report(const ReportArgs& a) {
     const Dataset dataset(data);
     if (dataset.test().empty() || !dataset.test()[0].has_mu)
       fail("report: dataset ", data, " has no test run with a parameter to hold out");
-    report_run(a, scene, model, data, name, dataset.test()[0].mu, "");
-    // App. B: sand beyond its training range.
-    if (base == "sand")
-      report_run(a, scene, model, data, name, a.sand_extrapolation, "extrapolation");
+    const double test_mu = dataset.test()[0].mu;
+    if (a.beyond_sweep) {
+      const std::vector<BeyondSweepCase> cases = beyond_sweep_cases(base);
+      if (cases.empty()) std::printf("   no beyond-sweep case for %s\n", base.c_str());
+      for (size_t i = 0; i < cases.size(); ++i) {
+        const std::string tag = name + "_beyond" + std::to_string(i);
+        row(tag, [&] {
+          // The sand's case is App. B's friction angle past the training range.
+          const double mu = cases[i].at_test_mu ? test_mu
+                            : base == "sand"    ? a.sand_extrapolation
+                                                : cases[i].mu;
+          report_run(a, scene, model, data, mu, "beyond-sweep: " + cases[i].what, tag,
+                     cases[i].set);
+        });
+      }
+      continue;
+    }
+    row(name, [&] { report_run(a, scene, model, data, test_mu, "", name); });
   }
   std::vector<nlohmann::json> rows;
   for (const auto& e : fs::directory_iterator(a.docs + "/results"))
@@ -118,9 +146,16 @@ void run_report(const ReportArgs& a) {
   // The page holds the rows of every size ever made (each kept in results/*.json), so it names
   // both invocations rather than the last one.
   std::ofstream(page + ".tmp") << results_markdown(
-      rows, "nsf report --size small` and, for the `*_paper` rows, `nsf report --size paper");
+      rows,
+      "nsf report --size small [--quadrature 1] [--beyond-sweep]` and, for the `*_paper` "
+      "rows, `nsf report --size paper");
   fs::rename(page + ".tmp", page);
   std::printf("wrote %s (%zu rows)\n", page.c_str(), rows.size());
+  if (!failed.empty()) {
+    std::string all;
+    for (const std::string& f : failed) all += "\n  " + f;
+    fail("report: ", failed.size(), " row(s) failed, the others are stored:", all);
+  }
 }
 
 }  // namespace
@@ -157,10 +192,14 @@ void add_report_command(CLI::App& app) {
                   "rows are labelled with it and kept beside the others")
       ->capture_default_str()
       ->check(in_range(0.0, 1.0));
+  cmd->add_flag("--beyond-sweep", a->beyond_sweep,
+                "Run each scene's held-out case outside its sweep family instead (the plates "
+                "squeezing deeper, the blade stopping halfway, ...; docs/ROM.md), rows labelled "
+                "beyond-sweep");
   cmd->add_flag("--page-only", a->page_only,
                 "Run nothing: rebuild RESULTS.md from the rows stored in docs/results/");
   cmd->add_option("--sand-extrapolation", a->sand_extrapolation,
-                  "Friction angle of the App. B extrapolation run (deg)")
+                  "Friction angle of the sand's beyond-sweep run (App. B; deg)")
       ->capture_default_str()
       ->check(in_range(0.0, 90.0));
   cmd->callback([a] {

@@ -142,9 +142,10 @@ void add_rom_command(CLI::App& app) {
                   "Also score look-up (the nearest training run in mu, played back) and "
                   "interpolation in mu of this dataset's training runs against the same truth")
       ->type_name("DATA");
-  cmd->add_option("--coarse", a->opt.coarse_scene,
-                  "Also score the full-order engine on this coarser scene at the same mu, its "
-                  "particles carried to the truth's (delta and its speed-up; docs/RESULTS.md)")
+  cmd->add_option(
+         "--coarse", a->opt.coarse_scene,
+         "Also score the full-order engine on this coarser scene (with --set) at the same mu, its "
+         "particles carried to the truth's (delta and its speed-up; docs/RESULTS.md)")
       ->type_name("SCENE");
   cmd->add_option("--coarse-factor", a->opt.coarse_factor,
                   "Make the coarse scene (--coarse, else this scene) k times coarser in dx (and "

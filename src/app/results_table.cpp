@@ -50,6 +50,12 @@ std::string percent_or_dash(const nlohmann::json& j, const char* key, const char
   return fmt(format, 100 * j[key].get<double>());
 }
 
+// Which decoder family the row's model holds, as its field sources name it ("x from g's basis").
+std::string decoders(const nlohmann::json& j) {
+  if (!j.contains("field_sources")) return "—";
+  return j["field_sources"].get<std::string>().find("basis") != std::string::npos ? "bases" : "MLP";
+}
+
 }  // namespace
 
 nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
@@ -134,6 +140,8 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
        "full-order engine on the same scene in the same process, with the same threads (the "
        "last column of the time table; — for rows stored before the count was, which ran with "
        "`nsf report`'s default of 2). "
+       "The decoders column names the model's family: per-point bases (the default since "
+       "2026-11-26) or MLP fields (docs/TRAINING.md, \"Decoder families\"). "
        "δ is eq. 11 over all particles and frames; speed-up is full-order step time over "
        "ROM step time (output excluded from both); memory is each phase's peak resident "
        "size (the process baseline, mostly LibTorch and the model, is in both). τ error is the "
@@ -146,10 +154,11 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
        "prior column is the ε of the inversion's pull toward the training runs' latents "
        "(`rom.latent_prior`, docs/ROM.md, \"Latent prior\"; — without one, as in the paper, or "
        "for rows stored before it existed).\n\n";
-  s << "| scene | μ | \\|P\\| | r | γ | \\|S\\| | mean \\|N\\| | latent prior | δ | τ error | "
+  s << "| scene | μ | \\|P\\| | r | decoders | γ | \\|S\\| | mean \\|N\\| | latent prior | δ | τ "
+       "error | "
        "speed-up | ROM ms/frame | full ms/frame | memory full / ROM (MiB) | paper: \\|P\\|, δ, "
        "\\|S\\|, speed-up, memory |\n"
-    << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& j : rows) {
     const std::string base = base_scene(j["scene"]);
     const auto it = paper_figures().find(base);
@@ -169,8 +178,9 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
                                   : "—";
     s << "| " << j["scene"].get<std::string>() << (label.empty() ? "" : " (" + label + ")") << " | "
       << fmt("%g", j["mu"]) << " | " << j["particles"].get<size_t>() << " | " << j["r"].get<int>()
-      << " | " << fmt("%.3g", j["gamma"]) << " | " << samples << " | " << fmt("%.0f", j["mean_N"])
-      << " | " << prior << " | " << percent_or_dash(j, "delta", "%.2f%%") << " | "
+      << " | " << decoders(j) << " | " << fmt("%.3g", j["gamma"]) << " | " << samples << " | "
+      << fmt("%.0f", j["mean_N"]) << " | " << prior << " | "
+      << percent_or_dash(j, "delta", "%.2f%%") << " | "
       << percent_or_dash(j, "stress_error", "%.0f%%") << " | " << fmt("%.2f×", j["speedup"])
       << " | " << fmt("%.1f", 1e3 * j["rom_seconds"].get<double>() / frames) << " | "
       << fmt("%.1f", 1e3 * j["fom_seconds"].get<double>() / frames) << " | "

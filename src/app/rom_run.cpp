@@ -126,8 +126,7 @@ BaselineInputs read_baseline_inputs(const RomRunOptions& o, const RomReport& rep
   }
   if (!o.coarse_scene.empty() || o.coarse_factor > 0) {
     const std::string path = o.coarse_scene.empty() ? o.scene_path : o.coarse_scene;
-    std::vector<std::string> overrides =
-        o.coarse_scene.empty() ? o.overrides : std::vector<std::string>();
+    std::vector<std::string> overrides = o.overrides;  // the same case on the coarse scene
     if (o.coarse_factor > 0) {
       const std::vector<std::string> coarser =
           coarser_overrides(app::read_scene_file(path, overrides).json, o.coarse_factor);

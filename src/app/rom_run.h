@@ -35,9 +35,8 @@ struct RomRunOptions {
   // Also measure the error budget on the truth's frames (rom/error_budget.h; needs a truth).
   bool budget = false;
   // The simple baselines of app/baselines.h, against the same truth (needs one): look-up and
-  // interpolation from this dataset's training runs; the coarse engine on coarse_scene (at μ),
-  // or with coarse_factor k > 1 on coarse_scene (else this scene with its overrides) made k
-  // times coarser.
+  // interpolation from this dataset's training runs; the coarse engine on coarse_scene (else
+  // this scene), with `overrides` and μ, made coarse_factor times coarser where that is > 1.
   std::string baseline_data;
   std::string coarse_scene;
   double coarse_factor = 0;
