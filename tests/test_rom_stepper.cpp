@@ -917,7 +917,7 @@ TEST_F(RomEndToEnd, BaselinesSitBesideTheRomInItsSummaryAndRow) {
   EXPECT_THAT(r.output, HasSubstr(printed));
   std::snprintf(printed, sizeof printed, ": %.3f%%", 100 * j.at("interp_delta").get<double>());
   EXPECT_THAT(r.output, HasSubstr(printed));
-  std::snprintf(printed, sizeof printed, "%.2fx faster than full order",
+  std::snprintf(printed, sizeof printed, "speed-up %.2fx against full order",
                 j.at("coarse_speedup").get<double>());
   EXPECT_THAT(r.output, HasSubstr(printed));
   EXPECT_EQ(j.at("coarse_scene").get<std::string>(), "rom_tiny at 1.5x dx");

@@ -142,7 +142,7 @@ BaselineInputs read_baseline_inputs(const RomRunOptions& o, const RomReport& rep
     }
     if (rep.has_mu) {
       if (!in.coarse->sections.sweep)
-        fail("rom: the coarse scene ", o.coarse_scene, " has no \"sweep\" section to set mu");
+        fail("rom: the coarse scene ", path, " has no \"sweep\" section to set mu");
       apply_overrides(in.coarse_json, sweep_overrides(*in.coarse->sections.sweep, rep.mu));
     }
     app::build_scene_file(*in.coarse, in.coarse_json);  // fails now on a scene it cannot build
@@ -461,7 +461,7 @@ std::string format_rom_report(const RomReport& r) {
   if (b.coarse_delta >= 0) {
     char speed[64] = "";
     if (r.coarse_speedup() > 0)
-      std::snprintf(speed, sizeof speed, ", %.2fx faster than full order", r.coarse_speedup());
+      std::snprintf(speed, sizeof speed, ", speed-up %.2fx against full order", r.coarse_speedup());
     put("    coarse engine, %s (%zu particles): %.3f%% in %.3f s%s", b.coarse_scene.c_str(),
         b.coarse_particles, 100 * b.coarse_delta, b.coarse_seconds, speed);
   }
