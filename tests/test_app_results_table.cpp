@@ -53,8 +53,10 @@ TEST(RomResults, TablePrintsMeasuredAndPaperFiguresPerScene) {
   nlohmann::json old = row;
   old.erase("stress_error");
   old.erase("latent_prior");
+  old.erase("field_sources");
   const std::string md_old = nsf::results_markdown({old}, "nsf report");
   EXPECT_NE(md_old.find("| 3456 | — | 1.23% | — | 2.50× |"), std::string::npos) << md_old;
+  EXPECT_NE(md_old.find("| 6 | MLP | 6e+03 |"), std::string::npos) << md_old;
 }
 
 }  // namespace

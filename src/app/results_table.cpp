@@ -51,8 +51,9 @@ std::string percent_or_dash(const nlohmann::json& j, const char* key, const char
 }
 
 // Which decoder family the row's model holds, as its field sources name it ("x from g's basis").
+// Rows stored before the sources were recorded predate the bases (2026-11-26): MLP fields.
 std::string decoders(const nlohmann::json& j) {
-  if (!j.contains("field_sources")) return "—";
+  if (!j.contains("field_sources")) return "MLP";
   return j["field_sources"].get<std::string>().find("basis") != std::string::npos ? "bases" : "MLP";
 }
 
