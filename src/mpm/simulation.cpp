@@ -139,6 +139,16 @@ void Simulation::sort_particles() {
     if (active[b]) active_blocks_.push_back(static_cast<uint32_t>(b));
 }
 
+void Simulation::block_node_bounds(uint32_t b, Vec3& lo, Vec3& hi) const {
+  const int nb1 = block_dims_[1], nb2 = block_dims_[2];
+  const int bk = b % nb2, bj = (b / nb2) % nb1, bi = b / (nb2 * nb1);
+  const Vec3i n = grid_.dims();
+  lo = grid_.node_position(bi * kBlock, bj * kBlock, bk * kBlock);
+  hi = grid_.node_position(std::min(n[0], (bi + 1) * kBlock) - 1,
+                           std::min(n[1], (bj + 1) * kBlock) - 1,
+                           std::min(n[2], (bk + 1) * kBlock) - 1);
+}
+
 void Simulation::clear_active_grid() {
   // Last step's blocks too, so no stale node values survive anywhere on the grid.
   // Called inside P2G's parallel region: the loops are shared out over its team (orphaned `omp

@@ -84,6 +84,8 @@ class Simulation {
   // Calls f(i, j, k) for every grid node of block b.
   template <typename Fn>
   void for_each_node_in_block(uint32_t b, Fn&& f) const;
+  // The positions of block b's first and last grid nodes (its nodes' bounding box).
+  void block_node_bounds(uint32_t b, Vec3& lo, Vec3& hi) const;
   void clear_active_grid();  // call from inside a parallel region
 };
 
