@@ -3,6 +3,7 @@
 // The stress force already arrived with the momentum in P2G.
 #include <cmath>
 
+#include "core/parallel_for.h"
 #include "mpm/colliders/domain_walls.h"
 #include "mpm/simulation.h"
 
@@ -21,8 +22,7 @@ void Simulation::grid_update(double dt, bool external_forces) {
   constexpr size_t kMaxListed = 64;  // more colliders than this: every one asks every node
   const bool cull = !colliders.empty() && colliders.size() <= kMaxListed;
 
-#pragma omp parallel for schedule(static)
-  for (long q = 0; q < long(active_blocks_.size()); ++q) {
+  parallel_for(long(active_blocks_.size()), [&](long q) {
     const Collider* reach[kMaxListed];
     size_t listed = 0;
     if (external_forces && cull) {
@@ -53,7 +53,7 @@ void Simulation::grid_update(double dt, bool external_forces) {
       }
       node.mv[0] = v[0], node.mv[1] = v[1], node.mv[2] = v[2];
     });
-  }
+  });
 }
 
 }  // namespace nsf

@@ -1,4 +1,5 @@
 #include "mpm/simulation.h"
+#include "core/parallel_for.h"
 
 #include <algorithm>
 #include <cmath>
@@ -108,13 +109,12 @@ void Simulation::sort_particles() {
   std::vector<uint32_t>& count = block_start_;
   key.resize(np);
   count.assign(blocks + 1, 0);
-#pragma omp parallel for schedule(static)
-  for (long p = 0; p < long(np); ++p) {
+  parallel_for(long(np), [&](long p) {
     Stencil st = quadratic_stencil(P.x[p], grid_.lo(), grid_.inv_dx());
     size_t b =
         (size_t(st.base[0] / kBlock) * nb[1] + st.base[1] / kBlock) * nb[2] + st.base[2] / kBlock;
     key[p] = static_cast<uint32_t>(b);
-  }
+  });
   for (size_t p = 0; p < np; ++p) ++count[key[p] + 1];
   for (size_t b = 0; b < blocks; ++b) count[b + 1] += count[b];
   order_.resize(np);
