@@ -1,5 +1,6 @@
 // G2P (§3.3 step 3): gather velocity and its affine part, advect, update the trial F.
 // With the MLS gradient, Σ_i v_i ∇w_ipᵀ = C_p, so F^trial = (I + Δt C_p) F^E.
+#include "core/parallel_for.h"
 #include "mpm/bspline.h"
 #include "mpm/simulation.h"
 
@@ -54,8 +55,7 @@ void Simulation::g2p(double dt, const std::vector<uint32_t>* gather) {
   const GridNode* g = grid_.data();
   const long np = long(gather ? gather->size() : P.size());
 
-#pragma omp parallel for schedule(static)
-  for (long q = 0; q < np; ++q) {
+  parallel_for(np, [&](long q) {
     const long p = gather ? long((*gather)[q]) : q;
     const Stencil st = quadratic_stencil(P.x[p], lo, inv_dx);
     Vec3 v;
@@ -66,7 +66,7 @@ void Simulation::g2p(double dt, const std::vector<uint32_t>* gather) {
     P.C[p] = C;
     P.x[p] += dt * v;
     P.F[p] = (Mat3::Identity() + dt * C) * P.F[p];
-  }
+  });
 }
 
 }  // namespace nsf

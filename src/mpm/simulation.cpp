@@ -1,4 +1,5 @@
 #include "mpm/simulation.h"
+#include "core/parallel_for.h"
 
 #include <algorithm>
 #include <cmath>
@@ -104,23 +105,29 @@ void Simulation::sort_particles() {
 
   // Stable counting sort by block keeps each block's particle order fixed, so the scatter
   // order, and with it every floating-point sum, is the same for any thread count.
-  std::vector<uint32_t> key(np);
-  std::vector<uint32_t> count(blocks + 1, 0);
-#pragma omp parallel for schedule(static)
-  for (long p = 0; p < long(np); ++p) {
+  std::vector<uint32_t>& key = sort_key_;
+  std::vector<uint32_t>& count = block_start_;
+  key.resize(np);
+  count.assign(blocks + 1, 0);
+  parallel_for(long(np), [&](long p) {
     Stencil st = quadratic_stencil(P.x[p], grid_.lo(), grid_.inv_dx());
     size_t b =
         (size_t(st.base[0] / kBlock) * nb[1] + st.base[1] / kBlock) * nb[2] + st.base[2] / kBlock;
     key[p] = static_cast<uint32_t>(b);
-  }
+  });
   for (size_t p = 0; p < np; ++p) ++count[key[p] + 1];
   for (size_t b = 0; b < blocks; ++b) count[b + 1] += count[b];
-  block_start_ = count;
   order_.resize(np);
+  // Filled through the block starts, which it moves on by one block each; shifted back after.
   for (size_t p = 0; p < np; ++p) order_[count[key[p]]++] = static_cast<uint32_t>(p);
+  for (size_t b = blocks; b > 0; --b) count[b] = count[b - 1];
+  count[0] = 0;
 
-  color_blocks_.assign(8, {});
-  std::vector<uint8_t> active(blocks, 0);
+  color_blocks_.resize(8);
+  for (auto& list : color_blocks_) list.clear();
+  // 1: a block some stencil reaches now; 2: one last step reached (to clear, not to update).
+  std::vector<uint8_t>& active = block_flags_;
+  active.assign(blocks, 0);
   for (int bi = 0; bi < nb[0]; ++bi)
     for (int bj = 0; bj < nb[1]; ++bj)
       for (int bk = 0; bk < nb[2]; ++bk) {
@@ -133,24 +140,36 @@ void Simulation::sort_particles() {
             for (int dk = 0; dk < 2 && bk + dk < nb[2]; ++dk)
               active[(size_t(bi + di) * nb[1] + bj + dj) * nb[2] + bk + dk] = 1;
       }
-  previous_active_blocks_.swap(active_blocks_);
+  for (uint32_t b : active_blocks_)
+    if (b < blocks) active[b] |= 2;
   active_blocks_.clear();
-  for (size_t b = 0; b < blocks; ++b)
-    if (active[b]) active_blocks_.push_back(static_cast<uint32_t>(b));
+  blocks_to_clear_.clear();
+  for (size_t b = 0; b < blocks; ++b) {
+    if (active[b] & 1) active_blocks_.push_back(static_cast<uint32_t>(b));
+    if (active[b]) blocks_to_clear_.push_back(static_cast<uint32_t>(b));
+  }
+}
+
+void Simulation::block_node_bounds(uint32_t b, Vec3& lo, Vec3& hi) const {
+  const int nb1 = block_dims_[1], nb2 = block_dims_[2];
+  const int bk = b % nb2, bj = (b / nb2) % nb1, bi = b / (nb2 * nb1);
+  const Vec3i n = grid_.dims();
+  lo = grid_.node_position(bi * kBlock, bj * kBlock, bk * kBlock);
+  hi = grid_.node_position(std::min(n[0], (bi + 1) * kBlock) - 1,
+                           std::min(n[1], (bj + 1) * kBlock) - 1,
+                           std::min(n[2], (bk + 1) * kBlock) - 1);
 }
 
 void Simulation::clear_active_grid() {
-  // Last step's blocks too, so no stale node values survive anywhere on the grid.
-  // Called inside P2G's parallel region: the loops are shared out over its team (orphaned `omp
-  // for`), and the barrier after each keeps the two lists, which overlap, from racing.
+  // This step's blocks and last step's, each once, so no stale node values survive anywhere on
+  // the grid. Called inside P2G's parallel region: the loop is shared out over its team
+  // (orphaned `omp for`), and the barrier after it keeps the scatter from starting early.
   GridNode* g = grid_.data();
-  for (const auto* list : {&previous_active_blocks_, &active_blocks_}) {
 #pragma omp for schedule(static)
-    for (long q = 0; q < long(list->size()); ++q)
-      for_each_node_in_block((*list)[q], [&](int i, int j, int k) {
-        g[grid_.index(i, j, k)] = GridNode{{0, 0, 0}, 0};
-      });
-  }
+  for (long q = 0; q < long(blocks_to_clear_.size()); ++q)
+    for_each_node_in_block(blocks_to_clear_[q], [&](int i, int j, int k) {
+      g[grid_.index(i, j, k)] = GridNode{{0, 0, 0}, 0};
+    });
 }
 
 }  // namespace nsf

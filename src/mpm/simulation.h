@@ -79,11 +79,17 @@ class Simulation {
   std::vector<std::vector<uint32_t>> color_blocks_;  // non-empty blocks of each of 8 colours
   // Blocks whose nodes some particle's stencil reaches (non-empty blocks and their +1
   // neighbours); only these are cleared and updated, so empty space costs nothing.
-  std::vector<uint32_t> active_blocks_, previous_active_blocks_;
+  std::vector<uint32_t> active_blocks_;
+  std::vector<uint32_t> blocks_to_clear_;  // this step's active blocks and last step's
+  // Scratch of sort_particles, kept between steps: each particle's block, each block's flags.
+  std::vector<uint32_t> sort_key_;
+  std::vector<uint8_t> block_flags_;
 
   // Calls f(i, j, k) for every grid node of block b.
   template <typename Fn>
   void for_each_node_in_block(uint32_t b, Fn&& f) const;
+  // The positions of block b's first and last grid nodes (its nodes' bounding box).
+  void block_node_bounds(uint32_t b, Vec3& lo, Vec3& hi) const;
   void clear_active_grid();  // call from inside a parallel region
 };
 

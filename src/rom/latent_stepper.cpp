@@ -47,7 +47,14 @@ struct LatentStepper::Impl {
   NeuralModel& model;
   RomOptions opt;
   double mu;
-  std::unique_ptr<Simulation> sim;     // its particles() hold N only, rebuilt every step
+  std::unique_ptr<Simulation> sim;  // its particles() hold N only, refilled every step
+  // The points whose constant data (X, mass, volume, material, plastic state) sim's particles
+  // hold, in order: while N stays the same list, only its changing state is handed over.
+  std::vector<uint32_t> resident;
+  // The step's x, v, τ and C on N, kept between steps so that they are not allocated anew; they
+  // change places with sim's particle arrays (swap) rather than being copied into them.
+  std::vector<Vec3> xN, vN;
+  std::vector<Mat3> tauN, CN;
   std::unique_ptr<LatentPrior> prior;  // when the model stores its training latents
   // Per particle of the scene, then per merged quadrature point (rom/quadrature.h): what the ROM
   // needs of the full particle set. mass and vol0 are the particles' own.
@@ -226,6 +233,7 @@ struct LatentStepper::Impl {
       table.mat0.push_back(table.mat0[member]);
     }
     table.merged_members = quad.merged_members;
+    resident.clear();  // a merged point's id may now stand for another group
     if (thinned()) {
       std::vector<Vec3> XQ(quad.ids.size());
       for (size_t k = 0; k < XQ.size(); ++k) XQ[k] = table.X[quad.ids[k]];
@@ -315,16 +323,15 @@ struct LatentStepper::Impl {
     // 1.08 s with one point per cell, 1.97 s against 2.46 s with every particle; docs/ROM.md).
     OneThreadBelow serial(K.empty() ? 0 : K.ids().size(), opt.serial_below_points);
 
-    std::vector<Vec3> xN, vN, xs;  // x, v on N; S at ẑ_n
+    std::vector<Vec3> xs;  // S at ẑ_n
     infer_positions(xN, vN, xs);
-    std::vector<Mat3> tau, C;
     {
       ScopedTimer timer(times.inference);
-      stress->evaluate(N, {z, z_prev}, true, tau);
-      affine->evaluate(N, {z, z_prev}, true, C);
+      stress->evaluate(N, {z, z_prev}, true, tauN);
+      affine->evaluate(N, {z, z_prev}, true, CN);
     }
     std::vector<Vec3> xs_new;
-    mpm_on_integration_points(xN, vN, tau, C, xs_new);
+    mpm_on_integration_points(xs_new);
     invert(xs, xs_new);
     t += dt;
     ++n;
@@ -372,34 +379,44 @@ struct LatentStepper::Impl {
     xK_last.swap(xK);  // g(X, ẑ_n) on K: next step's g(X, ẑ_{n−1}) if K stays
   }
 
-  // (2) One MPM step on N with the engine's own transfers; G2P for S only.
-  void mpm_on_integration_points(const std::vector<Vec3>& xN, const std::vector<Vec3>& vN,
-                                 const std::vector<Mat3>& tau, const std::vector<Mat3>& C,
-                                 std::vector<Vec3>& xs_new) {
-    ScopedTimer timer(times.mpm);
+  // N's constant data into sim's particles, when N is not the list they already hold.
+  void make_resident() {
+    if (N == resident && !opt.refill_constant_data) return;
     Particles& P = sim->particles();
     const size_t m = N.size();
-    P.X.resize(m), P.x.resize(m), P.v.resize(m), P.C.resize(m), P.F.resize(m), P.tau.resize(m);
-    P.mass.resize(m), P.vol0.resize(m), P.mat.resize(m), P.material.resize(m);
-    P.object.resize(m);
+    P.X.resize(m), P.F.resize(m), P.mass.resize(m), P.vol0.resize(m), P.mat.resize(m);
+    P.material.resize(m), P.object.assign(m, 0);
     for (size_t k = 0; k < m; ++k) {
       const uint32_t p = N[k];
       P.X[k] = table.X[p];
-      P.x[k] = xN[k];
-      P.v[k] = vN[k];
-      P.C[k] = C[k];
-      P.F[k] = tracked->active() ? tracked->F(p) : Mat3::Identity();
-      P.tau[k] = tau[k];
+      P.F[k] = Mat3::Identity();
       P.mass[k] = quad.mass[p];
       P.vol0[k] = quad.vol0[p];
       P.mat[k] = table.mat0[p];
       P.material[k] = table.material[p];
-      P.object[k] = 0;
-      slot[p] = int32_t(k);
     }
+    resident = N;
+  }
+
+  // (2) One MPM step on N with the engine's own transfers; G2P for S only. Takes the step's
+  // xN, vN, tauN and CN (they change places with sim's particle arrays).
+  void mpm_on_integration_points(std::vector<Vec3>& xs_new) {
+    ScopedTimer timer(times.mpm);
+    make_resident();
+    Particles& P = sim->particles();
+    const size_t m = N.size();
+    if (xN.size() != m || vN.size() != m || tauN.size() != m || CN.size() != m)
+      fail("rom: internal error, the state on N has the wrong size");
+    P.x.swap(xN), P.v.swap(vN), P.tau.swap(tauN), P.C.swap(CN);
+    for (size_t k = 0; k < m; ++k) slot[N[k]] = int32_t(k);
     std::vector<uint32_t> gather(S.size());
     for (size_t k = 0; k < S.size(); ++k) gather[k] = uint32_t(slot[S[k]]);
     for (uint32_t p : N) slot[p] = -1;
+    // F: the tracked particles' own, else the identity; G2P changes it on the gathered only.
+    if (tracked->active())
+      for (size_t k = 0; k < m; ++k) P.F[k] = tracked->F(N[k]);
+    else
+      for (uint32_t k : gather) P.F[k] = Mat3::Identity();
     // The latent velocity field is smooth and g carries it exactly; the round trip through
     // the grid blurs it whenever l's C is off, and that loss recurs at every step, so a
     // ROM with small steps slows down (sand_small: δ 2.5 % at 1.0Δt, 3.5 % at 0.5Δt).

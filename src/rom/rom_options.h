@@ -49,6 +49,9 @@ struct RomOptions {
   // Also find N by brute force (g on every particle) each step and count the particles the
   // candidate scheme missed. For tests and checks; costs a full evaluation of g per step.
   bool verify_integration_set = false;
+  // For tests: hand the engine N's constant data (rest position, mass, volume, material) every
+  // step, not only when N differs from the last step's list. The results are the same bit for bit.
+  bool refill_constant_data = false;
 
   // The tangent cache for g, h and l (`nsf rom --linearize R`); C keeps a source other than l.
   void use_tangent_cache(double radius) {

@@ -24,6 +24,14 @@ class Collider {
   // Applies the contact condition to the velocity v of a grid node at position x, if the node is
   // in contact. Must be thread-safe (called concurrently for different nodes).
   virtual void apply(const Vec3& x, Vec3& v) const = 0;
+
+  // False only if apply() leaves the velocity of every node within `radius` of x unchanged (no
+  // such node is in contact): the grid update then skips this collider for a whole block of
+  // nodes. Conservative; the default, true, makes every node ask apply().
+  virtual bool may_touch(const Vec3& x, double radius) const {
+    (void)x, (void)radius;
+    return true;
+  }
 };
 
 // Builds a collider from its scene JSON (`path` is used in error messages, e.g. "colliders[0]").

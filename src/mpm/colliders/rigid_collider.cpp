@@ -33,4 +33,10 @@ void RigidCollider::apply(const Vec3& x, Vec3& v) const {
   apply_contact(contact_, pose_.rotation * body_normal(p), pose_.velocity_at(x), v);
 }
 
+bool RigidCollider::may_touch(const Vec3& x, double radius) const {
+  // A node within `radius` of x has a distance of at least sdf(x) − radius; the margin, far
+  // above rounding, keeps a node the exact test would touch from ever being skipped.
+  return body_sdf(to_body(x)) <= radius * (1 + 1e-6) + 1e-12;
+}
+
 }  // namespace nsf

@@ -12,6 +12,8 @@ class RigidCollider : public Collider {
   // The scripted pose at t, or, once a host drives the collider, the driven pose moved on to t.
   void set_time(double t) override;
   void apply(const Vec3& x, Vec3& v) const override;
+  // From the distance at x alone, since body_sdf is 1-Lipschitz (a kind's contract, below).
+  bool may_touch(const Vec3& x, double radius) const override;
 
   // Hands the collider to a host (a game engine moving it each frame): from now on its scripted
   // motion is ignored; at time t it is at `pose`, and it moves on rigidly with the pose's
@@ -31,6 +33,8 @@ class RigidCollider : public Collider {
       : contact_(contact), motion_(std::move(motion)), pose_(motion_.at(0.0)) {}
 
   // Body frame: the collider's reference point at the origin, its rest orientation unrotated.
+  // body_sdf must change by at most |a − b| between points a and b (an exact distance, or one
+  // that underestimates), so that a block of grid nodes far from the surface can be skipped.
   virtual double body_sdf(const Vec3& p) const = 0;
   virtual Vec3 body_normal(const Vec3& p) const = 0;  // outward, unit length
 
