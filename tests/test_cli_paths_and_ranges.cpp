@@ -136,7 +136,6 @@ TEST_F(PathsAndRanges, NumericOptionsOutOfRangeOrNaNAreRefused) {
       {eval + "--particles -1", "--particles"},
       {"render " + quoted(model()) + " --out " + quoted(dir_ / "r") + " --fov nan", "--fov"},
       {"report --flip nan", "--flip"},
-      {"report --sand-extrapolation nan", "--sand-extrapolation"},
       {"demo --steps 0,1,1", "--steps"},
       {"demo --widths -1,8,8", "--widths"},
   };

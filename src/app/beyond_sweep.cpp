@@ -22,7 +22,7 @@ std::vector<BeyondSweepCase> beyond_sweep_cases(const std::string& base) {
       {"cake", {{"blade stops halfway", {"colliders[1].motion.end=0.25"}}}},
       // The paste is laid three times as fast along the brush.
       {"toothpaste", {{"paste laid 3x faster along", {"objects[0].velocity=[0.15,-0.4,0]"}}}},
-      // Friction past the trained range (20-40°), App. B (`nsf report --sand-extrapolation`).
+      // Friction past the trained range (20-40°), App. B.
       {"sand", {{"friction angle 44°", {}, 44, false}}},
   };
   const auto it = cases.find(base);

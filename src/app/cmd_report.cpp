@@ -33,7 +33,6 @@ struct ReportArgs {
   int threads = 0;  // all cores; the callback puts the count in use here
   bool quiet = false;
   std::string docs = "docs", out = "out/report";
-  double sand_extrapolation = 44;
   int quadrature = 0;  // > 0: the ROM's thinned quadrature, rows labelled with it
   double flip = 0;     // > 0: the ROM's FLIP-style correction, rows labelled with it
   bool page_only = false;
@@ -124,10 +123,7 @@ void run_report(const ReportArgs& a) {
       for (size_t i = 0; i < cases.size(); ++i) {
         const std::string tag = name + "_beyond" + std::to_string(i);
         row(tag, [&] {
-          // The sand's case is App. B's friction angle past the training range.
-          const double mu = cases[i].at_test_mu ? test_mu
-                            : base == "sand"    ? a.sand_extrapolation
-                                                : cases[i].mu;
+          const double mu = cases[i].at_test_mu ? test_mu : cases[i].mu;
           report_run(a, scene, model, data, mu, "beyond-sweep: " + cases[i].what, tag,
                      cases[i].set);
         });
@@ -198,10 +194,6 @@ void add_report_command(CLI::App& app) {
                 "beyond-sweep");
   cmd->add_flag("--page-only", a->page_only,
                 "Run nothing: rebuild RESULTS.md from the rows stored in docs/results/");
-  cmd->add_option("--sand-extrapolation", a->sand_extrapolation,
-                  "Friction angle of the sand's beyond-sweep run (App. B; deg)")
-      ->capture_default_str()
-      ->check(in_range(0.0, 90.0));
   cmd->callback([a] {
     a->train.steps = per_stage(a->train_size.steps, a->train.steps, "--steps");
     a->train.widths = per_stage(a->train_size.widths, a->train.widths, "--widths");
