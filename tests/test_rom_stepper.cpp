@@ -971,18 +971,16 @@ TEST_F(RomEndToEnd, BaselinesSitBesideTheRomInItsSummaryAndRow) {
   EXPECT_EQ(j.at("interp_mu").at(1).get<double>(), mus[2]);
   EXPECT_FALSE(j.at("interp_extrapolated").get<bool>());
 
-  const auto not_data =
-      nsf::testing::run_cli("rom '" + basis_model() + "' '" + kTinyScene +
-                            "' --mu 1.0 -q --baselines '" + (root_ / "nothing").string() + "'");
-  EXPECT_NE(not_data.exit_code, 0);
-  EXPECT_THAT(not_data.output, HasSubstr("nothing"));
-  EXPECT_THAT(not_data.output, Not(HasSubstr("reduced order:")));
-  const auto no_scene =
-      nsf::testing::run_cli("rom '" + basis_model() + "' '" + kTinyScene +
-                            "' --mu 1.0 -q --coarse '" + (root_ / "none.json").string() + "'");
-  EXPECT_NE(no_scene.exit_code, 0);
-  EXPECT_THAT(no_scene.output, HasSubstr("none.json"));
-  EXPECT_THAT(no_scene.output, Not(HasSubstr("reduced order:")));
+  // A missing dataset or coarse scene stops the run before it starts, naming the path.
+  const std::pair<std::string, std::string> bad_inputs[] = {
+      {"--baselines", (root_ / "nothing").string()}, {"--coarse", (root_ / "none.json").string()}};
+  for (const auto& [option, path] : bad_inputs) {
+    const auto bad = nsf::testing::run_cli("rom '" + basis_model() + "' '" + kTinyScene +
+                                           "' --mu 1.0 -q " + option + " '" + path + "'");
+    EXPECT_NE(bad.exit_code, 0) << option;
+    EXPECT_THAT(bad.output, HasSubstr(path));
+    EXPECT_THAT(bad.output, Not(HasSubstr("reduced order:"))) << option;
+  }
 }
 
 // `nsf demo` end to end on the tiny scene, reusing the fixture's dataset and basis model: its
