@@ -30,13 +30,18 @@ TEST(RomResults, TablePrintsMeasuredAndPaperFiguresPerScene) {
   const std::string md = nsf::results_markdown({row}, "nsf report --size small");
   for (const char* part :
        {"`nsf report --size small`", "| sand_small | 31.25 | 12000 | 6 | bases | 6e+03 |",
-        "| 50 | 3456 | 2 mm | 1.23% | 71% | 2.50× | 200.0 | 500.0 | 400 / 300 |", "| 20 | 30 | 1 |",
-        "71,363, 0.4%", "results/sand_small.png"})
+        "| 50 | 3456 | 2 mm | 1.23% | 71% | 2.50× | 200.0 | 500.0 | 400 / 300 |",
+        "| 20 | 30 | 1 | — |", "71,363, 0.4%", "results/sand_small.png"})
     EXPECT_NE(md.find(part), std::string::npos) << "missing '" << part << "' in\n" << md;
   // The baselines' section: a dash for each one the row did not measure.
   EXPECT_NE(md.find("| sand_small | 31.25 | 1.23% | 2.50× | — | — | — | — | — |"),
             std::string::npos)
       << md;
+  // The model's training time, where the row records it (rows before it: the dash above).
+  r.train_seconds = 450;
+  EXPECT_NE(nsf::results_markdown({nsf::result_json(r, "s.json", "m.nsf", "p.png", "")}, "nsf")
+                .find("| 20 | 30 | 1 | 7.5 min |"),
+            std::string::npos);
   r.baselines.lookup_delta = 0.004, r.baselines.lookup_mu = 30;
   r.baselines.interp_delta = 0.0021, r.baselines.interp_mu_lo = 27.5;
   r.baselines.interp_mu_hi = 30, r.baselines.interp_extrapolated = true;

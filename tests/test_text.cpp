@@ -149,5 +149,30 @@ TEST(Legend, TitlesNameTheQuantityAndItsUnit) {
   fs::remove_all(d);
 }
 
+TEST(Legend, LabelsGoBelowTheLegendWhereThePictureIsTooNarrowForBoth) {
+  const std::vector<LegendEntry> entries = {{Color(0.2f, 0.4f, 0.7f), "object 0 (fixed corotated)"},
+                                            {Color(1.0f, 0.5f, 0.1f), "object 1 (von Mises)"}};
+  const std::string when = "t = 0.000 s    frame 0/32";
+  const double size = 12;
+  for (const int w : {240, 800}) {
+    const Rgb grey{128, 128, 128};
+    Image img(w, 180, grey);
+    const LegendBox box = draw_swatches(img, "colour: object", entries, size);
+    // The box holds everything the legend drew.
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x)
+        if (x < box.left || y >= box.bottom) {
+          ASSERT_EQ(img.at(x, y), grey) << x << "," << y;
+        }
+    const int top = labels_top(box, text_width(when, size), size);
+    draw_label(img, label_margin(size), top, when, size);
+    if (w == 800) {
+      EXPECT_EQ(top, label_margin(size)) << "room beside the legend: the label stays at the top";
+    } else {
+      EXPECT_GT(top, box.bottom) << "no room beside it: the label goes below the legend";
+    }
+  }
+}
+
 }  // namespace
 }  // namespace nsf

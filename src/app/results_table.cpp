@@ -95,6 +95,7 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   j["rom_steps_per_frame"] = r.rom_steps_per_frame;
   j["fom_steps_per_frame"] = r.fom_steps_per_frame;
   j["field_sources"] = r.field_sources;
+  if (r.train_seconds > 0) j["train_seconds"] = r.train_seconds;
   if (r.budget) {
     j["delta_encoded"] = r.budget->encoded.delta;
     j["stress_error_encoded"] = r.budget->encoded.stress;
@@ -221,8 +222,9 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
   }
   s << "\n## Where the reduced-order time goes\n\n"
     << "| scene | inference (g on candidates, h, l on N) | MPM on N | Gauss–Newton | "
-       "candidate refresh | ROM steps/frame | full-order steps/frame | threads |\n"
-    << "|---|---|---|---|---|---|---|---|\n";
+       "candidate refresh | ROM steps/frame | full-order steps/frame | threads | model's "
+       "training |\n"
+    << "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& j : rows) {
     const double t = j["rom_seconds"].get<double>();
     auto pct = [&](const char* k) {
@@ -235,6 +237,9 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
       << j["rom_steps_per_frame"].get<int>() << " | " << j["fom_steps_per_frame"].get<int>()
       << " | "
       << (j.contains("threads") ? std::to_string(j["threads"].get<int>()) : std::string("—"))
+      << " | "
+      << (j.contains("train_seconds") ? fmt("%.1f min", j["train_seconds"].get<double>() / 60)
+                                      : std::string("—"))
       << " |\n";
   }
   s << "\n## Pictures (top: ground truth, bottom: reduced order)\n\n";

@@ -181,6 +181,7 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.scene = scene.name;
   rep.particles = scene.particles.size();
   rep.latent_dim = fields.latent_dim();
+  rep.train_seconds = fields.train_seconds();
   rep.gamma = 3.0 * double(rep.particles) / rep.latent_dim;
   rep.frames = settings.frames;
   rep.fom_steps_per_frame = settings.substeps;

@@ -80,14 +80,19 @@ int label_margin(double size) {
   return std::max(2, static_cast<int>(std::lround(0.6 * size)));
 }
 
+int labels_top(const LegendBox& legend, int width, double size) {
+  const int m = label_margin(size), pad = gap(size);
+  return m + width + pad + m > legend.left ? legend.bottom + m : m;
+}
+
 void draw_label(Image& img, int x, int y, const std::string& text, double size) {
   const int pad = gap(size);
   panel(img, x - pad, y - pad, x + text_width(text, size) + pad, y + text_height(size) + pad);
   draw_text(img, x, y, text, kInk, size);
 }
 
-void draw_colorbar(Image& img, double lo, double hi, const std::string& title, double size,
-                   bool clipped) {
+LegendBox draw_colorbar(Image& img, double lo, double hi, const std::string& title, double size,
+                        bool clipped) {
   const int margin = label_margin(size), pad = gap(size), line = text_height(size);
   const int bar_w = std::max(4, static_cast<int>(std::lround(0.6 * size)));
   const int bar_h = std::max(img.height / 2, 40);
@@ -117,11 +122,12 @@ void draw_colorbar(Image& img, double lo, double hi, const std::string& title, d
   for (double t : ticks)
     if (!clipped || t < hi - room) tick(t, format_tick(t, spacing));
   if (clipped) tick(hi, top_label);
+  return {x0 - pad, y0 + bar_h + line / 2 + pad};
 }
 
-void draw_swatches(Image& img, const std::string& title, const std::vector<LegendEntry>& entries,
-                   double size) {
-  if (entries.empty()) return;
+LegendBox draw_swatches(Image& img, const std::string& title,
+                        const std::vector<LegendEntry>& entries, double size) {
+  if (entries.empty()) return {img.width, 0};
   const int margin = label_margin(size), pad = gap(size), line = text_height(size);
   const int box = line * 3 / 4, row = line + pad / 2;
   int block_w = text_width(title, size);
@@ -129,8 +135,8 @@ void draw_swatches(Image& img, const std::string& title, const std::vector<Legen
     block_w = std::max(block_w, box + pad + text_width(e.name, size));
   const int x0 = img.width - margin - block_w;
   const int y0 = margin + line + pad;  // below the title
-  panel(img, x0 - pad, margin - pad, x0 + block_w + pad,
-        y0 + row * static_cast<int>(entries.size()) + pad / 2);
+  const int bottom = y0 + row * static_cast<int>(entries.size()) + pad / 2;
+  panel(img, x0 - pad, margin - pad, x0 + block_w + pad, bottom);
   draw_text(img, x0, margin, title, kInk, size);
   for (size_t i = 0; i < entries.size(); ++i) {
     const int y = y0 + row * static_cast<int>(i);
@@ -139,6 +145,7 @@ void draw_swatches(Image& img, const std::string& title, const std::vector<Legen
     frame(img, x0, by, x0 + box, by + box, kInk);
     draw_text(img, x0 + box + pad, y, entries[i].name, kInk, size);
   }
+  return {x0 - pad, bottom};
 }
 
 }  // namespace nsf

@@ -259,21 +259,24 @@ Image render_run_frame(const RunReader& run, const RunFrame& f, size_t k, const 
   Image img = render_particles(f.x, colors, r);
 
   const double s = plan.text_size;
+  LegendBox legend;
   if (plan.color == ColorBy::Stress) {
     double factor;
     std::string unit;
     stress_unit(plan.hi, factor, unit);
-    draw_colorbar(img, plan.lo * factor, plan.hi * factor, plan.legend_title, s, plan.clipped);
+    legend =
+        draw_colorbar(img, plan.lo * factor, plan.hi * factor, plan.legend_title, s, plan.clipped);
   } else if (plan.color == ColorBy::Speed) {
-    draw_colorbar(img, plan.lo, plan.hi, plan.legend_title, s, plan.clipped);
+    legend = draw_colorbar(img, plan.lo, plan.hi, plan.legend_title, s, plan.clipped);
   } else {
-    draw_swatches(img, plan.legend_title, plan.legend, s);
+    legend = draw_swatches(img, plan.legend_title, plan.legend, s);
   }
   char when[96];
   std::snprintf(when, sizeof when, "t = %.3f s    frame %zu/%zu", f.time, k,
                 plan.frame_count > 0 ? plan.frame_count - 1 : 0);
   const int m = label_margin(s);
-  int y = m;
+  const int widest = std::max(text_width(when, s), text_width(plan.title, s));
+  int y = labels_top(legend, widest, s);
   if (!plan.title.empty()) {
     draw_label(img, m, y, plan.title, s);
     y += text_height(s) + m;
