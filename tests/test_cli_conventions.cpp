@@ -113,7 +113,7 @@ TEST_F(CliConventions, TrainDemoAndReportSpellTheTrainingSizesAlike) {
   for (const std::string command : {"train", "demo", "report"}) {
     SCOPED_TRACE(command);
     const CliResult& r = help_of(command);
-    expect_contains(help_line(r.output, "--steps"), "...");
+    expect_contains(help_line(r.output, "--steps"), "INT[,INT,INT]");
     expect_contains(r.output, "Optimiser steps per stage: one value or g,h,l");
     expect_contains(r.output, "Hidden widths of the decoders: one value or g,h,l; 0 keeps the");
     EXPECT_EQ(current_part(r.output).find("--width-g"), std::string::npos) << r.output;
@@ -128,6 +128,10 @@ TEST_F(CliConventions, TrainDemoAndReportSpellTheTrainingSizesAlike) {
   EXPECT_EQ(r.exit_code, kExitUsage) << r.output;
   expect_contains(r.output, "--steps");
   expect_contains(r.output, "one value for every stage or three");
+  // A second --steps is refused, not appended to the first (5 then 6,7 read as 5,6,7).
+  r = run_cli("demo --steps 5 --steps 6,7 --scene " + in_dir("missing.json"));
+  EXPECT_EQ(r.exit_code, kExitUsage) << r.output;
+  expect_contains(r.output, "--steps");
   r = run_cli("report --widths 8,8 --scenes nothing");
   EXPECT_EQ(r.exit_code, kExitUsage) << r.output;
   expect_contains(r.output, "--widths");

@@ -266,19 +266,16 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("--out,-o", a->out, "Model file to write, e.g. models/NAME.nsf")->required();
   add_train_size_options(cmd, a->size, "6000,20000,20000; --decoder mlp: 6000,1500,1500",
                          "Table 1's, or the scene's \"train\" recipe");
-  cmd->add_option("--epochs", a->epochs,
-                  "Epochs per stage instead of --steps (epoch = every training point once)")
-      ->delimiter(',')
-      ->check(in_range(1e-3, 1e5));
-  cmd->add_option("--frames-per-batch", a->frames,
+  add_list_option(cmd, "--epochs", a->epochs,
+                  "Epochs per stage instead of --steps (epoch = every training point once)", 1e-3,
+                  1e5);
+  add_list_option(cmd, "--frames-per-batch", a->frames,
                   "Frames per batch: one value or g,h,l (default 4; at most the dataset's "
-                  "training frames)")
-      ->delimiter(',')
-      ->check(in_range(1, 1000000));
-  cmd->add_option("--particles-per-frame", a->particles,
-                  "Particles sampled per batch frame: one value or g,h,l (default 512)")
-      ->delimiter(',')
-      ->check(in_range(1, 10000000));
+                  "training frames)",
+                  1, 1000000);
+  add_list_option(cmd, "--particles-per-frame", a->particles,
+                  "Particles sampled per batch frame: one value or g,h,l (default 512)", 1,
+                  10000000);
   cmd->add_option("--refine-latents", c.refine_latents,
                   "Gauss-Newton iterations refining each frame's latent before stages 2, 3 (0 = "
                   "the encoder's latents, as in the paper)")
@@ -322,9 +319,8 @@ void add_nn_commands(CLI::App& app) {
                   "times coefficients from small networks of the latent) or mlp (the paper's "
                   "coordinate networks); docs/TRAINING.md")
       ->check(CLI::IsMember({"mlp", "basis"}));
-  cmd->add_option("--modes", a->modes, "Basis modes K: one value or x,tau,C (default 32,64,64)")
-      ->delimiter(',')
-      ->check(in_range(1, 4096));
+  add_list_option(cmd, "--modes", a->modes,
+                  "Basis modes K: one value or x,tau,C (default 32,64,64)", 1, 4096);
   cmd->add_option("--coefficient-width", a->coefficient_width,
                   "Hidden width of the basis coefficient networks (default 128)")
       ->check(in_range(1, 4096));

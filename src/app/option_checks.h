@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 namespace nsf::app {
 
@@ -28,6 +29,34 @@ CLI::Validator in_range(T lo, T hi) {
         return std::string();
       },
       "in " + range);
+}
+
+// A list option, "a" or "a,b,c", each value checked by in_range(lo, hi). Given twice, it is a
+// usage error naming it: CLI11 would append the second list to the first (--steps 5 --steps
+// 6,7 read as 5,6,7).
+template <typename T>
+CLI::Option* add_list_option(CLI::App* cmd, const std::string& name, std::vector<T>& out,
+                             const std::string& help, T lo, T hi) {
+  const CLI::Validator check = in_range(lo, hi);
+  const std::string flag = name.substr(0, name.find(','));
+  return cmd
+      ->add_option_function<std::string>(
+          name,
+          [&out, check, flag](const std::string& text) {
+            out.clear();
+            std::string rest = text + ",";
+            for (size_t at = rest.find(','); at != std::string::npos; at = rest.find(',')) {
+              std::string item = rest.substr(0, at);
+              rest.erase(0, at + 1);
+              const std::string problem = check(item);
+              if (!problem.empty()) throw CLI::ValidationError(flag, problem);
+              T value{};
+              CLI::detail::lexical_cast(item, value);
+              out.push_back(value);
+            }
+          },
+          help)
+      ->type_name(std::is_integral_v<T> ? "INT[,INT,INT]" : "NUM[,NUM,NUM]");
 }
 
 }  // namespace nsf::app

@@ -6,15 +6,14 @@ namespace nsf::app {
 
 void add_train_size_options(CLI::App* cmd, TrainSizeArgs& args, const std::string& steps_default,
                             const std::string& widths_default) {
-  cmd->add_option("--steps", args.steps,
-                  "Optimiser steps per stage: one value or g,h,l (default " + steps_default + ")")
-      ->delimiter(',')
-      ->check(in_range<long>(1, 1000000000));
-  cmd->add_option("--widths", args.widths,
+  add_list_option<long>(
+      cmd, "--steps", args.steps,
+      "Optimiser steps per stage: one value or g,h,l (default " + steps_default + ")", 1,
+      1000000000);
+  add_list_option(cmd, "--widths", args.widths,
                   "Hidden widths of the decoders: one value or g,h,l; 0 keeps the default (" +
-                      widths_default + ")")
-      ->delimiter(',')
-      ->check(in_range(0, 65536));
+                      widths_default + ")",
+                  0, 65536);
 }
 
 void require_one_or_three(size_t count, const std::string& option, const std::string& what) {
