@@ -103,7 +103,33 @@ struct BaselineInputs {
   std::optional<app::SceneFile> coarse;
   nlohmann::json coarse_json;  // at μ
   std::string label;           // what the coarse engine runs, for the report
+  std::string coarse_skipped;  // why the coarse engine is not measured (coarse_optional)
 };
+
+// The coarse engine's scene at μ, built once so that a scene it cannot build fails now.
+void read_coarse_scene(const RomRunOptions& o, const RomReport& rep, BaselineInputs& in) {
+  const std::string path = o.coarse_scene.empty() ? o.scene_path : o.coarse_scene;
+  std::vector<std::string> overrides = o.overrides;  // the same case on the coarse scene
+  if (o.coarse_factor > 0) {
+    const std::vector<std::string> coarser =
+        coarser_overrides(app::read_scene_file(path, overrides).json, o.coarse_factor);
+    overrides.insert(overrides.end(), coarser.begin(), coarser.end());
+  }
+  in.coarse = app::read_scene_file(path, overrides);
+  in.coarse_json = in.coarse->json;
+  in.label = in.coarse_json.value("name", path);
+  if (o.coarse_factor > 0) {
+    char at[48];
+    std::snprintf(at, sizeof at, " at %gx dx", o.coarse_factor);
+    in.label += at;
+  }
+  if (rep.has_mu) {
+    if (!in.coarse->sections.sweep)
+      fail("rom: the coarse scene ", path, " has no \"sweep\" section to set mu");
+    apply_overrides(in.coarse_json, sweep_overrides(*in.coarse->sections.sweep, rep.mu));
+  }
+  app::build_scene_file(*in.coarse, in.coarse_json);  // fails now on a scene it cannot build
+}
 
 BaselineInputs read_baseline_inputs(const RomRunOptions& o, const RomReport& rep,
                                     const Scene& scene) {
@@ -125,27 +151,13 @@ BaselineInputs read_baseline_inputs(const RomRunOptions& o, const RomReport& rep
            " training runs; look-up and interpolation need at least two");
   }
   if (!o.coarse_scene.empty() || o.coarse_factor > 0) {
-    const std::string path = o.coarse_scene.empty() ? o.scene_path : o.coarse_scene;
-    std::vector<std::string> overrides = o.overrides;  // the same case on the coarse scene
-    if (o.coarse_factor > 0) {
-      const std::vector<std::string> coarser =
-          coarser_overrides(app::read_scene_file(path, overrides).json, o.coarse_factor);
-      overrides.insert(overrides.end(), coarser.begin(), coarser.end());
+    try {
+      read_coarse_scene(o, rep, in);
+    } catch (const Error& e) {
+      if (!o.coarse_optional) throw;
+      in.coarse.reset();
+      in.coarse_skipped = std::string("coarse engine not measured: ") + e.what();
     }
-    in.coarse = app::read_scene_file(path, overrides);
-    in.coarse_json = in.coarse->json;
-    in.label = in.coarse_json.value("name", path);
-    if (o.coarse_factor > 0) {
-      char at[48];
-      std::snprintf(at, sizeof at, " at %gx dx", o.coarse_factor);
-      in.label += at;
-    }
-    if (rep.has_mu) {
-      if (!in.coarse->sections.sweep)
-        fail("rom: the coarse scene ", path, " has no \"sweep\" section to set mu");
-      apply_overrides(in.coarse_json, sweep_overrides(*in.coarse->sections.sweep, rep.mu));
-    }
-    app::build_scene_file(*in.coarse, in.coarse_json);  // fails now on a scene it cannot build
   }
   return in;
 }
@@ -166,6 +178,8 @@ RomReport run_rom(const RomRunOptions& o) {
   Scene scene = app::build_scene_file(file, js);
   fields.check_scene(scene.name, scene.particles.X, "scene " + o.scene_path);
   const BaselineInputs baseline_inputs = read_baseline_inputs(o, rep, scene);
+  if (!baseline_inputs.coarse_skipped.empty())
+    rep.warnings.push_back(baseline_inputs.coarse_skipped);
 
   // The scene's rom section, then what the command line gave.
   RomOptions ro = with_rom_section(o.rom, file.sections.rom);

@@ -40,6 +40,10 @@ struct RomRunOptions {
   std::string baseline_data;
   std::string coarse_scene;
   double coarse_factor = 0;
+  // A coarse scene that cannot be built (a body inside the coarser wall band, say) leaves the
+  // coarse engine unmeasured, with a warning in the report, instead of stopping the run
+  // (`nsf report`, which picks the coarse scene itself; `nsf rom --coarse` stops).
+  bool coarse_optional = false;
 };
 
 // Gauss–Newton iterations the budget's projection allows per frame: its warm start is a frame
