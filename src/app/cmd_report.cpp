@@ -144,8 +144,8 @@ void run_report(const ReportArgs& a) {
   // both invocations rather than the last one.
   std::ofstream(page + ".tmp") << results_markdown(
       rows,
-      "nsf report --size small [--quadrature 1] [--beyond-sweep]` and, for the `*_paper` "
-      "rows, `nsf report --size paper");
+      "nsf report --size small|paper [--quadrature 1] [--beyond-sweep]`, the `*_paper` rows "
+      "with `--size paper");
   fs::rename(page + ".tmp", page);
   std::printf("wrote %s (%zu rows)\n", page.c_str(), rows.size());
   if (!failed.empty()) {
