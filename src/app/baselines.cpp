@@ -11,6 +11,7 @@
 #include "core/progress.h"
 #include "core/timer.h"
 #include "mpm/simulation.h"
+#include "nn/field_checks.h"
 #include "nn/point_interpolation.h"
 
 namespace nsf {
@@ -18,14 +19,9 @@ namespace nsf {
 namespace {
 
 // The sums of eq. (11) over frames.
-struct DeltaSum {
-  double num = 0, den = 0;
-  void add(const std::vector<Vec3>& x, const std::vector<Vec3>& truth) {
-    for (size_t p = 0; p < truth.size(); ++p)
-      num += (x[p] - truth[p]).squaredNorm(), den += truth[p].squaredNorm();
-  }
-  double delta() const { return den > 0 ? std::sqrt(num / den) : 0.0; }
-};
+void add_frame(ErrorSum& sum, const std::vector<Vec3>& x, const std::vector<Vec3>& truth) {
+  for (size_t p = 0; p < truth.size(); ++p) sum.add(x[p], truth[p]);
+}
 
 // A training run's positions at any time of its span: linear between its two frames around t.
 class RunPlayback {
@@ -112,22 +108,22 @@ void measure_sweep_baselines(const std::vector<TrainingRun>& runs_in, double mu,
 
   const RunPlayback near(runs[nearest].path, truth), a(runs[lo].path, truth),
       b(runs[hi].path, truth);
-  DeltaSum lookup, interp;
+  ErrorSum lookup, interp;
   for (int f = 1; f <= frames; ++f) {
     const double t = truth.times()[size_t(f)];
     const std::vector<Vec3> phi = truth.read_positions(size_t(f));
-    lookup.add(near.at(t), phi);
+    add_frame(lookup, near.at(t), phi);
     std::vector<Vec3> x = a.at(t);
     const std::vector<Vec3> xb = b.at(t);
     for (size_t p = 0; p < x.size(); ++p) x[p] += w * (xb[p] - x[p]);
-    interp.add(x, phi);
+    add_frame(interp, x, phi);
   }
   out.lookup_mu = runs[nearest].mu;
-  out.lookup_delta = lookup.delta();
+  out.lookup_delta = lookup.relative();
   out.interp_mu_lo = runs[lo].mu;
   out.interp_mu_hi = runs[hi].mu;
   out.interp_extrapolated = w < 0 || w > 1;
-  out.interp_delta = interp.delta();
+  out.interp_delta = interp.relative();
 }
 
 void measure_coarse_baseline(const app::SceneFile& file, const nlohmann::json& js,
@@ -147,7 +143,7 @@ void measure_coarse_baseline(const app::SceneFile& file, const nlohmann::json& j
     fail("baselines: the coarse scene ", file.path, " has ", s.frames, " frames, the truth ",
          frames);
   const PointInterpolation carry = carry_to_truth(sim.particles(), truth);
-  DeltaSum delta;
+  ErrorSum delta;
   std::vector<Vec3> x(truth.particle_count());
   double seconds = 0;
   Progress progress("coarse engine", frames, "frames");
@@ -161,11 +157,11 @@ void measure_coarse_baseline(const app::SceneFile& file, const nlohmann::json& j
       for (uint32_t e = carry.start[p]; e < carry.start[p + 1]; ++e)
         x[p] += double(carry.weight[e]) * xc[carry.particle[e]];
     }
-    delta.add(x, truth.read_positions(size_t(f)));
+    add_frame(delta, x, truth.read_positions(size_t(f)));
     if (!quiet) progress.update(f);
   }
   if (!quiet) progress.finish();
-  out.coarse_delta = delta.delta();
+  out.coarse_delta = delta.relative();
   out.coarse_seconds = seconds;
   out.coarse_particles = sim.particles().size();
 }

@@ -280,9 +280,8 @@ RomReport run_rom(const RomRunOptions& o) {
   Particles frame = out_points;
   std::vector<Vec3> x, v;
   std::vector<Mat3> tau, C;
-  std::vector<double> latents;          // ẑ of every written frame, row by row
-  double delta_num = 0, delta_den = 0;  // the sums of eq. (11) over frames 1…N
-  ErrorSum stress_error, affine_error;  // τ and C against the truth's
+  std::vector<double> latents;                 // ẑ of every written frame, row by row
+  ErrorSum delta, stress_error, affine_error;  // eq. (11) over frames 1…N; τ and C vs the truth's
   rep.field_sources = rom.diagnostics().field_sources;
   auto output = [&](int f) {
     const double t1 = now_seconds();
@@ -292,16 +291,16 @@ RomReport run_rom(const RomRunOptions& o) {
     if (compare) {
       const RunFrame truth_frame = truth->read_frame(size_t(f));
       const std::vector<Vec3>& phi = truth_frame.x;
-      double num = 0, den = 0;
+      ErrorSum frame_delta;
       for (size_t p = 0; p < phi.size(); ++p) {
-        num += (x[p] - phi[p]).squaredNorm(), den += phi[p].squaredNorm();
+        frame_delta.add(x[p], phi[p]);
         stress_error.add(tau[p], truth_frame.tau[p]);
         affine_error.add(C[p], truth_frame.C[p]);
       }
       if (budget) budget->add_frame(phi, truth_frame.tau, truth_frame.C);
-      rep.delta_per_frame.push_back(std::sqrt(num / den));
-      delta_num += num, delta_den += den;
-      rep.delta = std::sqrt(delta_num / delta_den);
+      rep.delta_per_frame.push_back(frame_delta.relative());
+      delta.add(frame_delta);
+      rep.delta = delta.relative();
       // < 0 for "not measured": a truth without stress (a rigid drop) has no relative error.
       rep.stress_error = stress_error.ref > 0 ? stress_error.relative() : -1.0;
       rep.affine_error = affine_error.ref > 0 ? affine_error.relative() : -1.0;

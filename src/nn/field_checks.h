@@ -11,14 +11,17 @@
 
 namespace nsf {
 
-// Accumulates Σ‖a − b‖² and Σ‖b‖² over many frames; relative() = √(err / ref), NaN when ref = 0.
 // A particle's τ as a run file stores it (xx yy zz xy yz xz) and its C (row-major 9), as 3×3.
 Mat3 stored_stress(const float* s);
 Mat3 stored_affine(const float* c);
 
+// Accumulates Σ‖a − b‖² and Σ‖b‖² over many frames; relative() = √(err / ref), NaN when ref = 0.
+// Over positions against the truth's, it is δ of eq. (11).
 struct ErrorSum {
   double err = 0, ref = 0;
   void add(const Mat3& a, const Mat3& b) { err += (a - b).squaredNorm(), ref += b.squaredNorm(); }
+  void add(const Vec3& a, const Vec3& b) { err += (a - b).squaredNorm(), ref += b.squaredNorm(); }
+  void add(const ErrorSum& o) { err += o.err, ref += o.ref; }
   double relative() const;
 };
 

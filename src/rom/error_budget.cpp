@@ -10,7 +10,7 @@ namespace nsf {
 
 FieldErrors ErrorBudget::Sums::errors() const {
   FieldErrors e;
-  if (den > 0) e.delta = std::sqrt(num / den);
+  if (x.ref > 0) e.delta = x.relative();
   if (stress.ref > 0) e.stress = stress.relative();
   if (affine.ref > 0) e.affine = affine.relative();
   return e;
@@ -37,7 +37,7 @@ void ErrorBudget::add(Sums& sums, const Latent& z, const std::vector<Vec3>& x,
   fields_.stress(points_, z, mu_, tau_);
   fields_.affine(points_, z, C_);
   for (size_t p = 0; p < x.size(); ++p) {
-    sums.num += (gx_[p] - x[p]).squaredNorm(), sums.den += x[p].squaredNorm();
+    sums.x.add(gx_[p], x[p]);
     sums.stress.add(tau_[p], tau[p]);
     sums.affine.add(C_[p], C[p]);
   }

@@ -48,8 +48,7 @@ class ErrorBudget {
 
  private:
   struct Sums {
-    double num = 0, den = 0;
-    ErrorSum stress, affine;
+    ErrorSum x, stress, affine;
     FieldErrors errors() const;
   };
   void add(Sums& sums, const Latent& z, const std::vector<Vec3>& x, const std::vector<Mat3>& tau,
