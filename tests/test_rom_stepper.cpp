@@ -587,10 +587,17 @@ TEST_F(RomEndToEnd, BasisModelRunsCloseToGroundTruth) {
 // thread counts (their GEMMs go through OpenBLAS, whose blocking follows the thread count: this
 // test on model() finds two thirds of the coordinates differing in the last bits; docs/ROM.md).
 TEST_F(RomEndToEnd, BasisRunIsBitIdenticalAcrossThreadCounts) {
-  for (const std::string& m : {basis_model()}) {
+  // The bases' own fields, and the tracked state on a thinned quadrature (every point's G2P and
+  // return map, each point on its own).
+  for (const bool tracked : {false, true}) {
+    const std::string m = basis_model() + (tracked ? " with the tracked state" : "");
     nsf::RomRunOptions o = options();
-    o.model_path = m;
+    o.model_path = basis_model();
     o.rom.serial_below_points = 0;
+    if (tracked) {
+      o.rom.fields = {"", "tracked", "tracked"};
+      o.rom.quadrature_per_cell = 1;
+    }
     std::vector<std::vector<nsf::Vec3>> runs;
     for (int threads : {1, 2, 3}) {
       o.threads = threads;
@@ -716,10 +723,11 @@ TEST_F(RomEndToEnd, FlipCorrectionChangesTheRunAndStaysClose) {
   nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "--flip");
 }
 
-// The ablation of h and l: each particle carries its own F^E, plastic state and C through the
-// scene's material, as in full order. It needs every particle a sample, must change the run, and
-// stays close to ground truth on the tiny elastic scene.
-TEST_F(RomEndToEnd, TrackedStressAndAffineReplaceTheNetworksWhenEveryParticleIsASample) {
+// The tracked state in place of h and l: each integration point carries its own F^E, plastic
+// state and C through the scene's material, as full order carries each particle's; a merged point
+// of a thinned quadrature carries one for its group. It must change the run and stay close to
+// ground truth on the tiny elastic scene, with every particle a sample or a few, thinned or not.
+TEST_F(RomEndToEnd, TrackedStateOnTheIntegrationPointsReplacesTheNetworks) {
   nsf::RomRunOptions o = options();
   o.samples = 864;  // |P| of the tiny scene
   const nsf::RomReport networks = nsf::run_rom(o);
@@ -727,20 +735,27 @@ TEST_F(RomEndToEnd, TrackedStressAndAffineReplaceTheNetworksWhenEveryParticleIsA
   const nsf::RomReport tracked = nsf::run_rom(o);
   EXPECT_NE(tracked.delta, networks.delta);
   EXPECT_LT(tracked.delta, 0.05);
-  std::printf(
-      "tiny scene, every particle a sample: ROM delta %.3f%% with tracked stress and C, "
-      "%.3f%% with h and l\n",
-      100 * tracked.delta, 100 * networks.delta);
   o.rom.fields.affine = "network";
   const nsf::RomReport stress_only = nsf::run_rom(o);
   EXPECT_NE(stress_only.delta, tracked.delta);
+  o.rom.fields.affine = "tracked";
   o.samples = 100;
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
-                                "every particle must be a sample");
-  o.samples = 864;
+  const nsf::RomReport few = nsf::run_rom(o);
+  EXPECT_LT(few.delta, 0.05);
   o.rom.quadrature_per_cell = 1;
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "--quadrature");
-  o.rom.quadrature_per_cell = 0;
+  const nsf::RomReport thinned = nsf::run_rom(o);
+  EXPECT_LT(thinned.delta, 0.05);
+  EXPECT_NE(thinned.delta, few.delta);
+  EXPECT_LT(thinned.quadrature_points, 864u);
+  std::printf(
+      "tiny scene: ROM delta %.3f%% with tracked stress and C (every particle a sample), %.3f%% "
+      "with h and l; 100 samples %.3f%%, and one point per cell %.3f%%\n",
+      100 * tracked.delta, 100 * networks.delta, 100 * few.delta, 100 * thinned.delta);
+  // A schedule would renumber the merged points and lose their state.
+  o.overrides = {R"(rom.schedule=[{"fraction": 0.5, "samples": 50}])"};
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+                                "sample schedule");
+  o.overrides.clear();
   o.dt_ratio = 5;  // past the CFL bound, where the explicit tracked stress would blow up
   nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "CFL bound");
 }

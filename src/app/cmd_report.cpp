@@ -33,8 +33,9 @@ struct ReportArgs {
   int threads = 0;  // all cores; the callback puts the count in use here
   bool quiet = false;
   std::string docs = "docs", out = "out/report";
-  int quadrature = 0;  // > 0: the ROM's thinned quadrature, rows labelled with it
-  double flip = 0;     // > 0: the ROM's FLIP-style correction, rows labelled with it
+  int quadrature = 0;    // > 0: the ROM's thinned quadrature, rows labelled with it
+  double flip = 0;       // > 0: the ROM's FLIP-style correction, rows labelled with it
+  bool tracked = false;  // the tracked state on N in place of h and l, rows labelled with it
   bool page_only = false;
   bool beyond_sweep = false;  // run the scenes' beyond-sweep cases (app/beyond_sweep.h) instead
 };
@@ -55,9 +56,14 @@ void report_run(const ReportArgs& a, const std::string& scene, const std::string
     label = label.empty() ? std::string("FLIP ") + f : label + ", FLIP " + f;
     tag += std::string("_flip") + f;
   }
+  if (a.tracked) {
+    label = label.empty() ? "tracked state" : label + ", tracked state";
+    tag += "_tracked";
+  }
   RomRunOptions ro;
   if (a.quadrature > 0) ro.quadrature = a.quadrature;
   ro.rom.flip = a.flip;
+  if (a.tracked) ro.rom.fields = {"", "tracked", "tracked"};
   ro.model_path = model;
   ro.overrides = set;
   ro.scene_path = scene;
@@ -144,8 +150,8 @@ void run_report(const ReportArgs& a) {
   // both invocations rather than the last one.
   std::ofstream(page + ".tmp") << results_markdown(
       rows,
-      "nsf report --size small|paper [--quadrature 1] [--beyond-sweep]`, the `*_paper` rows "
-      "with `--size paper");
+      "nsf report --size small|paper [--quadrature k] [--tracked] [--beyond-sweep]`, the "
+      "`*_paper` rows with `--size paper");
   fs::rename(page + ".tmp", page);
   std::printf("wrote %s (%zu rows)\n", page.c_str(), rows.size());
   if (!failed.empty()) {
@@ -189,6 +195,10 @@ void add_report_command(CLI::App& app) {
                   "rows are labelled with it and kept beside the others")
       ->capture_default_str()
       ->check(in_range(0.0, 1.0));
+  cmd->add_flag("--tracked", a->tracked,
+                "ROM with the tracked state in place of h and l: each integration point carries "
+                "its own F^E, plastic state and C (nsf rom --stress tracked --affine tracked); "
+                "rows are labelled with it and kept beside the others");
   cmd->add_flag("--beyond-sweep", a->beyond_sweep,
                 "Run each scene's held-out case outside its sweep family instead (the plates "
                 "squeezing deeper, the blade stopping halfway, ...; docs/ROM.md), rows labelled "

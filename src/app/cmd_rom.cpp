@@ -104,15 +104,15 @@ void add_rom_command(CLI::App& app) {
          "--stress", a->opt.rom.fields.stress,
          "Kirchhoff stress on N from: " + names(point_field_source_names(FieldRole::stress)) +
              " (default: the scene's rom.fields, else the model's decoder h; crom: from dg/dX "
-             "through the material; tracked: each particle's own F and plastic state, needs "
-             "--samples |P|)")
+             "through the material; tracked: each integration point's own F and plastic state, "
+             "carried through the run, as full order carries each particle's)")
       ->check(CLI::IsMember(point_field_source_names(FieldRole::stress)));
   cmd->add_option(
          "--affine", a->opt.rom.fields.affine,
          "APIC affine matrices C on N from: " + names(point_field_source_names(FieldRole::affine)) +
              " (default: the scene's rom.fields, else the model's decoder l, or none with --stress "
              "crom; velocity: the gradient of the ROM's own velocity field; tracked: each "
-             "particle's own G2P C, needs --samples |P|)")
+             "integration point's own G2P C)")
       ->check(CLI::IsMember(point_field_source_names(FieldRole::affine)));
   cmd->add_flag("--crom", a->crom,
                 "CROM-style baseline: --stress crom (and --affine none unless given)");

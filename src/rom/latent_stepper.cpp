@@ -142,8 +142,7 @@ struct LatentStepper::Impl {
     sim->particles() = Particles{};
     make_sources(F0);
     set_samples(sample_count_at(opt.sampling, 0, T));
-    tracked->check(opt.sampling.count, !opt.sampling.schedule.empty(),
-                   opt.quadrature_per_cell > 0 || !g->exact(), cfl_bound);
+    tracked->check(!opt.sampling.schedule.empty(), cfl_bound);
 
     if (!(opt.latent_prior >= 0 && std::isfinite(opt.latent_prior)))
       fail("rom: the latent prior's length must be a number of metres, 0 or more, got ",
@@ -233,6 +232,7 @@ struct LatentStepper::Impl {
       table.mat0.push_back(table.mat0[member]);
     }
     table.merged_members = quad.merged_members;
+    tracked->set_points(table);
     resident.clear();  // a merged point's id may now stand for another group
     if (thinned()) {
       std::vector<Vec3> XQ(quad.ids.size());
@@ -313,7 +313,7 @@ struct LatentStepper::Impl {
     }
   }
 
-  // One step of §5: (1) infer x, v on N and τ, C there; (2) one MPM step on N, G2P for S only;
+  // One step of §5: (1) infer x, v on N and τ, C there; (2) one MPM step on N, G2P for S;
   // (3) invert g on S for ẑ_{n+1}.
   void step() {
     const int want = sample_count_at(opt.sampling, t, T);
@@ -398,8 +398,9 @@ struct LatentStepper::Impl {
     resident = N;
   }
 
-  // (2) One MPM step on N with the engine's own transfers; G2P for S only. Takes the step's
-  // xN, vN, tauN and CN (they change places with sim's particle arrays).
+  // (2) One MPM step on N with the engine's own transfers; G2P for S only (for all of N with the
+  // tracked state). Takes the step's xN, vN, tauN and CN (they change places with sim's particle
+  // arrays).
   void mpm_on_integration_points(std::vector<Vec3>& xs_new) {
     ScopedTimer timer(times.mpm);
     make_resident();
@@ -412,11 +413,16 @@ struct LatentStepper::Impl {
     std::vector<uint32_t> gather(S.size());
     for (size_t k = 0; k < S.size(); ++k) gather[k] = uint32_t(slot[S[k]]);
     for (uint32_t p : N) slot[p] = -1;
-    // F: the tracked particles' own, else the identity; G2P changes it on the gathered only.
-    if (tracked->active())
+    // G2P for S, or, with a tracked source, for every point of N, each with its own F (else the
+    // identity: only the samples' positions are read).
+    std::vector<uint32_t> all_rows;
+    if (tracked->active()) {
+      all_rows.resize(m);
+      std::iota(all_rows.begin(), all_rows.end(), 0u);
       for (size_t k = 0; k < m; ++k) P.F[k] = tracked->F(N[k]);
-    else
+    } else {
       for (uint32_t k : gather) P.F[k] = Mat3::Identity();
+    }
     // The latent velocity field is smooth and g carries it exactly; the round trip through
     // the grid blurs it whenever l's C is off, and that loss recurs at every step, so a
     // ROM with small steps slows down (sand_small: δ 2.5 % at 1.0Δt, 3.5 % at 0.5Δt).
@@ -427,8 +433,8 @@ struct LatentStepper::Impl {
       for (size_t k = 0; k < S.size(); ++k)
         smoothing[k] = opt.flip * (P.v[gather[k]] - v_round_trip[k]);
     }
-    sim->transfer(dt, t, &gather);
-    if (tracked->active()) tracked->advance(S, P, gather);
+    sim->transfer(dt, t, tracked->active() ? &all_rows : &gather);
+    if (tracked->active()) tracked->advance(N, P, all_rows);
     xs_new.resize(S.size());
     for (size_t k = 0; k < S.size(); ++k) xs_new[k] = P.x[gather[k]] + dt * smoothing[k];
     check_finite_inside(xs_new, S, "sample");

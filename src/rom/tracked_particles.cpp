@@ -1,8 +1,11 @@
 #include "rom/tracked_particles.h"
 
+#include <numeric>
+
 #include "core/error.h"
 #include "mpm/materials/material.h"
 #include "mpm/particles.h"
+#include "rom/field_source.h"
 
 namespace nsf {
 
@@ -10,7 +13,8 @@ TrackedParticles::TrackedParticles(std::vector<Mat3> F0, std::vector<MaterialPoi
                                    std::vector<uint16_t> material,
                                    const std::vector<std::unique_ptr<Material>>& materials,
                                    double dt)
-    : F_(std::move(F0)),
+    : particles_(F0.size()),
+      F_(std::move(F0)),
       mp_(std::move(mat0)),
       material_(std::move(material)),
       materials_(materials),
@@ -27,14 +31,38 @@ void TrackedParticles::enlist(const std::string& what, bool explicit_stress) {
   explicit_stress_ = explicit_stress_ || explicit_stress;
 }
 
-void TrackedParticles::check(int samples, bool sample_schedule, bool thinned,
-                             double cfl_bound) const {
+void TrackedParticles::set_points(const PointTable& table) {
+  const size_t n = table.X.size();
+  if (!active() || n == F_.size()) return;
+  if (advanced_)
+    fail("rom: ", what_,
+         " carries each integration point's own state, and the merged points of the thinned "
+         "quadrature changed during the run: drop the sample schedule");
+  F_.resize(particles_), mp_.resize(particles_), material_.resize(particles_);
+  owner_.resize(particles_);
+  std::iota(owner_.begin(), owner_.end(), 0u);
+  for (size_t j = 0; j + particles_ < n; ++j) {
+    const auto& members = table.merged_members[j];
+    Mat3 F = Mat3::Zero();
+    for (const auto& [p, share] : members) {
+      F += share * F_[p];
+      owner_[p] = uint32_t(particles_ + j);
+    }
+    F_.push_back(F);
+    mp_.push_back(table.mat0[particles_ + j]);
+    material_.push_back(table.material[particles_ + j]);
+  }
+  C_.assign(n, Mat3::Zero());
+  tau_.resize(n);
+  for (size_t p = 0; p < n; ++p) tau_[p] = update(p);
+}
+
+void TrackedParticles::check(bool sample_schedule, double cfl_bound) const {
   if (!active()) return;
-  const size_t np = F_.size();
-  if (size_t(samples) != np || sample_schedule)
-    fail("rom: ", what_, " keeps every particle's own state, so every particle must be a sample: ",
-         "use --samples ", np, " (|P|) and no sample schedule");
-  if (thinned) fail("rom: ", what_, " does not combine with --quadrature or the tangent cache");
+  if (sample_schedule)
+    fail("rom: ", what_,
+         " carries each integration point's own state through the run, so the sample set must "
+         "stay the same (a schedule renumbers the merged points): drop the sample schedule");
   // Unlike h's stress, the tracked one is the explicit engine's and shares its bound.
   if (explicit_stress_ && dt_ > cfl_bound * (1 + 1e-9))
     fail("rom: ", what_, " integrates the material explicitly, so the ROM step ", dt_,
@@ -45,13 +73,17 @@ Mat3 TrackedParticles::update(size_t p) {
   return materials_[material_[p]]->update(F_[p], mp_[p], dt_);
 }
 
-void TrackedParticles::advance(const std::vector<uint32_t>& S, const Particles& P,
-                               const std::vector<uint32_t>& gather) {
-  for (size_t k = 0; k < S.size(); ++k) {
-    const uint32_t p = S[k];
-    F_[p] = P.F[gather[k]];
+void TrackedParticles::advance(const std::vector<uint32_t>& ids, const Particles& P,
+                               const std::vector<uint32_t>& rows) {
+  advanced_ = true;
+  const int64_t n = int64_t(ids.size());
+  // Each point on its own: any thread count gives the same bits.
+#pragma omp parallel for schedule(static) if (n > 512)
+  for (int64_t k = 0; k < n; ++k) {
+    const uint32_t p = ids[k];
+    F_[p] = P.F[rows[k]];
     tau_[p] = update(p);
-    C_[p] = P.C[gather[k]];
+    C_[p] = P.C[rows[k]];
   }
 }
 

@@ -1,8 +1,10 @@
 #pragma once
-// Every particle's own state, kept as the full-order engine keeps it, for the tracked field
-// sources (an ablation of h and l, docs/ROM.md): F^E and the plastic state, updated through the
-// scene's material from the velocity gradient of the particle's own G2P, its τ, and APIC's C.
-// The state is every particle's, so every particle must be a sample at every step (N = S = P).
+// Each integration point's own state, kept as the full-order engine keeps every particle's, for
+// the tracked field sources (docs/ROM.md): F^E and the plastic state, updated through the
+// scene's material from the velocity gradient of the point's own G2P, its τ, and APIC's C. Every
+// point of N goes through G2P while a tracked source is in use; a merged point of a thinned
+// quadrature carries a state of its own, as a coarse engine's particle would. The state
+// remembers the plastic path, which h's stress, a function of the latent, does not.
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,6 +16,7 @@ namespace nsf {
 
 class Material;
 struct Particles;
+struct PointTable;
 
 class TrackedParticles {
  public:
@@ -23,25 +26,35 @@ class TrackedParticles {
 
   // A source takes the state: `what` names it in errors (e.g. "--stress tracked");
   // `explicit_stress` when it integrates the material explicitly, so that the ROM step must keep to
-  // the CFL bound. The first caller starts the state: τ of every particle from its initial F.
+  // the CFL bound. The first caller starts the state: τ of every point from its initial F.
   void enlist(const std::string& what, bool explicit_stress);
   bool active() const { return !what_.empty(); }
 
-  // Throws nsf::Error unless every particle is a sample at every step, nothing is merged, and an
-  // explicit stress keeps to the bound.
-  void check(int samples, bool sample_schedule, bool thinned, double cfl_bound) const;
+  // The point table changed (a thinned quadrature's merged points): each new merged point starts
+  // from its group's mass-weighted F and its first member's plastic state. Throws nsf::Error
+  // once the run has begun, when a merged point would lose its history.
+  void set_points(const PointTable& table);
 
-  // After G2P: particle S[k] sits at row gather[k] of P, with its new F and C.
-  void advance(const std::vector<uint32_t>& S, const Particles& P,
-               const std::vector<uint32_t>& gather);
+  // Throws nsf::Error when the sample set changes during the run (a sample schedule renumbers
+  // the merged points) or an explicit stress breaks the bound.
+  void check(bool sample_schedule, double cfl_bound) const;
 
-  const Mat3& F(size_t p) const { return F_[p]; }
-  const Mat3& tau(size_t p) const { return tau_[p]; }
-  const Mat3& C(size_t p) const { return C_[p]; }
+  // After G2P: point ids[k] sits at row rows[k] of P, with its new F and C.
+  void advance(const std::vector<uint32_t>& ids, const Particles& P,
+               const std::vector<uint32_t>& rows);
+
+  // Point p's state; a particle merged into a quadrature point reads its group's.
+  const Mat3& F(size_t p) const { return F_[at(p)]; }
+  const Mat3& tau(size_t p) const { return tau_[at(p)]; }
+  const Mat3& C(size_t p) const { return C_[at(p)]; }
 
  private:
   Mat3 update(size_t p);
+  size_t at(size_t p) const { return p < owner_.size() ? owner_[p] : p; }
 
+  size_t particles_;  // the particles' ids come first, then the merged points'
+  bool advanced_ = false;
+  std::vector<uint32_t> owner_;  // per particle: the point that carries its state
   std::vector<Mat3> F_, tau_, C_;
   std::vector<MaterialPoint> mp_;
   std::vector<uint16_t> material_;
