@@ -3,6 +3,10 @@
 
 #include "app/results_table.h"
 
+#include <cmath>
+#include <string>
+#include <vector>
+
 namespace {
 
 TEST(RomResults, TablePrintsMeasuredAndPaperFiguresPerScene) {
@@ -62,6 +66,38 @@ TEST(RomResults, TablePrintsMeasuredAndPaperFiguresPerScene) {
   const std::string md_old = nsf::results_markdown({old}, "nsf report");
   EXPECT_NE(md_old.find("| 3456 | — | 1.23% | — | 2.50× |"), std::string::npos) << md_old;
   EXPECT_NE(md_old.find("| 6 | MLP | 6e+03 |"), std::string::npos) << md_old;
+}
+
+// `nsf report --check`: a rerun must give every figure but the machine's bit for bit; timings,
+// memory, speed-ups and the thread count may differ, and keys recorded since the row was made
+// are not differences.
+TEST(RomResults, ARerunDiffersOnlyWhereAFigureDoes) {
+  nsf::RomReport r;
+  r.scene = "metal_small";
+  r.mu = 0.027;
+  r.delta = 0.0050812345678901;
+  r.stress_error = 0.6;
+  r.rom_seconds = 1.0, r.fom_seconds = 3.0;
+  r.rom_peak_mib = 280;
+  r.threads = 1;
+  r.baselines.lookup_delta = 0.0044, r.baselines.lookup_mu = 0.018;
+  const auto stored = nsf::result_json(r, "scenes/paper/metal_small.json", "models/metal_small.nsf",
+                                       "results/metal_small.png", "");
+  nsf::RomReport again = r;
+  again.rom_seconds = 1.3, again.fom_seconds = 2.7, again.rom_peak_mib = 290, again.threads = 2;
+  again.model_checksum = "1a2b3c4d";  // recorded only by the rerun
+  EXPECT_TRUE(
+      nsf::row_differences(stored, nsf::result_json(again, "scenes/paper/metal_small.json",
+                                                    "models/metal_small.nsf", "results/x.png", ""))
+          .empty());
+  again.delta = std::nextafter(r.delta, 1.0);  // the last bit
+  again.baselines.lookup_delta = -1;           // not measured by the rerun
+  const std::vector<std::string> d = nsf::row_differences(
+      stored, nsf::result_json(again, "scenes/paper/metal_small.json", "models/metal_small.nsf",
+                               "results/metal_small.png", ""));
+  ASSERT_EQ(d.size(), 6u);  // delta, then the interpolation's three keys and look-up's two
+  EXPECT_EQ(d[0].rfind("delta: stored 0.0050812345678901", 0), 0u) << d[0];
+  EXPECT_NE(d[1].find("not in the rerun"), std::string::npos) << d[1];
 }
 
 }  // namespace

@@ -179,6 +179,31 @@ void load_and_use(const std::string& path) {
   f.affine(points, z, C);
 }
 
+// The checksum a results row records (docs/RESULTS.md, `model_crc32`) is the one the file
+// carries, read without loading it; a file without one, or no file, gives "".
+TEST(FuzzModel, TheStoredChecksumIsReadFromTheFilesEnd) {
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / ("nsf_model_checksum_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string path = (dir / "a.nsf").string();
+  torch::serialize::OutputArchive a;
+  a.write("x", torch::ones({3}), /*is_buffer=*/true);
+  nsf::save_checked_archive(a, path, "model file");
+  const std::string bytes = bytes_of(path);
+  const std::string crc = nsf::stored_checksum(path);
+  ASSERT_EQ(crc.size(), 8u);
+  EXPECT_EQ(crc, bytes.substr(bytes.size() - 8));
+  std::string changed = bytes;
+  changed[0] ^= 1;
+  refresh_checksum(changed);
+  std::ofstream((dir / "b.nsf").string(), std::ios::binary) << changed;
+  EXPECT_NE(nsf::stored_checksum((dir / "b.nsf").string()), crc);
+  std::ofstream((dir / "plain.nsf").string()) << "not an archive";
+  EXPECT_EQ(nsf::stored_checksum((dir / "plain.nsf").string()), "");
+  EXPECT_EQ(nsf::stored_checksum((dir / "missing.nsf").string()), "");
+  fs::remove_all(dir);
+}
+
 // A model file whose checksum matches but whose entries were not written by nsf (a hostile or
 // damaged file): each is refused with a message naming the entry, before anything is allocated
 // or evaluated. Before, a non-hex scene hash escaped as "internal error: stoull", a tensor of

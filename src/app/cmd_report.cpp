@@ -36,9 +36,33 @@ struct ReportArgs {
   int quadrature = 0;    // > 0: the ROM's thinned quadrature, rows labelled with it
   double flip = 0;       // > 0: the ROM's FLIP-style correction, rows labelled with it
   bool tracked = false;  // the tracked state on N in place of h and l, rows labelled with it
+  bool check = false;    // rerun the stored rows and compare instead of storing them
   bool page_only = false;
   bool beyond_sweep = false;  // run the scenes' beyond-sweep cases (app/beyond_sweep.h) instead
 };
+
+// --check: the rerun of the row `tag` against the stored one (app/results_table.h).
+void check_row(const ReportArgs& a, const std::string& tag, const nlohmann::json& fresh) {
+  const std::string path = a.docs + "/results/" + tag + ".json";
+  if (!fs::exists(path)) fail("report --check: no stored row ", path, " to compare with");
+  std::ifstream in(path);
+  const nlohmann::json stored = nlohmann::json::parse(in);
+  const std::vector<std::string> diff = row_differences(stored, fresh);
+  if (diff.empty()) {
+    std::printf("   %s reproduces to the digit (every figure but the timings and memory)\n",
+                tag.c_str());
+    return;
+  }
+  std::string all;
+  for (const std::string& d : diff) all += "\n    " + d;
+  if (!stored.contains("model_crc32"))
+    all +=
+        "\n    (the stored row does not name its model's checksum: it may have been made "
+        "with another model file)";
+  else if (fresh.value("model_crc32", "") != stored["model_crc32"])
+    all += "\n    (the stored row was made with another model file)";
+  fail(path, " does not reproduce:", all);
+}
 
 // One reduced-order run, its picture and its stored row.
 // `tag` names the row's files (docs/results/TAG.json, …); `set` are the case's --set overrides.
@@ -82,9 +106,10 @@ void report_run(const ReportArgs& a, const std::string& scene, const std::string
   ro.coarse_optional = true;  // a row without it (a body in the coarser wall band) still counts
   const RomReport r = run_rom(ro);
   std::printf("%s", format_rom_report(r).c_str());
+  const std::string picture = "results/" + tag + ".png";
+  if (a.check) return check_row(a, tag, result_json(r, scene, model, picture, label));
   const ComparisonFiles pics = write_comparison(ro.fom_out, ro.out_path, "ground truth",
                                                 "reduced order", a.out + "/" + tag + "_compare");
-  const std::string picture = "results/" + tag + ".png";
   fs::copy_file(pics.still, a.docs + "/" + picture, fs::copy_options::overwrite_existing);
   write_json_atomically(a.docs + "/results/" + tag + ".json",
                         result_json(r, scene, model, picture, label));
@@ -111,8 +136,9 @@ void run_report(const ReportArgs& a) {
     const std::string data = "data/" + name, model = "models/" + name + ".nsf";
     if (!fs::exists(scene)) fail("report: no scene file ", scene, " (known: the paper's seven)");
     std::printf("== %s\n", name.c_str());
-    if (a.no_make && (!fs::exists(data + "/manifest.json") || !fs::exists(model))) {
-      std::printf("   skipped: %s or %s is missing (--no-make)\n", data.c_str(), model.c_str());
+    if ((a.no_make || a.check) && (!fs::exists(data + "/manifest.json") || !fs::exists(model))) {
+      std::printf("   skipped: %s or %s is missing (%s)\n", data.c_str(), model.c_str(),
+                  a.check ? "--check makes nothing" : "--no-make");
       continue;
     }
     ensure_dataset(scene, data, a.threads, a.quiet);
@@ -138,6 +164,13 @@ void run_report(const ReportArgs& a) {
       continue;
     }
     row(name, [&] { report_run(a, scene, model, data, test_mu, "", name); });
+  }
+  if (a.check) {
+    std::string all;
+    for (const std::string& f : failed) all += "\n  " + f;
+    if (!failed.empty()) fail("report --check: ", failed.size(), " row(s) do not reproduce:", all);
+    std::printf("report --check: every row run reproduces its stored figures\n");
+    return;
   }
   std::vector<nlohmann::json> rows;
   for (const auto& e : fs::directory_iterator(a.docs + "/results"))
@@ -199,6 +232,10 @@ void add_report_command(CLI::App& app) {
                 "ROM with the tracked state in place of h and l: each integration point carries "
                 "its own F^E, plastic state and C (nsf rom --stress tracked --affine tracked); "
                 "rows are labelled with it and kept beside the others");
+  cmd->add_flag("--check", a->check,
+                "Rerun the rows these options name and compare each with its stored row in "
+                "DOCS/results/: every figure but the timings and memory must come out bit for "
+                "bit (a regression check; stores nothing, makes no dataset or model)");
   cmd->add_flag("--beyond-sweep", a->beyond_sweep,
                 "Run each scene's held-out case outside its sweep family instead (the plates "
                 "squeezing deeper, the blade stopping halfway, ...; docs/ROM.md), rows labelled "

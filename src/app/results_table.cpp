@@ -57,7 +57,30 @@ std::string decoders(const nlohmann::json& j) {
   return j["field_sources"].get<std::string>().find("basis") != std::string::npos ? "bases" : "MLP";
 }
 
+bool machine_key(const std::string& k) {
+  const auto ends = [&](const std::string& tail) {
+    return k.size() >= tail.size() && k.compare(k.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  return ends("_seconds") || ends("_mib") || k == "speedup" || k == "coarse_speedup" ||
+         k == "threads" || k == "picture";
+}
+
 }  // namespace
+
+std::vector<std::string> row_differences(const nlohmann::json& stored,
+                                         const nlohmann::json& fresh) {
+  // Keys only the rerun has were recorded after the row was made (model_crc32, say).
+  std::vector<std::string> out;
+  for (auto it = stored.begin(); it != stored.end(); ++it) {
+    const std::string& k = it.key();
+    if (machine_key(k)) continue;
+    if (!fresh.contains(k))
+      out.push_back(k + ": stored " + it->dump() + ", not in the rerun");
+    else if (*it != fresh.at(k))
+      out.push_back(k + ": stored " + it->dump() + ", now " + fresh.at(k).dump());
+  }
+  return out;
+}
 
 nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
                            const std::string& model_file, const std::string& picture,
@@ -67,6 +90,7 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   j["label"] = label;
   j["scene_file"] = scene_file;
   j["model_file"] = model_file;
+  if (!r.model_checksum.empty()) j["model_crc32"] = r.model_checksum;
   j["picture"] = picture;
   j["mu"] = r.mu;
   j["particles"] = r.particles;

@@ -17,6 +17,7 @@
 #include "io/run_reader.h"
 #include "io/run_writer.h"
 #include "mpm/simulation.h"
+#include "nn/checked_archive.h"
 #include "nn/dataset.h"
 #include "nn/field_checks.h"
 #include "nn/runtime.h"
@@ -196,6 +197,7 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.particles = scene.particles.size();
   rep.latent_dim = fields.latent_dim();
   rep.train_seconds = fields.train_seconds();
+  rep.model_checksum = stored_checksum(o.model_path);
   rep.gamma = 3.0 * double(rep.particles) / rep.latent_dim;
   rep.frames = settings.frames;
   rep.fom_steps_per_frame = settings.substeps;

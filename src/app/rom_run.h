@@ -57,8 +57,9 @@ struct RomReport {
   std::string sweep_parameter;  // what μ is (the scene's sweep.parameter)
   size_t particles = 0, output_points = 0;
   int latent_dim = 0, frames = 0, rom_steps_per_frame = 0, fom_steps_per_frame = 0;
-  double gamma = 0;          // 3|P|/r
-  double train_seconds = 0;  // the model's training wall time (0: not recorded)
+  double gamma = 0;            // 3|P|/r
+  double train_seconds = 0;    // the model's training wall time (0: not recorded)
+  std::string model_checksum;  // the model file's stored CRC-32 ("" for an older file)
   size_t samples = 0, samples_end = 0;
   double mean_N = 0, mean_K = 0;
   double energy_kept = 1;   // LatentStepper::inversion_energy_kept

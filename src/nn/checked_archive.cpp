@@ -99,4 +99,18 @@ bool load_checked_archive(torch::serialize::InputArchive& a, const std::string& 
   return checked;
 }
 
+std::string stored_checksum(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) return "";
+  const std::streamoff n = in.tellg();
+  const std::streamoff tail = std::streamoff(kEndRecord + kCommentLength);
+  if (n < tail) return "";
+  std::string end(static_cast<size_t>(tail), '\0');
+  in.seekg(n - tail);
+  if (!in.read(end.data(), tail)) return "";
+  const bool checked =
+      end.compare(0, 4, kEndSignature) == 0 && end.compare(kEndRecord, sizeof(kTag) - 1, kTag) == 0;
+  return checked ? end.substr(end.size() - 8) : "";
+}
+
 }  // namespace nsf

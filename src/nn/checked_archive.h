@@ -21,4 +21,9 @@ void save_checked_archive(torch::serialize::OutputArchive& a, const std::string&
 bool load_checked_archive(torch::serialize::InputArchive& a, const std::string& path,
                           const std::string& what);
 
+// The CRC-32 a checksummed archive carries ("1a2b3c4d"), read from its end without verifying it;
+// "" for a file without one or one that cannot be read. Names the file's contents in a results
+// row (docs/RESULTS.md), so that a rerun can tell whether it uses the same model.
+std::string stored_checksum(const std::string& path);
+
 }  // namespace nsf
