@@ -165,10 +165,11 @@ void run_report(const ReportArgs& a) {
     }
     row(name, [&] { report_run(a, scene, model, data, test_mu, "", name); });
   }
+  std::string all_failed;
+  for (const std::string& f : failed) all_failed += "\n  " + f;
   if (a.check) {
-    std::string all;
-    for (const std::string& f : failed) all += "\n  " + f;
-    if (!failed.empty()) fail("report --check: ", failed.size(), " row(s) do not reproduce:", all);
+    if (!failed.empty())
+      fail("report --check: ", failed.size(), " row(s) do not reproduce:", all_failed);
     std::printf("report --check: every row run reproduces its stored figures\n");
     return;
   }
@@ -188,9 +189,7 @@ void run_report(const ReportArgs& a) {
   fs::rename(page + ".tmp", page);
   std::printf("wrote %s (%zu rows)\n", page.c_str(), rows.size());
   if (!failed.empty()) {
-    std::string all;
-    for (const std::string& f : failed) all += "\n  " + f;
-    fail("report: ", failed.size(), " row(s) failed, the others are stored:", all);
+    fail("report: ", failed.size(), " row(s) failed, the others are stored:", all_failed);
   }
 }
 
