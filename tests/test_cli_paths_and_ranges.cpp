@@ -132,12 +132,15 @@ TEST_F(PathsAndRanges, NumericOptionsOutOfRangeOrNaNAreRefused) {
       {rom + "--linearize nan", "--linearize"},
       {rom + "--halo 1", "--halo"},
       {rom + "--upsample 0", "--upsample"},
+      {rom + "--gzip 10", "--gzip"},
       {eval + "--every 0", "--every"},
       {eval + "--particles -1", "--particles"},
       {"render " + quoted(model()) + " --out " + quoted(dir_ / "r") + " --fov nan", "--fov"},
       {"report --flip nan", "--flip"},
       {"demo --steps 0,1,1", "--steps"},
       {"demo --widths -1,8,8", "--widths"},
+      {"sweep " + quoted(scene()) + " --out " + quoted(dir_ / "d") + " --gzip -1", "--gzip"},
+      {"simulate " + quoted(scene()) + " --out " + quoted(dir_ / "r.h5") + " --gzip 10", "--gzip"},
   };
   for (const RangeCase& c : cases) {
     SCOPED_TRACE(c.args);

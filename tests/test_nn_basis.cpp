@@ -90,6 +90,33 @@ TEST(BasisFit, ReproducesTrainingFramesToTheirProjectionError) {
   EXPECT_THROW(nsf::fit_snapshot_basis(1, columns, fill, w, 4), nsf::Error);
 }
 
+// A cap on the frames × columns matrix (a paper-size scene's τ and C) takes the columns in
+// slices of whole Gram blocks, each read twice: the same Gram matrix, mean and coefficients bit
+// for bit, the same modes to float round-off, in a quarter of the memory here.
+TEST(BasisFit, ColumnSlicesUnderAMemoryCapGiveTheSameBasis) {
+  const int frames = 20, columns = 3 * 8192 + 300;  // four slices of one 8192-column block
+  const Eigen::MatrixXf A = low_rank_frames(frames, columns, 5);
+  const std::vector<double> w = {1, 1, 1, std::sqrt(2.0), std::sqrt(2.0), std::sqrt(2.0)};
+  size_t calls = 0;
+  const auto fill = [&](size_t i, float* row) {
+    ++calls;
+    for (int c = 0; c < columns; ++c) row[c] = A(Eigen::Index(i), c);
+  };
+  const nsf::SnapshotBasis whole = nsf::fit_snapshot_basis(frames, columns, fill, w, 4);
+  EXPECT_EQ(calls, size_t(frames));
+  calls = 0;
+  const nsf::SnapshotBasis sliced =
+      nsf::fit_snapshot_basis(frames, columns, fill, w, 4, frames * sizeof(float) * 8192);
+  EXPECT_EQ(calls, size_t(2 * 4 * frames));  // two passes of four slices
+  EXPECT_TRUE(sliced.mean == whole.mean);
+  EXPECT_TRUE(sliced.sigma == whole.sigma);
+  EXPECT_TRUE(sliced.coeffs == whole.coeffs);
+  EXPECT_EQ(sliced.total_energy, whole.total_energy);
+  ASSERT_EQ(sliced.modes.rows(), whole.modes.rows());
+  EXPECT_LT((sliced.modes - whole.modes).cwiseAbs().maxCoeff(),
+            1e-6f * whole.modes.cwiseAbs().maxCoeff());
+}
+
 // ∂c/∂ẑ of a coefficient network, and ∂g/∂ẑ = B ∂c/∂ẑ at the samples, against central differences.
 TEST(BasisDecoders, JacobiansMatchFiniteDifferences) {
   std::mt19937 rng(5);

@@ -50,6 +50,31 @@ TEST(NnFrameShares, EveryFrameOnceAndTheSameValuesEverywhere) {
   fs::remove_all(dir);
 }
 
+// A basis model's store holds x alone (a sixth of the memory); τ and C read one field at a time
+// from the run files are the floats the full frame holds.
+TEST(NnFrameShares, APositionsOnlyStoreHoldsTheSameXAndTheFieldsReadAloneMatch) {
+  const fs::path dir = shares_dataset();
+  const nsf::Dataset d(dir.string());
+  const nsf::FrameStore all(d, 1.0);
+  for (const double budget : {1.0, 0.0}) {
+    const nsf::FrameStore x_only(d, budget, 0, 1, true);
+    EXPECT_TRUE(x_only.positions_only());
+    EXPECT_EQ(x_only.cached(), budget > 0);
+    EXPECT_NEAR(x_only.cached_gib() * 6, budget > 0 ? 9 * 20 * 18 * 4 / 1073741824.0 : 0, 1e-12);
+    for (size_t i = 0; i < all.size(); ++i) {
+      const nsf::FrameData& f = x_only.get(i);
+      EXPECT_EQ(f.x, all.get(i).x) << "frame " << i;
+      EXPECT_TRUE(f.tau.empty() && f.C.empty());
+      const nsf::SimulationFile& run = d.train()[all.sim_of(i)];
+      const nsf::FrameData& full = all.get(i);
+      EXPECT_EQ(d.read_field(run, all.frame_of(i), "tau"), full.tau) << "frame " << i;
+      EXPECT_EQ(d.read_field(run, all.frame_of(i), "C"), full.C) << "frame " << i;
+      EXPECT_EQ(d.read_field(run, all.frame_of(i), "x"), full.x) << "frame " << i;
+    }
+  }
+  fs::remove_all(dir);
+}
+
 TEST(NnFrameShares, AShareThatDoesNotExistIsRefused) {
   const fs::path dir = shares_dataset();
   const nsf::Dataset d(dir.string());

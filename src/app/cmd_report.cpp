@@ -96,6 +96,7 @@ void report_run(const ReportArgs& a, const std::string& scene, const std::string
   ro.quiet = a.quiet;
   ro.out_path = a.out + "/" + tag + "_rom.h5";
   ro.fom_out = a.out + "/" + tag + "_full_order.h5";
+  ro.gzip = 1;  // half the disk (a paper-size row's two runs: gigabytes); outside the timings
   // The baselines beside the ROM: look-up and interpolation from the training runs; the
   // engine on the small scene (for a paper-size row), or on the small scene at 1.5× Δx.
   ro.baseline_data = data;

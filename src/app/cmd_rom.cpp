@@ -134,6 +134,7 @@ void add_rom_command(CLI::App& app) {
   cmd->add_flag("--verify-n", a->opt.rom.verify_integration_set,
                 "Also find N by brute force every step and count misses (slow)");
   add_threads_option(cmd, a->opt.threads, "Threads, the same for both engines");
+  add_gzip_option(cmd, a->opt.gzip);
   add_quiet_flag(cmd, a->opt.quiet);
   cmd->add_flag("--budget", a->opt.budget,
                 "Also measure the error budget on the truth's frames: the truth encoded, and the "

@@ -27,7 +27,7 @@ namespace {
 struct SimulateArgs {
   std::string scene, out, png;
   std::vector<std::string> overrides;
-  int threads = 0;
+  int threads = 0, gzip = 0;
   bool quiet = false;
 };
 
@@ -115,14 +115,17 @@ void run_simulate(const SimulateArgs& a) {
   std::vector<double> snapshot_times{sim.time()};
   Progress progress("simulate", s.frames, "frames");
   const double start = now_seconds();
-  run_to_file(sim, a.out, {}, [&](int f) {
-    if (!a.png.empty() && (f == s.frames || f * 3 / s.frames != (f - 1) * 3 / s.frames)) {
-      snapshots.push_back(sim.particles().x);
-      snapshot_times.push_back(sim.time());
-    }
-    const double rate = double(np) * sim.step_count() / (now_seconds() - start);
-    if (!a.quiet) progress.update(f, Progress::format_rate(rate) + " particle-steps/s");
-  });
+  run_to_file(
+      sim, a.out, {},
+      [&](int f) {
+        if (!a.png.empty() && (f == s.frames || f * 3 / s.frames != (f - 1) * 3 / s.frames)) {
+          snapshots.push_back(sim.particles().x);
+          snapshot_times.push_back(sim.time());
+        }
+        const double rate = double(np) * sim.step_count() / (now_seconds() - start);
+        if (!a.quiet) progress.update(f, Progress::format_rate(rate) + " particle-steps/s");
+      },
+      RunWriterOptions{a.gzip});
   const double wall = now_seconds() - start;
   if (!a.quiet) progress.finish();
   if (!a.png.empty()) {
@@ -144,6 +147,7 @@ void add_simulate_command(CLI::App& app) {
       ->type_name("KEY=VALUE");
   cmd->add_option("--png", args->png, "Also write a picture: snapshots from start to end");
   add_threads_option(cmd, args->threads, "OpenMP threads");
+  add_gzip_option(cmd, args->gzip);
   add_quiet_flag(cmd, args->quiet);
   cmd->callback([args] { run_simulate(*args); });
 }

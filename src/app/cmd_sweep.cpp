@@ -19,7 +19,7 @@ namespace {
 struct SweepArgs {
   std::string scene, out, only;
   std::vector<std::string> overrides;
-  int jobs = 0, threads = 0;
+  int jobs = 0, threads = 0, gzip = 0;
   bool quiet = false;
 };
 
@@ -29,6 +29,7 @@ void sweep(const SweepArgs& a, SweepRanks& ranks) {
   opt.out_dir = a.out;
   opt.overrides = a.overrides;
   opt.only = a.only;
+  opt.gzip = a.gzip;
   // Default: one single-threaded simulation per core. Measured on the small paper scenes
   // (docs/DATASETS.md), independent runs beat OpenMP inside one run by far: the small grids give
   // OpenMP little work per barrier, and runs share nothing.
@@ -80,6 +81,7 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_option("--only", args->only, "Only this split")->check(CLI::IsMember({"train", "test"}));
   cmd->add_option("--set", args->overrides, "Override a scene value, e.g. --set material.E=5")
       ->type_name("KEY=VALUE");
+  add_gzip_option(cmd, args->gzip);
   add_quiet_flag(cmd, args->quiet);
   cmd->callback([args, old_jobs] {
     if (old_jobs->count() > 0)

@@ -335,7 +335,8 @@ void add_nn_commands(CLI::App& app) {
       ->check(in_range<long long>(0, std::numeric_limits<long long>::max()));
   add_threads_option(cmd, c.threads);
   cmd->add_option("--checkpoint-every", c.checkpoint_every,
-                  "Steps between checkpoints (0 = only at the end of each stage)")
+                  "Steps between checkpoints (0 = only at the end of each stage); a basis "
+                  "model's bases of B x 64 MiB space them B times as far")
       ->capture_default_str()
       ->check(in_range<long>(0, 1000000000));
   cmd->add_option("--memory-budget", c.memory_budget_gib,

@@ -220,7 +220,8 @@ RomReport run_rom(const RomRunOptions& o) {
     rep.peak_reset = reset_peak_rss();
     Particles initial = scene.particles;
     Simulation sim(std::move(scene));
-    RunWriter writer(path, sim.particles(), settings, rep.scene, js.dump());
+    RunWriter writer(path, sim.particles(), settings, rep.scene, js.dump(),
+                     RunWriterOptions{o.gzip});
     if (rep.has_mu) {
       writer.set_attribute("mu", rep.mu);
       writer.set_attribute("sweep_parameter", rep.sweep_parameter);
@@ -324,7 +325,8 @@ RomReport run_rom(const RomRunOptions& o) {
     rep.rom_output_seconds += now_seconds() - t1;
   };
   if (!o.out_path.empty()) {
-    writer = std::make_unique<RunWriter>(o.out_path, out_points, settings, rep.scene, js.dump());
+    writer = std::make_unique<RunWriter>(o.out_path, out_points, settings, rep.scene, js.dump(),
+                                         RunWriterOptions{o.gzip});
     writer->set_attribute("rom", 1);
     // Absolute, so that the file still names its model when read from elsewhere.
     writer->set_attribute("rom_model",

@@ -30,6 +30,7 @@ struct RomRunOptions {
   std::string fom_out;     // where the full-order run goes; empty: a temporary file
   bool full_order = true;  // run the full-order engine for timing and as the ground truth
   int upsample = 1;        // positions of k points per particle in the output file (Fig. 6)
+  int gzip = 0;            // deflate level of both run files (0 = off; io/run_writer.h)
   int threads = 0;         // OpenMP and torch threads, for both engines alike; 0: all cores
   bool quiet = false;
   // Also measure the error budget on the truth's frames (rom/error_budget.h; needs a truth).

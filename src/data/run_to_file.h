@@ -5,6 +5,7 @@
 #include <map>
 #include <string>
 
+#include "io/run_writer.h"
 #include "mpm/simulation.h"
 
 namespace nsf {
@@ -19,8 +20,8 @@ struct RunAttributes {
 using FrameCallback = std::function<void(int frame)>;
 
 // Writes <path>.tmp while running and renames it to <path> only at the end, so an interrupted
-// run leaves no file under the final name.
+// run leaves no file under the final name. `options`: the file's compression.
 void run_to_file(Simulation& sim, const std::string& path, const RunAttributes& attributes = {},
-                 const FrameCallback& on_frame = {});
+                 const FrameCallback& on_frame = {}, const RunWriterOptions& options = {});
 
 }  // namespace nsf

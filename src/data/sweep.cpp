@@ -35,7 +35,8 @@ struct Job {
 struct Pool {
   std::atomic<size_t> next{0};
   std::atomic<bool> failed{false};
-  std::mutex mutex;  // guards everything below
+  RunWriterOptions writer;  // set before the workers start
+  std::mutex mutex;         // guards everything below
   Progress* progress = nullptr;
   long frames_done = 0;
   int runs_done = 0;
@@ -55,13 +56,16 @@ void simulate_job(const Job& job, const std::string& parameter, Pool& pool, int 
   attributes.numbers["mu"] = job.run.mu;
   attributes.strings["split"] = job.run.split;
   attributes.strings["sweep_parameter"] = parameter;
-  run_to_file(sim, job.path, attributes, [&](int) {
-    std::lock_guard<std::mutex> lock(pool.mutex);
-    ++pool.frames_done;
-    if (pool.progress)
-      pool.progress->update(pool.frames_done, "runs " + std::to_string(pool.runs_done) + "/" +
-                                                  std::to_string(total_runs) + " done");
-  });
+  run_to_file(
+      sim, job.path, attributes,
+      [&](int) {
+        std::lock_guard<std::mutex> lock(pool.mutex);
+        ++pool.frames_done;
+        if (pool.progress)
+          pool.progress->update(pool.frames_done, "runs " + std::to_string(pool.runs_done) + "/" +
+                                                      std::to_string(total_runs) + " done");
+      },
+      pool.writer);
   std::lock_guard<std::mutex> lock(pool.mutex);
   ++pool.runs_done;
   pool.done.push_back(job.plan_index);
@@ -177,6 +181,7 @@ SweepSummary run_sweep(const nlohmann::json& base, const std::optional<SweepSpec
 
   const double start = now_seconds();
   Pool pool;
+  pool.writer.gzip_level = opt.gzip;
   Progress progress("sweep " + base.value("name", std::string("scene")), pending_frames, "frames");
   if (!opt.quiet) pool.progress = &progress;
   std::vector<std::thread> slots;

@@ -35,6 +35,7 @@ struct SweepOptions {
   int jobs = 1;                        // simulations at once
   int threads = 1;                     // OpenMP threads per simulation
   bool quiet = false;                  // no progress line
+  int gzip = 0;                        // deflate level of the run files' frames (0 = off)
   SweepTeam* team = nullptr;           // none: this process runs everything
 };
 

@@ -345,12 +345,18 @@ bool RunReader::has_dataset(const std::string& name) const {
 }
 
 std::vector<Vec3> RunReader::read_positions(size_t k) const {
+  return unflatten<Vec3>(read_frame_field(k, "x"), 3, run_format::unpack_vec);
+}
+
+std::vector<double> RunReader::read_frame_field(size_t k, const std::string& field) const {
   const Impl& r = *impl_;
+  const size_t width = frame_field_width(field);
   if (k >= r.frames) nsf::fail(r.path, ": no frame ", k, " (the file has ", r.frames, ")");
   h5::QuietErrors quiet;
+  const int f = field_index(field);
   std::vector<double> buf;
-  read_frame_rows(r.fields[kX].get(), k, r.particles, 3, buf, r.path, kFieldNames[kX]);
-  return unflatten<Vec3>(buf, 3, run_format::unpack_vec);
+  read_frame_rows(r.fields[f].get(), k, r.particles, width, buf, r.path, kFieldNames[f]);
+  return buf;
 }
 
 }  // namespace nsf

@@ -69,6 +69,9 @@ class RunReader {
   void read_all_frames(const std::string& field, double* out, size_t size) const;
   // Only x: the cheap read for rendering and for comparing trajectories (δ).
   std::vector<Vec3> read_positions(size_t k) const;
+  // One per-frame dataset of frame k, as stored (particles × frame_field_width(field) doubles):
+  // what a reader that needs one field of a large run reads instead of the whole frame.
+  std::vector<double> read_frame_field(size_t k, const std::string& field) const;
 
   // A two-dimensional table beside the frames (RunWriter::write_table, e.g. "/rom/latent"):
   // rows × cols doubles, row-major. Fails naming the file when it is missing or not 2-D.

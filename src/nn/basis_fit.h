@@ -23,9 +23,13 @@ struct SnapshotBasis {
 // `fill(i, row)` writes frame i's `columns` values. `weights` (one per component, cycling over
 // the columns) make the fit's norm the field's Frobenius norm (√2 on τ's off-diagonal entries);
 // the coefficients are in that norm, the modes in the field's own units. K is clamped to the
-// frames' rank (at most frames − 1).
+// frames' rank (at most frames − 1). `max_matrix_bytes` (0: none) caps the frames × columns
+// matrix held at once: above it the columns go through in slices, each a pass of `fill` over
+// every frame for the Gram matrix and another for the modes (fill must give the same row each
+// time); the Gram matrix, the mean and so the coefficients come out bit for bit the same.
 SnapshotBasis fit_snapshot_basis(size_t frames, size_t columns,
                                  const std::function<void(size_t, float*)>& fill,
-                                 const std::vector<double>& weights, int K);
+                                 const std::vector<double>& weights, int K,
+                                 size_t max_matrix_bytes = 0);
 
 }  // namespace nsf

@@ -227,8 +227,20 @@ std::vector<Vec3> Dataset::read_positions(const SimulationFile& sim, size_t k) c
   return reader(sim).read_positions(k);
 }
 
-FrameStore::FrameStore(const Dataset& data, double budget_gib, int share, int shares)
-    : data_(data), share_(share), shares_(shares) {
+std::vector<float> Dataset::read_field(const SimulationFile& sim, size_t k,
+                                       const std::string& field) const {
+  // Stored as FrameData holds them: x y z, τ in run_format::kSymOrder, C row-major.
+  const std::vector<double> v = reader(sim).read_frame_field(k, field);
+  return std::vector<float>(v.begin(), v.end());
+}
+
+FrameStore::FrameStore(const Dataset& data, double budget_gib, int share, int shares,
+                       bool positions_only)
+    : data_(data),
+      share_(share),
+      shares_(shares),
+      positions_only_(positions_only),
+      budget_gib_(budget_gib) {
   if (shares < 1 || share < 0 || share >= shares)
     fail("frame store: share ", share, " of ", shares, " does not exist");
   for (size_t s = 0; s < data.train().size(); ++s) {
@@ -236,13 +248,23 @@ FrameStore::FrameStore(const Dataset& data, double budget_gib, int share, int sh
     for (size_t k = 0; k < data.train()[s].frames; ++k) index_.emplace_back(s, k);
   }
   const size_t held = (index_.size() + size_t(shares - share - 1)) / size_t(shares);
-  const double bytes = double(held) * data.particle_count() * 18 * sizeof(float);
-  cached_ = bytes <= budget_gib * 1024.0 * 1024.0 * 1024.0;
+  const double gib = double(held) * double(data.particle_count()) * (positions_only ? 3 : 18) *
+                     sizeof(float) / (1024.0 * 1024.0 * 1024.0);
+  cached_ = gib <= budget_gib;
   if (cached_) {
+    cached_gib_ = gib;
     frames_.reserve(held);
     for (size_t i = size_t(share); i < index_.size(); i += size_t(shares))
-      frames_.push_back(data.read_frame(data.train()[index_[i].first], index_[i].second));
+      frames_.push_back(read(i));
   }
+}
+
+FrameData FrameStore::read(size_t i) const {
+  const SimulationFile& run = data_.train()[index_[i].first];
+  if (!positions_only_) return data_.read_frame(run, index_[i].second);
+  FrameData d;
+  d.x = data_.read_field(run, index_[i].second, "x");
+  return d;
 }
 
 size_t FrameStore::index_of(size_t sim, size_t k) const {
@@ -252,7 +274,7 @@ size_t FrameStore::index_of(size_t sim, size_t k) const {
 
 const FrameData& FrameStore::get(size_t i) const {
   if (cached_ && holds(i)) return frames_[i / size_t(shares_)];
-  scratch_ = data_.read_frame(data_.train()[index_[i].first], index_[i].second);
+  scratch_ = read(i);
   return scratch_;
 }
 

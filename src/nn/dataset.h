@@ -58,6 +58,10 @@ class Dataset {
   // Reads frame k of a run (any split), converting to float.
   FrameData read_frame(const SimulationFile& sim, size_t k) const;
   std::vector<Vec3> read_positions(const SimulationFile& sim, size_t k) const;
+  // One field of frame k, "x", "tau" or "C", in FrameData's layout: the same floats as
+  // read_frame's, for a fraction of the reading.
+  std::vector<float> read_field(const SimulationFile& sim, size_t k,
+                                const std::string& field) const;
 
  private:
   const RunReader& reader(const SimulationFile& sim) const;
@@ -76,10 +80,12 @@ class Dataset {
 // The training frames, all (run, frame) pairs of the train split, cached in RAM while they fit
 // a budget and streamed from the run files otherwise. A process of a team of `shares`
 // (`mpirun -np K nsf train`, nn/gradient_team.h) holds only its share: the frames i with
-// i mod shares == share; every index stays global.
+// i mod shares == share; every index stays global. `positions_only`: the frames hold x alone
+// (a basis model's training reads τ and C once, for their bases, from the run files).
 class FrameStore {
  public:
-  FrameStore(const Dataset& data, double budget_gib, int share = 0, int shares = 1);
+  FrameStore(const Dataset& data, double budget_gib, int share = 0, int shares = 1,
+             bool positions_only = false);
   size_t size() const { return index_.size(); }  // frames over all training runs
   size_t sim_of(size_t i) const { return index_[i].first; }
   size_t frame_of(size_t i) const { return index_[i].second; }
@@ -92,6 +98,9 @@ class FrameStore {
   // read from its run file each time (and is valid until the next such call).
   const FrameData& get(size_t i) const;
   bool cached() const { return cached_; }
+  bool positions_only() const { return positions_only_; }
+  double budget_gib() const { return budget_gib_; }
+  double cached_gib() const { return cached_gib_; }  // 0 when streaming
   // Per frame, the frames at the same time in the runs next to its run in order of μ (without μ:
   // the frames before and after it in its own run). `nsf train --mix-frames` blends them.
   std::vector<std::vector<size_t>> neighbour_frames() const;
@@ -101,7 +110,9 @@ class FrameStore {
   std::vector<std::pair<size_t, size_t>> index_;
   std::vector<size_t> run_start_;  // per training run, the index of its frame 0
   int share_ = 0, shares_ = 1;
-  bool cached_ = false;
+  bool cached_ = false, positions_only_ = false;
+  double budget_gib_ = 0, cached_gib_ = 0;
+  FrameData read(size_t i) const;
   mutable std::vector<FrameData> frames_;  // the share's frames, frame i at i / shares_
   mutable FrameData scratch_;
 };

@@ -125,7 +125,8 @@ class Trainer {
         dev_(training_device(o.device)),
         team_(o.team),
         data_(data_dir, o.allow_incomplete),
-        store_(data_, checked_budget(data_, cfg_), team_rank(), team_size()),
+        store_(data_, checked_budget(data_, cfg_), team_rank(), team_size(),
+               cfg_.net.decoder == "basis"),
         model_(cfg_.net, SceneFingerprint::of(data_.scene_name(), data_.rest_positions()),
                data_.has_mu()),
         rng_(cfg_.seed) {
@@ -173,8 +174,15 @@ class Trainer {
   std::vector<torch::Tensor> stage_parameters();
   double train_step();
   void fit_bases(int first_field);
+  // Field f (x, τ, C) of training frame i: from the store, or, where it holds positions only,
+  // from the run file. Valid until the next call.
+  const std::vector<float>& frame_field(size_t i, int f);
   double basis_step();
   void save_checkpoint() const;
+  // How many times checkpoint_every apart checkpoints are: one per 64 MiB of per-point bases, so
+  // that a paper-size basis model (cake_paper: 840 MB, 12 s a write, against 55 ms a step) does
+  // not spend its training writing checkpoints. 1 for the networks.
+  long checkpoint_spacing() const;
   void load_checkpoint();
   void write_loss_curves(TrainReport& report) const;
 
@@ -192,6 +200,7 @@ class Trainer {
   torch::Tensor mu_;                   // frames × 1 (physical μ of each training frame's run)
   // For --mix-frames: per training frame, the frames it may be blended with.
   std::vector<std::vector<size_t>> mix_partners_;
+  std::vector<float> field_scratch_;  // frame_field's τ or C read from a file
   std::mt19937_64 rng_;
   int stage_ = 0;
   long step_ = 0;
@@ -236,15 +245,14 @@ void Trainer::compute_statistics() {
   for (int k = 0; k < 3; ++k) s[k].assign(kTargetDim[k], 0.0), q[k].assign(kTargetDim[k], 0.0);
   const std::vector<Vec3>& X = data_.rest_positions();
   for (size_t i = 0; i < store_.size(); ++i) {
-    const FrameData& f = store_.get(i);
-    for (size_t j = 0; j < f.x.size(); ++j) {
-      const double u = double(f.x[j]) - X[j / 3][int(j % 3)];
+    const std::vector<float>& x = frame_field(i, 0);
+    for (size_t j = 0; j < x.size(); ++j) {
+      const double u = double(x[j]) - X[j / 3][int(j % 3)];
       us[j % 3] += u, uq[j % 3] += u * u;
     }
-    const std::vector<float>* fields[3] = {&f.x, &f.tau, &f.C};
     for (int k = 0; k < 3; ++k) {
       const int d = kTargetDim[k];
-      const std::vector<float>& v = *fields[k];
+      const std::vector<float>& v = frame_field(i, k);
       for (size_t j = 0; j < v.size(); ++j) s[k][j % d] += v[j], q[k][j % d] += double(v[j]) * v[j];
     }
   }
@@ -445,22 +453,39 @@ torch::Tensor Trainer::noisy(const torch::Tensor& z) {
   return (z + e * model_.norm_z.std.cpu()).to(dev_);
 }
 
+const std::vector<float>& Trainer::frame_field(size_t i, int f) {
+  if (f == 0 || !store_.positions_only()) {
+    const FrameData& d = store_.get(i);
+    return f == 0 ? d.x : f == 1 ? d.tau : d.C;
+  }
+  field_scratch_ =
+      data_.read_field(data_.train()[store_.sim_of(i)], store_.frame_of(i), f == 1 ? "tau" : "C");
+  return field_scratch_;
+}
+
 void Trainer::fit_bases(int first_field) {
   const int64_t P = int64_t(data_.particle_count());
   const std::vector<Vec3>& X = data_.rest_positions();
+  const double gib = 1024.0 * 1024.0 * 1024.0;
   for (int f = first_field; f < kStageCount; ++f) {
     const int d = kTargetDim[f];
     const double start = now_seconds();
+    // The frames × columns matrix of a field takes what the memory budget leaves beside the
+    // cached frames and the field's modes (held twice for a moment: the fit's and the model's),
+    // at least 256 MiB; a larger one goes through in slices (nn/basis_fit.h).
+    const double modes_gib = 2.0 * double(P * d) * cfg_.net.modes[f] * sizeof(float) / gib;
+    const size_t cap =
+        size_t(std::max(0.25, store_.budget_gib() - store_.cached_gib() - modes_gib) * gib);
     const SnapshotBasis b = fit_snapshot_basis(
         store_.size(), size_t(P * d),
         [&](size_t i, float* row) {
-          const FrameData& fr = store_.get(i);
+          const std::vector<float>& v = frame_field(i, f);
           if (f == 0)
-            for (int64_t j = 0; j < 3 * P; ++j) row[j] = float(double(fr.x[j]) - X[j / 3][j % 3]);
+            for (int64_t j = 0; j < 3 * P; ++j) row[j] = float(double(v[j]) - X[j / 3][j % 3]);
           else
-            std::copy_n((f == 1 ? fr.tau : fr.C).data(), P * d, row);
+            std::copy_n(v.data(), P * d, row);
         },
-        kBasisWeights[f], cfg_.net.modes[f]);
+        kBasisWeights[f], cfg_.net.modes[f], cap);
     const int64_t K = b.sigma.size();
     if (K != cfg_.net.modes[f]) {
       say("basis of " + std::string(kStageNames[f]) + ": " + std::to_string(K) +
@@ -684,6 +709,14 @@ double Trainer::sum_over_team(double loss) {
   return double(flat[at]);
 }
 
+long Trainer::checkpoint_spacing() const {
+  if (!model_.is_basis()) return 1;
+  double bytes = 0;
+  for (const BasisField& f : model_.basis)
+    if (f.modes.defined()) bytes += double(f.modes.numel() + f.mean.numel()) * sizeof(float);
+  return std::max(1L, long(bytes / (64.0 * 1024 * 1024)));
+}
+
 void Trainer::save_checkpoint() const {
   if (team_rank() != 0) return;  // every process holds the same state: process 0 writes it
   torch::serialize::OutputArchive a, m, o;
@@ -835,6 +868,7 @@ TrainReport Trainer::run() {
   for (; stage_ < kStageCount; ++stage_, step_ = 0) {
     if (stage_ > 0 && !latents_.defined()) compute_latents();
     const long total = cfg_.steps[stage_];
+    const long spacing = checkpoint_spacing();  // the bases are fitted by now
     const int64_t points_per_step = this->points_per_step(stage_);
     std::unique_ptr<Progress> bar;
     if (!cfg_.quiet)
@@ -866,7 +900,7 @@ TrainReport Trainer::run() {
                           .c_str());
         bar->update(step_ + 1, extra);
       }
-      if (cfg_.checkpoint_every > 0 && (step_ + 1) % cfg_.checkpoint_every == 0 &&
+      if (cfg_.checkpoint_every > 0 && (step_ + 1) % (cfg_.checkpoint_every * spacing) == 0 &&
           step_ + 1 < total) {
         ++step_;  // the checkpoint resumes *after* this step
         save_checkpoint();

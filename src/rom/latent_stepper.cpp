@@ -142,7 +142,7 @@ struct LatentStepper::Impl {
     sim->particles() = Particles{};
     make_sources(F0);
     set_samples(sample_count_at(opt.sampling, 0, T));
-    tracked->check(!opt.sampling.schedule.empty(), cfl_bound);
+    tracked->check(cfl_bound);
 
     if (!(opt.latent_prior >= 0 && std::isfinite(opt.latent_prior)))
       fail("rom: the latent prior's length must be a number of metres, 0 or more, got ",
@@ -214,11 +214,14 @@ struct LatentStepper::Impl {
     S.assign(ranked.begin(), ranked.begin() + count);
     K = CandidateSet(opt.halo);  // forces a refresh
     xK_last_valid = false;
-    if (quad.ids.empty() || opt.quadrature_per_cell > 0) set_quadrature();
+    // The sample particles stay themselves in a thinned quadrature, so it follows S; but the
+    // tracked state's points keep their history through the run, so there the first S's
+    // quadrature stays (a schedule's S is a prefix of it, never larger: every later sample is still
+    // a point of its own, and the dropped ones go on as such).
+    if (quad.ids.empty() || (opt.quadrature_per_cell > 0 && !tracked->active())) set_quadrature();
     g_S = g->samples(S);
   }
 
-  // The sample particles stay themselves in a thinned quadrature, so it follows S.
   void set_quadrature() {
     const bool had_merged = table.X.size() > np;
     table.X.resize(np), table.material.resize(np), table.mat0.resize(np);

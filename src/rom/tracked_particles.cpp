@@ -37,7 +37,7 @@ void TrackedParticles::set_points(const PointTable& table) {
   if (advanced_)
     fail("rom: ", what_,
          " carries each integration point's own state, and the merged points of the thinned "
-         "quadrature changed during the run: drop the sample schedule");
+         "quadrature changed during the run (internal: the quadrature must stay fixed)");
   F_.resize(particles_), mp_.resize(particles_), material_.resize(particles_);
   owner_.resize(particles_);
   std::iota(owner_.begin(), owner_.end(), 0u);
@@ -57,12 +57,8 @@ void TrackedParticles::set_points(const PointTable& table) {
   for (size_t p = 0; p < n; ++p) tau_[p] = update(p);
 }
 
-void TrackedParticles::check(bool sample_schedule, double cfl_bound) const {
+void TrackedParticles::check(double cfl_bound) const {
   if (!active()) return;
-  if (sample_schedule)
-    fail("rom: ", what_,
-         " carries each integration point's own state through the run, so the sample set must "
-         "stay the same (a schedule renumbers the merged points): drop the sample schedule");
   // Unlike h's stress, the tracked one is the explicit engine's and shares its bound.
   if (explicit_stress_ && dt_ > cfl_bound * (1 + 1e-9))
     fail("rom: ", what_, " integrates the material explicitly, so the ROM step ", dt_,

@@ -32,12 +32,12 @@ class TrackedParticles {
 
   // The point table changed (a thinned quadrature's merged points): each new merged point starts
   // from its group's mass-weighted F and its first member's plastic state. Throws nsf::Error
-  // once the run has begun, when a merged point would lose its history.
+  // once the run has begun, when a merged point would lose its history (the ROM keeps its
+  // quadrature for the whole run while the state is tracked).
   void set_points(const PointTable& table);
 
-  // Throws nsf::Error when the sample set changes during the run (a sample schedule renumbers
-  // the merged points) or an explicit stress breaks the bound.
-  void check(bool sample_schedule, double cfl_bound) const;
+  // Throws nsf::Error when an explicit stress breaks the full-order CFL bound.
+  void check(double cfl_bound) const;
 
   // After G2P: point ids[k] sits at row rows[k] of P, with its new F and C.
   void advance(const std::vector<uint32_t>& ids, const Particles& P,
