@@ -125,8 +125,10 @@ class Trainer {
         dev_(training_device(o.device)),
         team_(o.team),
         data_(data_dir, o.allow_incomplete),
+        // x alone for a fresh basis model; with a base model the family is the base's, and the
+        // store keeps every field as before.
         store_(data_, checked_budget(data_, cfg_), team_rank(), team_size(),
-               cfg_.net.decoder == "basis"),
+               cfg_.net.decoder == "basis" && o.base_model.empty()),
         model_(cfg_.net, SceneFingerprint::of(data_.scene_name(), data_.rest_positions()),
                data_.has_mu()),
         rng_(cfg_.seed) {
@@ -614,12 +616,18 @@ double Trainer::train_step() {
     }
     const FrameData* f = held ? &store_.get(frames[b]) : nullptr;
     if (stage_ == 0 && held) std::copy(f->x.begin(), f->x.end(), full_x[b].data_ptr<float>());
+    // A positions-only store (a basis configuration over an MLP base model) reads τ, C here.
+    const std::vector<float>* src = !held ? nullptr
+                                    : stage_ == 0 || !store_.positions_only()
+                                        ? (stage_ == 0   ? &f->x
+                                           : stage_ == 1 ? &f->tau
+                                                         : &f->C)
+                                        : &frame_field(size_t(frames[b]), stage_);
     for (int64_t j = 0; j < n; ++j) {
       const int64_t p = n == P ? j : pick_particle(rng_);
       particles[b * n + j] = p;
       if (!held) continue;
-      const std::vector<float>& src = stage_ == 0 ? f->x : stage_ == 1 ? f->tau : f->C;
-      std::copy(&src[d * p], &src[d * p] + d, t + (b * n + j) * d);
+      std::copy(&(*src)[d * p], &(*src)[d * p] + d, t + (b * n + j) * d);
     }
     // No draws at all when off, so that runs without the option stay bit-identical.
     if (stage_ == 0 && cfg_.mix_frames > 0 && uniform(rng_) < cfg_.mix_frames) {
