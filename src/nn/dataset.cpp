@@ -274,7 +274,7 @@ size_t FrameStore::index_of(size_t sim, size_t k) const {
 
 const FrameData& FrameStore::get(size_t i) const {
   if (cached_ && holds(i)) return frames_[i / size_t(shares_)];
-  scratch_ = read(i);
+  if (scratch_index_ != i) scratch_ = read(i), scratch_index_ = i;
   return scratch_;
 }
 

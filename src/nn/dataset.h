@@ -115,6 +115,7 @@ class FrameStore {
   FrameData read(size_t i) const;
   mutable std::vector<FrameData> frames_;  // the share's frames, frame i at i / shares_
   mutable FrameData scratch_;
+  mutable size_t scratch_index_ = kNone;  // the frame scratch_ holds: read again only for another
 };
 
 }  // namespace nsf

@@ -616,13 +616,7 @@ double Trainer::train_step() {
     }
     const FrameData* f = held ? &store_.get(frames[b]) : nullptr;
     if (stage_ == 0 && held) std::copy(f->x.begin(), f->x.end(), full_x[b].data_ptr<float>());
-    // A positions-only store (a basis configuration over an MLP base model) reads τ, C here.
-    const std::vector<float>* src = !held ? nullptr
-                                    : stage_ == 0 || !store_.positions_only()
-                                        ? (stage_ == 0   ? &f->x
-                                           : stage_ == 1 ? &f->tau
-                                                         : &f->C)
-                                        : &frame_field(size_t(frames[b]), stage_);
+    const std::vector<float>* src = !held ? nullptr : &frame_field(size_t(frames[b]), stage_);
     for (int64_t j = 0; j < n; ++j) {
       const int64_t p = n == P ? j : pick_particle(rng_);
       particles[b * n + j] = p;
