@@ -30,9 +30,11 @@ inline Particles synthetic_particles(int n, unsigned seed) {
 
 inline void set_synthetic_frame(Particles& ps, double t, double mu) {
   const double a = 0.1 * mu * std::sin(3.0 * t), b = 0.05 * std::cos(2.0 * t);
+  const double da = 0.3 * mu * std::cos(3.0 * t), db = -0.1 * std::sin(2.0 * t);  // d/dt
   for (size_t p = 0; p < ps.size(); ++p) {
     const Vec3& X = ps.X[p];
     ps.x[p] = X + a * Vec3(std::sin(3.0 * X.y()), 0.0, 0.2) + b * Vec3(0.0, X.x() * X.x(), X.z());
+    ps.v[p] = da * Vec3(std::sin(3.0 * X.y()), 0.0, 0.2) + db * Vec3(0.0, X.x() * X.x(), X.z());
     Mat3 s;
     s << a, b, 0.0, b, -a * X.y(), 0.3 * a, 0.0, 0.3 * a, b * X.x();
     ps.tau[p] = 1e3 * s;

@@ -225,13 +225,14 @@ std::vector<double> outputs(const std::string& model, const std::string& data) {
   X.push_back(Vec3(0.5, 0.5, 0.5)), X.push_back(Vec3(0.4, 0.6, 0.3));
   const NeuralFields::Points all = nf.prepare(d.rest_positions()), extra = nf.prepare(X);
   const Latent z = nf.encode(d.read_positions(d.test()[0], 5));
+  const Latent zdot = nf.bases()->latent_velocity(z, d.read_field(d.test()[0], 5, "v").data());
   std::vector<double> out(z.data(), z.data() + z.size());
   for (const NeuralFields::Points* pts : {&all, &extra}) {
     std::vector<Vec3> x;
     std::vector<nsf::Mat3> tau, C;
     nf.deform(*pts, z, x);
     nf.stress(*pts, z, d.test()[0].mu, tau);
-    nf.affine(*pts, z, C);
+    nf.affine(*pts, z, C, d.test()[0].mu, &zdot);
     for (const Vec3& v : x) out.insert(out.end(), v.data(), v.data() + 3);
     for (const auto& m : tau) out.insert(out.end(), m.data(), m.data() + 9);
     for (const auto& m : C) out.insert(out.end(), m.data(), m.data() + 9);

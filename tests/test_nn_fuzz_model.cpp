@@ -66,6 +66,14 @@ nsf::NeuralModel small_model(const std::string& decoder) {
       m.basis[f].modes = torch::randn({kParticles, dims[f], c.modes[f]});
       m.basis[f].scale = torch::ones({c.modes[f]});
     }
+  if (decoder == "basis") {  // C's coefficient map (the default): 8 centres of (ẑ, μ, ż)
+    const int64_t d = 2 * c.latent_dim + 1, K = c.modes[2];
+    const auto f64 = torch::TensorOptions().dtype(torch::kFloat64);
+    nsf::BasisField& b = m.basis[2];
+    b.map_centers = torch::randn({8, d}, f64), b.map_weights = torch::randn({8, K}, f64);
+    b.map_poly = torch::randn({d + 1, K}, f64);
+    b.map_shift = torch::zeros({d}, f64), b.map_scale = torch::ones({d}, f64);
+  }
   m.trajectory_latents = torch::zeros({2, 3, c.latent_dim});
   m.trajectory_mu = torch::tensor({1.0f, 2.0f});
   return m;
@@ -176,7 +184,8 @@ void load_and_use(const std::string& path) {
   std::vector<nsf::Mat3> tau, C;
   f.deform(points, z, x);
   f.stress(points, z, 1.5, tau);
-  f.affine(points, z, C);
+  const nsf::Latent zdot = nsf::Latent::Zero(z.size());  // C's map reads the latent velocity
+  f.affine(points, z, C, 1.5, &zdot);
 }
 
 // The checksum a results row records (docs/RESULTS.md, `model_crc32`) is the one the file
@@ -235,6 +244,9 @@ TEST(FuzzModel, EntriesNsfNeverWritesAreNamedErrorsUnderAValidChecksum) {
                                 "'coefficient_width'");
   const torch::Tensor wrong = torch::zeros({kParticles, 5}), nan = torch::full({2}, std::nanf(""));
   nsf::testing::expect_contains(refused(basis, "rest", nullptr, &wrong), "'rest'");
+  const torch::Tensor poly = torch::zeros({3, 3}, torch::kFloat64);  // d + 1 = 6 rows expected
+  nsf::testing::expect_contains(refused(basis, "map_C_poly", nullptr, &poly),
+                                "damaged coefficient map of C");
   nsf::testing::expect_contains(refused(mlp, "norm_z_std", nullptr, &nan), "'norm_z_std'");
   // A basis model not in displacement form would have no rest positions to add to its bases.
   const c10::IValue no(false);

@@ -48,13 +48,17 @@ TEST_F(TrainDevice, JsonRowHoldsEachStagesStepsAndTime) {
   EXPECT_EQ(row.at("device"), "cpu");
   EXPECT_EQ(row.at("threads"), 1);
   ASSERT_EQ(row.at("stages").size(), 3u);
-  const long steps[3] = {20, 5, 5};  // kTinyTrainFlags
+  // kTinyTrainFlags; stage 3's C is a coefficient map, fitted, not stepped.
+  const long steps[3] = {20, 5, 0};
   for (int s = 0; s < 3; ++s) {
     const nlohmann::json& st = row.at("stages")[size_t(s)];
     EXPECT_EQ(st.at("stage"), s + 1);
     EXPECT_EQ(st.at("steps").get<long>(), steps[s]);
+    EXPECT_EQ(st.at("fitted").get<bool>(), s == 2);
     EXPECT_GT(st.at("seconds").get<double>(), 0);
-    EXPECT_GT(st.at("points_per_second").get<double>(), 0);
+    if (s < 2) {
+      EXPECT_GT(st.at("points_per_second").get<double>(), 0);
+    }
     EXPECT_TRUE(std::isfinite(st.at("final_loss").get<double>()));
   }
   EXPECT_FALSE(fs::exists(json.string() + ".tmp"));

@@ -10,6 +10,7 @@
 #include "core/path_clash.h"
 #include "core/timer.h"
 #include "io/atomic_file.h"
+#include "nn/basis_decoders.h"
 #include "nn/evaluate.h"
 #include "nn/neural_fields.h"
 #include "nn/runtime.h"
@@ -49,6 +50,10 @@ void write_json(const EvalArgs& a, const std::vector<EvalRow>& rows) {
   nlohmann::json j;
   j["scene"] = nf.scene_name();
   j["decoder"] = nf.decoder();
+  if (const BasisDecoders* b = nf.bases())  // how τ's and C's coefficients are made
+    j["coefficients"] = {{"tau", b->tau.map.empty() ? "network" : "map"},
+                         {"C", b->C.map.empty() ? "network" : "map"},
+                         {"affine_reads_velocity", b->affine_uses_velocity}};
   j["model"] = a.model;
   j["data"] = a.data;
   j["split"] = a.opt.split;

@@ -41,6 +41,8 @@ struct TrainArgs {
   std::string decoder;
   std::vector<int> modes;
   int coefficient_width = 0, coefficient_depth = 0;
+  std::vector<std::string> coefficients;
+  std::string affine_input;
   std::string json;  // --json: the run's row (per stage: steps, seconds, throughput)
   TrainOptions opt;
 };
@@ -123,6 +125,10 @@ void write_json(const TrainArgs& a, const TrainReport& r, int threads) {
   j["device"] = a.opt.device;
   j["threads"] = threads;
   j["decoder"] = a.opt.config.net.decoder;
+  if (a.opt.config.net.decoder == "basis")
+    j["coefficients"] = {{"tau", a.opt.config.net.coefficients[0]},
+                         {"C", a.opt.config.net.coefficients[1]},
+                         {"affine_reads_velocity", a.opt.config.net.affine_reads_velocity()}};
   j["peak_memory_mib"] = peak_rss_mib();
   for (int s = 0; s < kStageCount; ++s) {
     const StageReport& st = r.stages[s];
@@ -131,7 +137,9 @@ void write_json(const TrainArgs& a, const TrainReport& r, int threads) {
                           {"steps", st.steps},
                           {"seconds", st.seconds},
                           {"points_per_second", st.points_per_second},
-                          {"final_loss", st.final_loss}};
+                          {"final_loss", st.final_loss},
+                          // a coefficient map: final_loss is its cross-validated error
+                          {"fitted", a.opt.config.net.uses_map(s)}};
     if (s == 0) row["frames_per_second"] = st.frames_per_second;
     j["stages"].push_back(row);
   }
@@ -191,9 +199,21 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
   // scene's recipe sizes the MLP fields' stages; its stage-1 steps still apply).
   apply_family_defaults(c, !a.size.steps.empty() || !a.epochs.empty(), a.latent_noise_given);
   if (a.coefficient_depth > 0) c.net.coefficient_depth = a.coefficient_depth;
-  const bool basis_flags = !a.modes.empty() || a.coefficient_width > 0 || a.coefficient_depth > 0;
+  if (a.coefficients.size() == 1) c.net.coefficients = {a.coefficients[0], a.coefficients[0]};
+  if (a.coefficients.size() == 2) c.net.coefficients = {a.coefficients[0], a.coefficients[1]};
+  if (a.coefficients.size() > 2)
+    fail("--coefficients takes one kind for tau and C or two (tau,C), got ", a.coefficients.size());
+  if (!a.affine_input.empty()) c.net.affine_uses_velocity = a.affine_input == "velocity";
+  if (a.affine_input == "velocity" && c.net.coefficients[1] != "map")
+    fail(
+        "--affine-input velocity needs C's coefficients from a map (--coefficients TAU,map): "
+        "the coefficient networks take the latent alone");
+  const bool basis_flags = !a.modes.empty() || a.coefficient_width > 0 || a.coefficient_depth > 0 ||
+                           !a.coefficients.empty() || !a.affine_input.empty();
   if (basis_flags && c.net.decoder != "basis")
-    fail("--modes and --coefficient-* shape the per-point bases: give --decoder basis");
+    fail(
+        "--modes, --coefficient-*, --coefficients and --affine-input shape the per-point bases: "
+        "give --decoder basis");
   set_per_stage(a.size.steps, c.steps, "--steps");
   set_per_stage(a.epochs, a.opt.epochs, "--epochs");
   set_per_stage(a.frames, c.frames_per_batch, "--frames-per-batch");
@@ -202,18 +222,24 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
     // The base model fixes every shape; a shape flag beside it would be silently ignored.
     if (a.r > 0 || a.depth > 0 || a.width_g > 0 || a.width_h > 0 || a.width_l > 0 ||
         a.encoder_channels > 0 || a.encoder_hidden > 0 || a.encoder_max_length > 0 || a.no_mu ||
-        !a.decoder.empty() || basis_flags)
+        !a.decoder.empty() || !a.modes.empty() || a.coefficient_width > 0 ||
+        a.coefficient_depth > 0)
       fail("--base-model ", a.opt.base_model,
            " fixes the networks' shapes: drop -r, --depth, --widths, --encoder-*, --no-mu, "
-           "--decoder, --modes and --coefficient-*");
+           "--decoder, --modes and --coefficient-width/depth");
     if (lead) std::fprintf(stderr, "  networks: those of %s\n", a.opt.base_model.c_str());
   } else if (c.net.decoder == "basis") {
     if (lead)
       std::fprintf(stderr,
                    "  decoders: per-point bases of K = %d (x), %d (tau), %d (C) modes, coefficient "
-                   "networks %d x %d; r = %d (Table 1 row '%s')\n",
+                   "network %d x %d for x, %s; r = %d (Table 1 row '%s')\n",
                    c.net.modes[0], c.net.modes[1], c.net.modes[2], c.net.coefficient_depth,
-                   c.net.coefficient_width, c.net.latent_dim, row.c_str());
+                   c.net.coefficient_width,
+                   (std::string(c.net.uses_map(1) ? "map" : "network") + " for tau, " +
+                    (c.net.uses_map(2) ? "map" : "network") + " for C" +
+                    (c.net.affine_reads_velocity() ? " (of the latent velocity too)" : ""))
+                       .c_str(),
+                   c.net.latent_dim, row.c_str());
   } else if (lead) {
     std::fprintf(
         stderr, "  networks (Table 1 row '%s'): r = %d, depth %d, widths g %d, h %d, l %d\n",
@@ -327,6 +353,17 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("--coefficient-depth", a->coefficient_depth,
                   "Hidden layers of the basis coefficient networks (default 3)")
       ->check(in_range(1, 16));
+  cmd->add_option("--coefficients", a->coefficients,
+                  "How the basis model's tau and C coefficients are made, one kind for both or "
+                  "tau,C: network (small networks trained by Adam) or map (thin-plate-spline maps "
+                  "through the training latents, fitted in seconds); default network,map "
+                  "(docs/TRAINING.md)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"map", "network"}));
+  cmd->add_option("--affine-input", a->affine_input,
+                  "What C's coefficient map reads: velocity (the default: the latent, mu and the "
+                  "latent velocity) or latent (the latent alone)")
+      ->check(CLI::IsMember({"latent", "velocity"}));
   cmd->add_flag("--no-scene-recipe", a->no_scene_recipe,
                 "Ignore the scene's \"train\" section (steps, widths, encoder length, batches) and "
                 "use the defaults: Table 1's widths, the documented steps");

@@ -300,7 +300,7 @@ RomReport run_rom(const RomRunOptions& o) {
         stress_error.add(tau[p], truth_frame.tau[p]);
         affine_error.add(C[p], truth_frame.C[p]);
       }
-      if (budget) budget->add_frame(phi, truth_frame.tau, truth_frame.C);
+      if (budget) budget->add_frame(phi, truth_frame.v, truth_frame.tau, truth_frame.C);
       rep.delta_per_frame.push_back(frame_delta.relative());
       delta.add(frame_delta);
       rep.delta = delta.relative();

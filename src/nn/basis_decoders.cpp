@@ -4,7 +4,10 @@
 
 #include "nn/basis_decoders.h"
 
+#include <Eigen/QR>
 #include <cmath>
+
+#include "core/error.h"
 
 namespace nsf {
 
@@ -44,18 +47,42 @@ void PointBasis::blend(const std::vector<std::pair<uint32_t, double>>& members,
 
 Eigen::VectorXf BasisDecoders::deformation_coefficients(const Eigen::VectorXd& z,
                                                         Eigen::MatrixXd* J) const {
-  return u.net(z, J).cast<float>();
+  return u.coefficients(z, J).cast<float>();
 }
 
 Eigen::VectorXf BasisDecoders::stress_coefficients(const Eigen::VectorXd& z, double mu) const {
-  if (!stress_uses_mu) return tau.net(z).cast<float>();
+  if (!stress_uses_mu) return tau.coefficients(z).cast<float>();
   Eigen::VectorXd x(z.size() + 1);
   x << z, mu;
-  return tau.net(x).cast<float>();
+  return tau.coefficients(x).cast<float>();
 }
 
-Eigen::VectorXf BasisDecoders::affine_coefficients(const Eigen::VectorXd& z) const {
-  return C.net(z).cast<float>();
+Eigen::VectorXd BasisDecoders::affine_input(const Eigen::VectorXd& z, double mu,
+                                            const Eigen::VectorXd* zdot) const {
+  if (!affine_uses_velocity) return z;
+  if (!zdot || zdot->size() != z.size())
+    fail("internal error: C's coefficients of this model need the latent velocity");
+  Eigen::VectorXd x(2 * z.size() + 1);
+  x << z, mu, *zdot;
+  return x;
+}
+
+Eigen::VectorXf BasisDecoders::affine_coefficients(const Eigen::VectorXd& z, double mu,
+                                                   const Eigen::VectorXd* zdot) const {
+  return C.coefficients(affine_input(z, mu, zdot)).cast<float>();
+}
+
+Eigen::VectorXd BasisDecoders::latent_velocity(const Eigen::VectorXd& z, const float* v) const {
+  Eigen::MatrixXd J;
+  u.coefficients(z, &J);  // K × r
+  Eigen::VectorXd cv = Eigen::VectorXd::Zero(u.K);
+  for (size_t p = 0; p < u.points; ++p) {
+    const float* B = &u.modes[p * 3 * size_t(u.K)];
+    for (int d = 0; d < 3; ++d)
+      for (int k = 0; k < u.K; ++k)
+        cv[k] += double(B[size_t(d) * size_t(u.K) + size_t(k)]) * v[3 * p + size_t(d)];
+  }
+  return J.colPivHouseholderQr().solve(cv);
 }
 
 }  // namespace nsf

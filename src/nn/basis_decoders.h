@@ -3,14 +3,16 @@
 // Each field f ∈ {x − X, τ, C} of a basis model is
 //     f_p(ẑ[, μ]) = mean_p + B_p · c_f(ẑ[, μ]),
 // B_p the K_f modes of particle p (from the SVD of the training frames), c_f a small ELU network
-// of the latent evaluated once per step. A field at a point costs dim·K_f multiply-adds in float;
-// ∂g/∂ẑ at a point is B_p · ∂c/∂ẑ, with ∂c/∂ẑ (K × r) computed once.
+// or a thin-plate-spline map (nn/rbf_map.h) of the latent, evaluated once per step. A field at a
+// point costs dim·K_f multiply-adds in float; ∂g/∂ẑ at a point is B_p · ∂c/∂ẑ, with ∂c/∂ẑ (K × r)
+// computed once.
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include "core/types.h"
+#include "nn/rbf_map.h"
 
 namespace nsf {
 
@@ -34,6 +36,12 @@ struct PointBasis {
   std::vector<float> mean;   // points × dim
   std::vector<float> modes;  // points × dim × K, row-major per point
   CoefficientNet net;
+  RbfMap map;  // when not empty, the coefficients are the map's, not the network's
+
+  // c(x) from the map or the network, with ∂c/∂x when J is given.
+  Eigen::VectorXd coefficients(const Eigen::VectorXd& x, Eigen::MatrixXd* J = nullptr) const {
+    return map.empty() ? net(x, J) : map(x, J);
+  }
 
   // out[0..dim) = mean_p + B_p c, for particle p.
   // One dot product of K per value: a dim × K product dispatched per point costs more than
@@ -71,12 +79,23 @@ struct BasisDecoders {
   PointBasis u, tau, C;    // x − X (3), τ (xx yy zz xy yz xz, 6), C (row-major 9)
   std::vector<Vec3> rest;  // X of every particle
   bool stress_uses_mu = false;
+  // C's coefficients of (ẑ, μ, ż): the affine matrices are velocity gradients, which the latent
+  // velocity ż carries and ẑ alone does not (docs/TRAINING.md, "Coefficient maps").
+  bool affine_uses_velocity = false;
 
   // c_u(ẑ) (the encoder's raw latent, as g sees it) with ∂c_u/∂ẑ when J is given.
   Eigen::VectorXf deformation_coefficients(const Eigen::VectorXd& z,
                                            Eigen::MatrixXd* J = nullptr) const;
   Eigen::VectorXf stress_coefficients(const Eigen::VectorXd& z, double mu) const;
-  Eigen::VectorXf affine_coefficients(const Eigen::VectorXd& z) const;
+  // ż is read only when affine_uses_velocity (then it must be given: an internal error if not).
+  Eigen::VectorXf affine_coefficients(const Eigen::VectorXd& z, double mu = 0,
+                                      const Eigen::VectorXd* zdot = nullptr) const;
+  // The latent velocity that best explains particle velocities v (|P| × 3) at ẑ: the least-squares
+  // ż of B_u (∂c_u/∂ẑ) ż = v (B_u's modes are orthonormal over the particles).
+  Eigen::VectorXd latent_velocity(const Eigen::VectorXd& z, const float* v) const;
+  // The input of C's coefficients: (ẑ) or, with velocity, (ẑ, μ, ż).
+  Eigen::VectorXd affine_input(const Eigen::VectorXd& z, double mu,
+                               const Eigen::VectorXd* zdot) const;
   size_t bytes() const { return u.bytes() + tau.bytes() + C.bytes(); }
 };
 

@@ -10,8 +10,24 @@ namespace nsf {
 namespace {
 
 Eigen::VectorXd to_vector(const torch::Tensor& t) {
-  const torch::Tensor d = t.to(torch::kFloat64).contiguous().reshape({-1});
+  const torch::Tensor d = t.to(torch::kCPU, torch::kFloat64).contiguous().reshape({-1});
   return Eigen::Map<const Eigen::VectorXd>(d.data_ptr<double>(), d.numel());
+}
+
+Eigen::MatrixXd to_matrix(const torch::Tensor& t) {
+  const torch::Tensor d = t.to(torch::kCPU, torch::kFloat64).contiguous();
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      d.data_ptr<double>(), d.size(0), d.size(1));
+}
+
+RbfMap coefficient_map(const BasisField& b) {
+  RbfMap m;
+  m.centers = to_matrix(b.map_centers);
+  m.weights = to_matrix(b.map_weights);
+  m.poly = to_matrix(b.map_poly);
+  m.shift = to_vector(b.map_shift);
+  m.scale = to_vector(b.map_scale);
+  return m;
 }
 
 // The network's layers, and the normalisation of its input that coefficient_input applies.
@@ -19,7 +35,7 @@ CoefficientNet coefficient_net(const NeuralModel& m, int field) {
   const BasisField& b = m.basis[field];
   CoefficientNet net;
   for (const torch::nn::Linear& layer : b.net->layers()) {
-    const torch::Tensor w = layer->weight.detach().to(torch::kFloat64).contiguous();
+    const torch::Tensor w = layer->weight.detach().to(torch::kCPU, torch::kFloat64).contiguous();
     net.W.push_back(
         Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
             w.data_ptr<double>(), w.size(0), w.size(1)));
@@ -52,11 +68,18 @@ PointBasis point_basis(const NeuralModel& m, int field, const std::vector<uint32
     for (size_t k = 0; k < ids->size(); ++k) index[int64_t(k)] = int64_t((*ids)[k]);
     mean = mean.index_select(0, index), modes = modes.index_select(0, index);
   }
-  mean = mean.to(torch::kFloat32).contiguous(), modes = modes.to(torch::kFloat32).contiguous();
+  mean = mean.to(torch::kCPU, torch::kFloat32).contiguous();
+  modes = modes.to(torch::kCPU, torch::kFloat32).contiguous();
   out.points = size_t(mean.size(0));
   out.mean.assign(mean.data_ptr<float>(), mean.data_ptr<float>() + mean.numel());
   out.modes.assign(modes.data_ptr<float>(), modes.data_ptr<float>() + modes.numel());
   out.net = coefficient_net(m, field);
+  if (m.config.uses_map(field)) {
+    if (!b.has_map())
+      fail("the model has no coefficient map for ", field == 1 ? "tau" : "C",
+           " (the checkpoint of a training that has not reached its stage?)");
+    out.map = coefficient_map(b);
+  }
   return out;
 }
 
@@ -68,6 +91,7 @@ BasisDecoders basis_decoders(const NeuralModel& m) {
   d.rest.resize(size_t(rest.size(0)));
   for (size_t p = 0; p < d.rest.size(); ++p) d.rest[p] = Vec3(x[3 * p], x[3 * p + 1], x[3 * p + 2]);
   d.stress_uses_mu = m.stress_has_mu();
+  d.affine_uses_velocity = m.config.affine_reads_velocity();
   return d;
 }
 

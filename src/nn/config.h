@@ -25,6 +25,17 @@ struct NetConfig {
   std::string decoder = "basis";
   std::array<int, 3> modes = {32, 64, 64};             // K of x − X, τ and C (basis)
   int coefficient_width = 128, coefficient_depth = 3;  // the coefficient networks (basis)
+  // How a basis model's stages 2 and 3 give τ's and C's coefficients: "network", small ELU
+  // networks trained by Adam, or "map", thin-plate-spline maps through the training latents
+  // (nn/rbf_map.h), fitted in seconds. Stage 1's c_u is always a network (the encoder learns
+  // with it). The defaults are what measured best (docs/TRAINING.md, "Coefficient maps").
+  std::array<std::string, 2> coefficients = {"network", "map"};  // τ, C
+  bool affine_uses_velocity = true;                              // C's map reads (ẑ, μ, ż)
+  bool uses_map(int field) const {
+    return decoder == "basis" && field > 0 && coefficients[size_t(field - 1)] == "map";
+  }
+  bool uses_maps() const { return uses_map(1) || uses_map(2); }
+  bool affine_reads_velocity() const { return uses_map(2) && affine_uses_velocity; }
 };
 
 // Table 1, keyed by the scene name stored in the run files; unknown scenes get the bread row.

@@ -104,9 +104,13 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
         for (size_t i = 0; i < n; ++i) ex_encoded += (x[i] - full[subset[i]]).squaredNorm();
         z = refiner->refine(f.x.data(), z);
       }
+      // C of a model that reads the latent velocity: ż of the frame's own particle velocities.
+      Latent zdot;
+      if (bases && bases->affine_uses_velocity)
+        zdot = bases->latent_velocity(z, data.read_field(run, k, "v").data());
       nf.deform(pts, z, x);
       nf.stress(pts, z, run.mu, tau);
-      nf.affine(pts, z, C);
+      nf.affine(pts, z, C, run.mu, &zdot);
       for (size_t i = 0; i < n; ++i) {
         const size_t p = subset[i];
         ex += (x[i] - full[p]).squaredNorm(), nx += full[p].squaredNorm();
@@ -123,7 +127,7 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
         std::vector<Mat3> ta, ca;
         nf.deform(*all_pts, z, xa);
         nf.stress(*all_pts, z, run.mu, ta);
-        nf.affine(*all_pts, z, ca);
+        nf.affine(*all_pts, z, ca, run.mu, &zdot);
         held->add_frame(xa, ta, ca, full, f.tau.data(), f.C.data());
       }
       smooth.add_residual(tau_true, stress_poly_fit);

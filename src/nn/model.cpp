@@ -20,6 +20,10 @@ constexpr int64_t kFormatVersion = 3;
 // 4: a basis model (per-point bases and coefficient networks instead of g, h, l), which an older
 // nsf must refuse. MLP models keep writing 3.
 constexpr int64_t kBasisFormatVersion = 4;
+// 5: a basis model whose τ and C coefficients are maps (nn/rbf_map.h), which an older nsf would
+// take for its untrained networks: it refuses the file.
+constexpr int64_t kMapFormatVersion = 5;
+constexpr const char* kMapParts[5] = {"centers", "weights", "poly", "shift", "scale"};
 constexpr const char* kBasisNames[3] = {"u", "tau", "C"};
 constexpr int64_t kBasisDims[3] = {3, 6, 9};
 
@@ -127,7 +131,9 @@ NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
 
 void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   a.write("format", c10::IValue(std::string(kFormat)));
-  a.write("format_version", c10::IValue(is_basis() ? kBasisFormatVersion : kFormatVersion));
+  a.write("format_version", c10::IValue(config.uses_maps() ? kMapFormatVersion
+                                        : is_basis()       ? kBasisFormatVersion
+                                                           : kFormatVersion));
   a.write("nsf_version", c10::IValue(std::string(NSF_VERSION)));
   a.write("scene_name", c10::IValue(scene.scene_name));
   a.write("scene_particles", c10::IValue(scene.particles));
@@ -163,12 +169,24 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
     a.write("decoder", c10::IValue(config.decoder));
     a.write("coefficient_width", c10::IValue(int64_t(config.coefficient_width)));
     a.write("coefficient_depth", c10::IValue(int64_t(config.coefficient_depth)));
+    if (config.uses_maps()) {
+      a.write("coefficients_tau", c10::IValue(config.coefficients[0]));
+      a.write("coefficients_C", c10::IValue(config.coefficients[1]));
+      a.write("affine_uses_velocity", c10::IValue(config.affine_uses_velocity));
+    }
     for (int f = 0; f < 3; ++f) {
       const std::string n = kBasisNames[f];
       a.write("modes_" + n, c10::IValue(int64_t(config.modes[f])));
       a.write("basis_" + n + "_mean", basis[f].mean, /*is_buffer=*/true);
       a.write("basis_" + n + "_modes", basis[f].modes, /*is_buffer=*/true);
       a.write("basis_" + n + "_scale", basis[f].scale, /*is_buffer=*/true);
+      if (basis[f].has_map()) {
+        const torch::Tensor* parts[5] = {&basis[f].map_centers, &basis[f].map_weights,
+                                         &basis[f].map_poly, &basis[f].map_shift,
+                                         &basis[f].map_scale};
+        for (int k = 0; k < 5; ++k)
+          a.write("map_" + n + "_" + kMapParts[k], *parts[k], /*is_buffer=*/true);
+      }
       nets.emplace_back("c_" + n, basis[f].net.get());
     }
   } else {
@@ -181,14 +199,47 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   }
 }
 
+namespace {
+
+// A coefficient map's entries, absent from a checkpoint written before its stage ran; present,
+// they must agree with each other and hold finite float64 values.
+void read_map(torch::serialize::InputArchive& a, BasisField& b, const std::string& n,
+              const std::string& path) {
+  torch::Tensor* parts[5] = {&b.map_centers, &b.map_weights, &b.map_poly, &b.map_shift,
+                             &b.map_scale};
+  int present = 0;
+  for (int k = 0; k < 5; ++k)
+    present += a.try_read("map_" + n + "_" + kMapParts[k], *parts[k], /*is_buffer=*/true);
+  if (present == 0) {
+    for (torch::Tensor* t : parts) *t = torch::Tensor();
+    return;
+  }
+  const auto bad = [&](const std::string& why) {
+    fail("model file ", path, ": damaged coefficient map of ", n, " (", why, ")");
+  };
+  if (present != 5) bad("entries missing");
+  for (torch::Tensor* t : parts)
+    if (t->scalar_type() != torch::kFloat64 || !torch::isfinite(*t).all().item<bool>())
+      bad("not finite float64 values");
+  const int64_t N = b.map_centers.size(0),
+                d = b.map_centers.dim() == 2 ? b.map_centers.size(1) : -1;
+  if (b.map_centers.dim() != 2 || b.map_weights.sizes() != torch::IntArrayRef({N, b.K()}) ||
+      b.map_poly.sizes() != torch::IntArrayRef({d + 1, b.K()}) ||
+      b.map_shift.sizes() != torch::IntArrayRef({d}) ||
+      b.map_scale.sizes() != torch::IntArrayRef({d}) || N < d + 2)
+    bad("shapes disagree");
+}
+
+}  // namespace
+
 NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::string& path) {
   c10::IValue format;
   if (!a.try_read("format", format) || !format.isString() || format.toStringRef() != kFormat)
     fail(path, " is not an nsf model file (no 'format' = '", kFormat, "' entry)");
   const int64_t version = read_value(a, "format_version", path).toInt();
-  if (version > kBasisFormatVersion)
+  if (version > kMapFormatVersion)
     fail("model file ", path, " has format version ", version, "; this nsf reads up to ",
-         kBasisFormatVersion, " (written by nsf ", read_value(a, "nsf_version", path).toStringRef(),
+         kMapFormatVersion, " (written by nsf ", read_value(a, "nsf_version", path).toStringRef(),
          ")");
   auto integer = [&](const char* key) {
     return model_size_entry(read_value(a, key, path).toInt(), key, path);
@@ -213,6 +264,18 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
     c.coefficient_depth = integer("coefficient_depth");
     for (int f = 0; f < 3; ++f)
       c.modes[f] = integer((std::string("modes_") + kBasisNames[f]).c_str());
+    c.coefficients = {"network", "network"};  // the only kind before format version 5
+    c.affine_uses_velocity = false;
+    if (version >= kMapFormatVersion) {
+      for (int f = 0; f < 2; ++f) {
+        const std::string key = std::string("coefficients_") + kBasisNames[f + 1];
+        c.coefficients[size_t(f)] = read_value(a, key.c_str(), path).toStringRef();
+        if (c.coefficients[size_t(f)] != "map" && c.coefficients[size_t(f)] != "network")
+          fail("model file ", path, ": damaged entry '", key, "' ('", c.coefficients[size_t(f)],
+               "'; known: map, network)");
+      }
+      c.affine_uses_velocity = read_value(a, "affine_uses_velocity", path).toBool();
+    }
   } else {
     c.decoder = "mlp";  // the only family before format version 4
   }
@@ -280,6 +343,7 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
       check_model_tensor(b.mean, {s.particles, d}, "basis_" + n + "_mean", path);
       check_model_tensor(b.modes, {s.particles, d, K}, "basis_" + n + "_modes", path);
       check_model_tensor(b.scale, {K}, "basis_" + n + "_scale", path);
+      if (c.uses_map(f)) read_map(a, b, n, path);
       nets.emplace_back("c_" + n, b.net.get());
     }
   } else {
@@ -341,6 +405,7 @@ void NeuralModel::to(const torch::Device& device) {
   for (Normalizer* n : {&norm_X, &norm_x, &norm_z, &norm_mu, &norm_tau, &norm_C, &norm_u})
     move(n->mean), move(n->std);
   for (BasisField& b : basis) move(b.mean), move(b.modes), move(b.scale);
+  // The coefficient maps stay on the CPU: they are fitted and evaluated there.
   move(rest), move(trajectory_latents), move(trajectory_mu);
 }
 

@@ -48,6 +48,10 @@ struct BasisField {
   torch::Tensor modes;  // |P| × dim × K
   torch::Tensor scale;  // K: each coefficient's spread over the training frames
   FieldMlp net{nullptr};
+  // The coefficient map instead of the network (τ and C of a model with maps: nn/rbf_map.h),
+  // float64; undefined until its stage has run.
+  torch::Tensor map_centers, map_weights, map_poly, map_shift, map_scale;
+  bool has_map() const { return map_centers.defined(); }
   int64_t K() const { return scale.defined() ? scale.size(0) : 0; }
 };
 

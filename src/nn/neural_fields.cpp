@@ -220,11 +220,13 @@ void NeuralFields::stress(const Points& X, const Latent& z, double mu,
     tau[p] << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
 }
 
-void NeuralFields::affine(const Points& X, const Latent& z, std::vector<Mat3>& C) const {
+void NeuralFields::affine(const Points& X, const Latent& z, std::vector<Mat3>& C, double mu,
+                          const Latent* zdot) const {
   C.resize(X.size());
   if (bases_) {
     basis_values(bases_->C, X.impl_->particles, X.impl_->weights, X.size(),
-                 bases_->affine_coefficients(z), [&](size_t i, const float* c) {  // row-major
+                 bases_->affine_coefficients(z, mu, zdot),
+                 [&](size_t i, const float* c) {  // row-major
                    C[i] << c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8];
                  });
     return;

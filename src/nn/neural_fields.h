@@ -67,7 +67,10 @@ class NeuralFields {
   void deform(const Points& X, const Latent& z, std::vector<Vec3>& x) const;  // g → x
   void stress(const Points& X, const Latent& z, double mu,
               std::vector<Mat3>& tau) const;  // h → τ (symmetric); mu ignored unless used
-  void affine(const Points& X, const Latent& z, std::vector<Mat3>& C) const;  // l → C
+  // l → C. A basis model whose C reads the latent velocity (bases()->affine_uses_velocity) needs
+  // ż and μ: an internal error without them.
+  void affine(const Points& X, const Latent& z, std::vector<Mat3>& C, double mu = 0,
+              const Latent* zdot = nullptr) const;
 
   // The torch-level model, for code that already includes nn/model.h (trainer, tools).
   NeuralModel& model();

@@ -18,13 +18,16 @@
 #include "core/progress.h"
 #include "core/timer.h"
 #include "io/run_reader.h"
+#include "nn/basis_decoders.h"
 #include "nn/basis_fit.h"
+#include "nn/basis_runtime.h"
 #include "nn/batch_budget.h"
 #include "nn/checked_archive.h"
 #include "nn/dataset.h"
 #include "nn/latent_inversion.h"
 #include "nn/loss_plot.h"
 #include "nn/model.h"
+#include "nn/rbf_map.h"
 #include "nn/runtime.h"
 
 #include <torch/cuda.h>
@@ -176,6 +179,9 @@ class Trainer {
   std::vector<torch::Tensor> stage_parameters();
   double train_step();
   void fit_bases(int first_field);
+  // A model with coefficient maps: stage_'s map through the training latents (nn/rbf_map.h),
+  // returning its cross-validated error.
+  double fit_coefficient_map();
   // Field f (x, τ, C) of training frame i: from the store, or, where it holds positions only,
   // from the run file. Valid until the next call.
   const std::vector<float>& frame_field(size_t i, int f);
@@ -376,7 +382,10 @@ void Trainer::start_from_base_model() {
   if (base.has_mu != model_.has_mu)
     fail(opt_.base_model, ": ", base.has_mu ? "conditioned" : "not conditioned",
          " on mu, the dataset ", base.has_mu ? "has none" : "has mu");
-  // Fresh h and l of the base model's shape, from this run's seed.
+  // Fresh h and l of the base model's shape, from this run's seed; τ's and C's coefficients in
+  // the kinds this run asks for (--coefficients), whatever the base model's were.
+  base.config.coefficients = cfg_.net.coefficients;
+  base.config.affine_uses_velocity = cfg_.net.affine_uses_velocity;
   const NeuralModel fresh(base.config, base.scene, base.has_mu);
   base.h = fresh.h;
   base.l = fresh.l;
@@ -514,6 +523,57 @@ void Trainer::fit_bases(int first_field) {
                   now_seconds() - start);
     say(line);
   }
+}
+
+double Trainer::fit_coefficient_map() {
+  const int f = stage_;
+  const int64_t rows = latents_.size(0), r = model_.latent_dim();
+  const bool with_velocity = f == 2 && model_.config.affine_reads_velocity();
+  const bool with_mu = f == 1 ? model_.stress_has_mu() : with_velocity;
+  const int64_t d = r + (with_mu ? 1 : 0) + (with_velocity ? r : 0);
+  const torch::Tensor z = latents_.to(torch::kFloat64).contiguous();
+  const torch::Tensor c = targets_[f].to(torch::kFloat64).contiguous();
+  Eigen::MatrixXd inputs(rows, d), goal(rows, c.size(1));
+  std::vector<int> group(static_cast<size_t>(rows));
+  BasisDecoders velocity;  // c_u and B_u alone, for the latent velocities
+  if (with_velocity) velocity.u = point_basis(model_, 0);
+  for (int64_t i = 0; i < rows; ++i) {
+    const size_t frame = size_t(latent_frame_[size_t(i)]);
+    const SimulationFile& run = data_.train()[store_.sim_of(frame)];
+    const Eigen::Map<const Eigen::VectorXd> zi(z[i].data_ptr<double>(), r);
+    inputs.row(i).head(r) = zi.transpose();
+    if (with_mu) inputs(i, r) = run.mu;
+    if (with_velocity) {
+      const std::vector<float> v = data_.read_field(run, store_.frame_of(frame), "v");
+      inputs.row(i).tail(r) = velocity.latent_velocity(zi, v.data()).transpose();
+    }
+    goal.row(i) =
+        Eigen::Map<const Eigen::VectorXd>(c[int64_t(frame)].data_ptr<double>(), c.size(1));
+    group[size_t(i)] = int(store_.sim_of(frame));
+  }
+  RbfFitReport report;
+  const RbfMap m = fit_rbf(inputs, goal, group, &report);
+  const auto tensor = [](const Eigen::MatrixXd& a) {
+    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> row = a;
+    return torch::from_blob(const_cast<double*>(row.data()), {row.rows(), row.cols()},
+                            torch::kFloat64)
+        .clone();
+  };
+  const auto vector = [](const Eigen::VectorXd& a) {
+    return torch::from_blob(const_cast<double*>(a.data()), {a.size()}, torch::kFloat64).clone();
+  };
+  BasisField& b = model_.basis[f];
+  b.map_centers = tensor(m.centers), b.map_weights = tensor(m.weights);
+  b.map_poly = tensor(m.poly), b.map_shift = vector(m.shift), b.map_scale = vector(m.scale);
+  char line[200];
+  std::snprintf(line, sizeof line,
+                "coefficient map of %s: %lld training latents of %lld inputs%s, smoothing %.0e, "
+                "error %.2f%% of the coefficients on runs left out (%d folds)",
+                kStageNames[f], static_cast<long long>(rows), static_cast<long long>(d),
+                with_velocity ? " (z, mu, latent velocity)" : "", m.smoothing,
+                100 * std::sqrt(report.cv_error), report.folds);
+  say(line);
+  return report.cv_error;
 }
 
 // One step of a basis model's stage: the coefficient network against each row's projection.
@@ -813,6 +873,10 @@ void Trainer::write_loss_curves(TrainReport& report) const {
         << smooth << "," << r.lr << "\n";
   }
   csv.close();
+  if (history_.empty()) {  // stage 1 from a base model, maps for τ and C: nothing was stepped
+    say("note: no optimiser steps in this run (coefficient maps only), so no loss curves");
+    return;
+  }
   const std::string png = fs::path(report.loss_csv).replace_extension(".png").string();
   const std::string no_plot =
       plot_loss_curves(report.loss_csv, png, "nsf train: " + model_.scene.scene_name);
@@ -869,17 +933,20 @@ TrainReport Trainer::run() {
   long steps_this_process = 0;
   for (; stage_ < kStageCount; ++stage_, step_ = 0) {
     if (stage_ > 0 && !latents_.defined()) compute_latents();
-    const long total = cfg_.steps[stage_];
+    // A coefficient map is fitted, not trained: no optimiser steps.
+    const bool mapped = model_.config.uses_map(stage_);
+    const long total = mapped ? 0 : cfg_.steps[stage_];
     const long spacing = checkpoint_spacing();  // the bases are fitted by now
     const int64_t points_per_step = this->points_per_step(stage_);
     std::unique_ptr<Progress> bar;
-    if (!cfg_.quiet)
+    if (!cfg_.quiet && !mapped)
       bar = std::make_unique<Progress>(
           std::string("stage ") + std::to_string(stage_ + 1) + "/3 " + kStageNames[stage_], total,
           "steps");
     StageReport& rep = report.stages[stage_];
     const long first = step_;
     const double start = now_seconds();
+    const double map_error = mapped ? fit_coefficient_map() : 0;
     double ema = -1;
     for (; step_ < total; ++step_) {
       if (opt_.stop_after >= 0 && steps_this_process >= opt_.stop_after) return report;
@@ -921,13 +988,16 @@ TrainReport Trainer::run() {
     long count = 0;
     for (auto it = history_.rbegin(); it != history_.rend() && count < tail; ++it)
       if (it->stage == stage_) sum += it->loss, ++count;
-    rep.final_loss = count ? sum / count : 0;
+    rep.final_loss = mapped ? map_error : count ? sum / count : 0;
     if (bar) bar->finish();
     std::ostringstream os;
-    os << "stage " << stage_ + 1 << " (" << kStageNames[stage_] << "): " << rep.steps
-       << " steps in " << Progress::format_seconds(rep.seconds) << ", "
-       << Progress::format_rate(rep.points_per_second) << " points/s through "
-       << kNetworkNames[stage_];
+    os << "stage " << stage_ + 1 << " (" << kStageNames[stage_] << "): ";
+    if (mapped)
+      os << "coefficient map fitted in " << Progress::format_seconds(rep.seconds);
+    else
+      os << rep.steps << " steps in " << Progress::format_seconds(rep.seconds) << ", "
+         << Progress::format_rate(rep.points_per_second) << " points/s through "
+         << kNetworkNames[stage_];
     if (stage_ == 0)
       os << " (+ " << Progress::format_rate(rep.frames_per_second) << " frames/s encoded)";
     os << ", final loss " << rep.final_loss;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "nn/basis_decoders.h"
 #include "nn/config.h"
 #include "nn/latent_inversion.h"
 #include "nn/model.h"
@@ -32,10 +33,19 @@ ErrorBudget::ErrorBudget(NeuralFields& fields, const std::vector<Vec3>& X,
 ErrorBudget::~ErrorBudget() = default;
 
 void ErrorBudget::add(Sums& sums, const Latent& z, const std::vector<Vec3>& x,
-                      const std::vector<Mat3>& tau, const std::vector<Mat3>& C) {
+                      const std::vector<Vec3>& v, const std::vector<Mat3>& tau,
+                      const std::vector<Mat3>& C) {
+  Latent zdot;  // the truth's latent velocity, for a C that reads it
+  const BasisDecoders* bases = fields_.bases();
+  if (bases && bases->affine_uses_velocity) {
+    std::vector<float> vf(3 * v.size());
+    for (size_t p = 0; p < v.size(); ++p)
+      for (int k = 0; k < 3; ++k) vf[3 * p + size_t(k)] = float(v[p][k]);
+    zdot = bases->latent_velocity(z, vf.data());
+  }
   fields_.deform(points_, z, gx_);
   fields_.stress(points_, z, mu_, tau_);
-  fields_.affine(points_, z, C_);
+  fields_.affine(points_, z, C_, mu_, &zdot);
   for (size_t p = 0; p < x.size(); ++p) {
     sums.x.add(gx_[p], x[p]);
     sums.stress.add(tau_[p], tau[p]);
@@ -43,19 +53,19 @@ void ErrorBudget::add(Sums& sums, const Latent& z, const std::vector<Vec3>& x,
   }
 }
 
-void ErrorBudget::add_frame(const std::vector<Vec3>& x, const std::vector<Mat3>& tau,
-                            const std::vector<Mat3>& C) {
+void ErrorBudget::add_frame(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+                            const std::vector<Mat3>& tau, const std::vector<Mat3>& C) {
   std::vector<float> xf(3 * x.size());
   for (size_t p = 0; p < x.size(); ++p)
     for (int k = 0; k < 3; ++k) xf[3 * p + size_t(k)] = float(x[p][k]);
-  add(encoded_, refiner_->refine(xf.data(), fields_.encode(x)), x, tau, C);
+  add(encoded_, refiner_->refine(xf.data(), fields_.encode(x)), x, v, tau, C);
   target_.resize(samples_.size());
   for (size_t s = 0; s < samples_.size(); ++s) target_[s] = x[samples_[s]];
   const InversionResult r = invert_deformation(*g_, target_, z_, inversion_);
   z_ = r.z;
   iterations_ += r.iterations;
   ++frames_;
-  add(projected_, z_, x, tau, C);
+  add(projected_, z_, x, v, tau, C);
 }
 
 ErrorBudgetResult ErrorBudget::result() const {

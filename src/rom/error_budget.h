@@ -41,9 +41,10 @@ class ErrorBudget {
               const Latent& z0);
   ~ErrorBudget();
 
-  // One truth frame (frames 1…N): positions, Kirchhoff stress and affine matrices per particle.
-  void add_frame(const std::vector<Vec3>& x, const std::vector<Mat3>& tau,
-                 const std::vector<Mat3>& C);
+  // One truth frame (frames 1…N): positions, velocities (for a C that reads the latent
+  // velocity), Kirchhoff stress and affine matrices per particle.
+  void add_frame(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+                 const std::vector<Mat3>& tau, const std::vector<Mat3>& C);
   ErrorBudgetResult result() const;
 
  private:
@@ -51,8 +52,8 @@ class ErrorBudget {
     ErrorSum x, stress, affine;
     FieldErrors errors() const;
   };
-  void add(Sums& sums, const Latent& z, const std::vector<Vec3>& x, const std::vector<Mat3>& tau,
-           const std::vector<Mat3>& C);
+  void add(Sums& sums, const Latent& z, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+           const std::vector<Mat3>& tau, const std::vector<Mat3>& C);
 
   NeuralFields& fields_;
   NeuralFields::Points points_;
