@@ -57,8 +57,9 @@ Eigen::VectorXd evaluate(const Eigen::MatrixXd& centers, const Eigen::MatrixXd& 
   const int64_t d = y.size();
   Eigen::VectorXd out = a.row(0).transpose() + a.bottomRows(d).transpose() * y;
   if (dy) *dy = a.bottomRows(d).transpose();
+  Eigen::VectorXd e(d);  // once: this runs every ROM step
   for (int64_t i = 0; i < centers.rows(); ++i) {
-    const Eigen::VectorXd e = y - centers.row(i).transpose();
+    e.noalias() = y - centers.row(i).transpose();
     const double rho2 = e.squaredNorm();
     out += phi(rho2) * w.row(i).transpose();
     if (dy) *dy += dphi_over_rho(rho2) * w.row(i).transpose() * e.transpose();
@@ -98,7 +99,8 @@ RbfMap fit_rbf(const Eigen::MatrixXd& inputs, const Eigen::MatrixXd& targets,
                 .cwiseSqrt()
                 .transpose();
   for (int64_t k = 0; k < d; ++k)
-    if (!(m.scale[k] > 1e-12 * (1 + std::abs(m.shift[k])))) m.scale[k] = 1;  // a constant input
+    if (!(m.scale[k] > 1e-12 * (1 + std::abs(m.shift[k]))))  // a constant input: exactly 0 below
+      m.shift[k] = inputs(0, k), m.scale[k] = 1;
   const Eigen::MatrixXd y =
       (inputs.rowwise() - m.shift.transpose()).array().rowwise() / m.scale.transpose().array();
 
