@@ -58,6 +58,14 @@ nsf::NeuralFields random_model(const nsf::Scene& scene, const std::string& decod
     m.basis[f].modes = 1e-3 * torch::randn({P, dims[f], modes[f]});
     m.basis[f].scale = torch::ones({modes[f]});
   }
+  if (c.uses_map(2)) {  // C's coefficient map (the default): 600 training rows of (ẑ, μ, ż)
+    const int64_t d = 2 * c.latent_dim + 1, K = modes[2];
+    const auto f64 = torch::TensorOptions().dtype(torch::kFloat64);
+    nsf::BasisField& b = m.basis[2];
+    b.map_centers = torch::randn({600, d}, f64), b.map_weights = 1e-3 * torch::randn({600, K}, f64);
+    b.map_poly = 1e-3 * torch::randn({d + 1, K}, f64);
+    b.map_shift = torch::zeros({d}, f64), b.map_scale = torch::ones({d}, f64);
+  }
   m.save(path);
   return nsf::NeuralFields::load(path);
 }
