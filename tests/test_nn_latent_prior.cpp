@@ -83,6 +83,54 @@ TEST(LatentPrior, DistanceIsTheWhitenedDistanceToTheTrainingRunsSurface) {
   }
 }
 
+// The search skips triangles by their bounding balls: on a sweep-sized surface (12 runs of 33
+// frames in r = 5, curled so that far-apart parts of it come close) it must still find the
+// nearest, at points near the surface, between its folds and far from it.
+TEST(LatentPrior, SkippingTrianglesByTheirBallsStillFindsTheNearest) {
+  Runs runs(12);
+  for (int j = 0; j < 12; ++j)
+    for (int i = 0; i < 33; ++i) {
+      const double t = 0.2 * i, m = 0.3 * j;
+      Eigen::VectorXd z(5);
+      z << std::cos(t) * (1 + m), std::sin(t) * (1 + m), 0.2 * t, m * std::sin(2 * t),
+          0.1 * std::cos(3 * t + m);
+      runs[size_t(j)].push_back(z);
+    }
+  const nsf::LatentPrior prior(runs, spread_of(runs));
+  const Eigen::VectorXd s = spread_of(runs);
+  // Every triangle's nearest point exactly, by a fine sampling of its parameters: the true
+  // minimum can only be below any sampled distance, and close to the finest one.
+  const auto sampled = [&](const Eigen::VectorXd& z) {
+    double best = INFINITY;
+    const int n = 12;
+    for (size_t j = 0; j + 1 < runs.size(); ++j)
+      for (size_t i = 0; i + 1 < runs[0].size(); ++i)
+        for (int p = 0; p <= n; ++p)
+          for (int q = 0; p + q <= n; ++q) {
+            const double u = double(p) / n, v = double(q) / n;
+            const Eigen::VectorXd &a = runs[j][i], &b = runs[j + 1][i], &c = runs[j][i + 1],
+                                  &d = runs[j + 1][i + 1];
+            best =
+                std::min(best, (z - a - u * (b - a) - v * (c - a)).cwiseQuotient(s).squaredNorm());
+            best =
+                std::min(best, (z - d - u * (c - d) - v * (b - d)).cwiseQuotient(s).squaredNorm());
+          }
+    return best;
+  };
+  std::mt19937 rng(5);
+  for (double scale : {0.05, 0.5, 3.0}) {
+    std::normal_distribution<double> off(0.0, scale);
+    std::uniform_int_distribution<size_t> pick_run(0, 11), pick_frame(0, 32);
+    for (int k = 0; k < 15; ++k) {
+      Eigen::VectorXd z = runs[pick_run(rng)][pick_frame(rng)];
+      for (int m = 0; m < 5; ++m) z[m] += off(rng) * s[m];
+      const double found = prior.distance2(z), bound = sampled(z);
+      EXPECT_LE(found, bound + 1e-12) << z.transpose();
+      EXPECT_NEAR(std::sqrt(found), std::sqrt(bound), 0.05) << z.transpose();
+    }
+  }
+}
+
 TEST(LatentPrior, DistanceIsInUnitsOfEachComponentsSpread) {
   Runs runs = wavy_runs();
   const nsf::LatentPrior prior(runs, spread_of(runs));

@@ -30,8 +30,9 @@ class LatentPrior {
 
  private:
   // One triangle of the surface in whitened coordinates: corners a, b, c, edges e1 = b − a and
-  // e2 = c − a with their Gram matrix, and its sides a → b, b → c, c → a, all precomputed because
-  // nearest() runs at every Gauss–Newton iteration.
+  // e2 = c − a with their Gram matrix and its sides a → b, b → c, c → a, all precomputed because
+  // nearest() runs at every Gauss–Newton iteration; a ball holding each (centers_, radii_) lets
+  // it skip the triangles that cannot be the closest.
   struct Triangle {
     int a, b, c;
     Eigen::VectorXd e1, e2, side[3];
@@ -44,6 +45,8 @@ class LatentPrior {
 
   std::vector<Eigen::VectorXd> w_;  // whitened training latents
   std::vector<Triangle> tri_;
+  Eigen::MatrixXd centers_;  // r × triangles: each triangle's centroid
+  Eigen::ArrayXd radii_;     // and the distance from it to the farthest corner
   Eigen::VectorXd spread_;
 };
 
