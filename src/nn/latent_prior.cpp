@@ -79,6 +79,11 @@ double LatentPrior::closest(const Eigen::VectorXd& w, Eigen::VectorXd* point,
   int best_edge = -1;
   double best_s = 0, best_u = 0;
   Eigen::VectorXd d(w.size());  // reused: this loop is on the inversion's every iteration
+  // Ties go to the lowest triangle (and its first side), as a scan of every triangle in order
+  // would give them, so that the answer does not depend on the order of the visits.
+  const auto better = [&](double dist, const Triangle& t) {
+    return dist < best || (dist == best && &t < best_tri);
+  };
   const auto visit = [&](const Triangle& t) {
     d = w - w_[size_t(t.a)];
     if (t.det > 1e-12 * t.a11 * t.a22) {
@@ -86,7 +91,7 @@ double LatentPrior::closest(const Eigen::VectorXd& w, Eigen::VectorXd* point,
       const double s = (t.a22 * b1 - t.a12 * b2) / t.det, u = (t.a11 * b2 - t.a12 * b1) / t.det;
       if (s >= 0 && u >= 0 && s + u <= 1) {
         const double dist = (d - s * t.e1 - u * t.e2).squaredNorm();
-        if (dist < best) best = dist, best_tri = &t, best_edge = -1, best_s = s, best_u = u;
+        if (better(dist, t)) best = dist, best_tri = &t, best_edge = -1, best_s = s, best_u = u;
         return;  // inside: no edge of this triangle is closer
       }
     }
@@ -96,19 +101,19 @@ double LatentPrior::closest(const Eigen::VectorXd& w, Eigen::VectorXd* point,
       const double ee = e.squaredNorm();
       const double s = ee > 0 ? std::clamp((w - p0).dot(e) / ee, 0.0, 1.0) : 0.0;
       const double dist = (w - p0 - s * e).squaredNorm();
-      if (dist < best) best = dist, best_tri = &t, best_edge = k, best_s = s;
+      if (better(dist, t)) best = dist, best_tri = &t, best_edge = k, best_s = s;
     }
   };
-  // No point of a triangle is nearer than its ball allows: visit the triangle whose ball is
-  // nearest, then only those whose ball comes closer than the best distance so far (about 5x
+  // No point of a triangle is nearer than its ball allows: visit the last call's closest
+  // triangle, then only those whose ball comes closer than the best distance so far (about 20x
   // fewer operations on a 12-run sweep than visiting every triangle).
   const Eigen::ArrayXd gap =
       ((centers_.colwise() - w).colwise().norm().transpose().array() - radii_).max(0.0);
-  Eigen::Index first = 0;
-  gap.minCoeff(&first);
-  visit(tri_[size_t(first)]);
-  for (Eigen::Index i = 0; i < gap.size(); ++i)
-    if (i != first && gap[i] * gap[i] < best) visit(tri_[size_t(i)]);
+  const size_t first = std::min(hint_.load(std::memory_order_relaxed), tri_.size() - 1);
+  visit(tri_[first]);
+  for (size_t i = 0; i < tri_.size(); ++i)
+    if (i != first && gap[Eigen::Index(i)] * gap[Eigen::Index(i)] <= best) visit(tri_[i]);
+  hint_.store(size_t(best_tri - tri_.data()), std::memory_order_relaxed);
   if (!point) return best;
   const Triangle& t = *best_tri;
   const Eigen::Index r = w.size();

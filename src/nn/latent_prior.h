@@ -8,6 +8,7 @@
 // of each component's training spread, penalises that. Torch-free: the stepper hands it the model's
 // stored latents.
 #include <Eigen/Core>
+#include <atomic>
 #include <vector>
 
 namespace nsf {
@@ -47,6 +48,10 @@ class LatentPrior {
   std::vector<Triangle> tri_;
   Eigen::MatrixXd centers_;  // r × triangles: each triangle's centroid
   Eigen::ArrayXd radii_;     // and the distance from it to the farthest corner
+  // The triangle closest to the previous query, visited first: the inversion's latent moves
+  // little between calls, so the best distance starts near its final value. Only a hint (any
+  // value gives the same answer), atomic so that threads sharing a prior do not race.
+  mutable std::atomic<size_t> hint_{0};
   Eigen::VectorXd spread_;
 };
 
