@@ -162,6 +162,20 @@ TEST(RomInversion, LatentPriorKeepsALatentOnTheTrainingSurfaceAndPullsOneOffItTo
   EXPECT_LT((plain.z - off).norm(), 1e-3) << plain.z.transpose();
 }
 
+// A run whose latent left the training runs' latents is told so, with the remedy; one that
+// stayed near them is not (the failing draws of docs/experiments/2026-11-27-stress-draws-and-
+// weak-prior.md went 30 and 86 spreads, the good ones under 1).
+TEST(RomReport, ALatentFarFromTheTrainingLatentsIsAWarningNamingTheLatentPrior) {
+  EXPECT_EQ(nsf::latent_drift_warning(0.8, 0.0), "");
+  EXPECT_EQ(nsf::latent_drift_warning(-1.0, 0.0), "");  // a model without stored latents
+  const std::string none = nsf::latent_drift_warning(30.2, 0.0);
+  EXPECT_NE(none.find("30.2 training spreads"), std::string::npos) << none;
+  EXPECT_NE(none.find("--latent-prior 0.0001 to 0.0003"), std::string::npos) << none;
+  const std::string some = nsf::latent_drift_warning(nsf::kLatentDriftWarning, 0.0002);
+  EXPECT_NE(some.find("a stronger latent prior"), std::string::npos) << some;
+  EXPECT_NE(some.find("now 0.2 mm"), std::string::npos) << some;
+}
+
 TEST(RomInversion, JacobianMatchesFiniteDifferences) {
   RandomModel m(25);
   Eigen::VectorXd z(4);

@@ -370,6 +370,9 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.energy_kept = d.energy_kept;
   rep.latent_prior = ro.latent_prior;
   if (d.training_distance < 0) rep.training_distance_mean = rep.training_distance_max = -1;
+  if (const std::string w = latent_drift_warning(rep.training_distance_mean, ro.latent_prior);
+      !w.empty())
+    rep.warnings.push_back(w);
   rep.quadrature_points = d.quadrature_points;
   rep.threads = threads;
   rep.refreshes = d.refreshes;
@@ -386,6 +389,21 @@ RomReport run_rom(const RomRunOptions& o) {
     rep.baselines.coarse_scene = baseline_inputs.label;
   }
   return rep;
+}
+
+std::string latent_drift_warning(double mean_spreads, double latent_prior) {
+  if (!(mean_spreads >= kLatentDriftWarning)) return "";
+  char remedy[128] = "a weak latent prior holds it (--latent-prior 0.0001 to 0.0003)";
+  if (latent_prior > 0)
+    std::snprintf(remedy, sizeof remedy, "a stronger latent prior holds it (now %g mm)",
+                  1e3 * latent_prior);
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "the latent went %.1f training spreads from the training runs' latents on "
+                "average: the stress field answered far from anything it was trained on, so delta "
+                "may hang on its training draw; %s (docs/ROM.md, \"Latent prior\")",
+                mean_spreads, remedy);
+  return line;
 }
 
 std::string format_rom_report(const RomReport& r) {

@@ -97,6 +97,16 @@ struct RomReport {
 
 RomReport run_rom(const RomRunOptions& options);
 
+// A run whose latent stayed this many training spreads or more from the training runs' latents,
+// on average over its frames, gets a warning: h answered far from anything it was trained on,
+// and such runs were the ones a draw of its training decided (docs/ROM.md, "Latent prior").
+// Runs that went well stayed under 1 spread; the failing ones went 30 to 90.
+constexpr double kLatentDriftWarning = 5.0;
+
+// The warning for a run whose latent went `mean_spreads` from the training latents on average
+// with the latent prior ε = `latent_prior` (m, 0: none), or "" below kLatentDriftWarning.
+std::string latent_drift_warning(double mean_spreads, double latent_prior);
+
 // The summary printed by `nsf rom` and `nsf demo`.
 std::string format_rom_report(const RomReport& report);
 
