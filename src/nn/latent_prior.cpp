@@ -79,20 +79,29 @@ double LatentPrior::closest(const Eigen::VectorXd& w, Eigen::VectorXd* point,
   int best_edge = -1;
   double best_s = 0, best_u = 0;
   Eigen::VectorXd d(w.size());  // reused: this loop is on the inversion's every iteration
-  // Ties go to the lowest triangle (and its first side), as a scan of every triangle in order
-  // would give them, so that the answer does not depend on the order of the visits.
-  const auto better = [&](double dist, const Triangle& t) {
-    return dist < best || (dist == best && &t < best_tri);
-  };
-  const auto visit = [&](const Triangle& t) {
+  // No point of a triangle is nearer than its ball allows, and the surface comes at least as
+  // near as the corners of the last call's closest triangle: the triangles whose ball is farther
+  // than those corners are skipped (about 20x fewer operations on a 12-run sweep). The others
+  // are scanned in order, as every triangle was before, so ties and results are the same.
+  const size_t hint = std::min(hint_.load(std::memory_order_relaxed), tri_.size() - 1);
+  double reach = std::numeric_limits<double>::infinity();
+  for (int k : {tri_[hint].a, tri_[hint].b, tri_[hint].c})
+    reach = std::min(reach, (w - w_[size_t(k)]).squaredNorm());
+  // Each ball's gap to w, shrunk by far more than rounding could add to it, so that a triangle
+  // that ties for the closest is never skipped; the hint's own triangle is always scanned.
+  const Eigen::ArrayXd centre = (centers_.colwise() - w).colwise().norm().transpose().array();
+  const Eigen::ArrayXd gap = (centre - radii_ - 1e-9 * (centre + radii_)).max(0.0);
+  for (size_t i = 0; i < tri_.size(); ++i) {
+    if (i != hint && gap[Eigen::Index(i)] * gap[Eigen::Index(i)] > reach) continue;
+    const Triangle& t = tri_[i];
     d = w - w_[size_t(t.a)];
     if (t.det > 1e-12 * t.a11 * t.a22) {
       const double b1 = t.e1.dot(d), b2 = t.e2.dot(d);
       const double s = (t.a22 * b1 - t.a12 * b2) / t.det, u = (t.a11 * b2 - t.a12 * b1) / t.det;
       if (s >= 0 && u >= 0 && s + u <= 1) {
         const double dist = (d - s * t.e1 - u * t.e2).squaredNorm();
-        if (better(dist, t)) best = dist, best_tri = &t, best_edge = -1, best_s = s, best_u = u;
-        return;  // inside: no edge of this triangle is closer
+        if (dist < best) best = dist, best_tri = &t, best_edge = -1, best_s = s, best_u = u;
+        continue;  // inside: no edge of this triangle is closer
       }
     }
     const Eigen::VectorXd* start[3] = {&w_[size_t(t.a)], &w_[size_t(t.b)], &w_[size_t(t.c)]};
@@ -101,18 +110,9 @@ double LatentPrior::closest(const Eigen::VectorXd& w, Eigen::VectorXd* point,
       const double ee = e.squaredNorm();
       const double s = ee > 0 ? std::clamp((w - p0).dot(e) / ee, 0.0, 1.0) : 0.0;
       const double dist = (w - p0 - s * e).squaredNorm();
-      if (better(dist, t)) best = dist, best_tri = &t, best_edge = k, best_s = s;
+      if (dist < best) best = dist, best_tri = &t, best_edge = k, best_s = s;
     }
-  };
-  // No point of a triangle is nearer than its ball allows: visit the last call's closest
-  // triangle, then only those whose ball comes closer than the best distance so far (about 20x
-  // fewer operations on a 12-run sweep than visiting every triangle).
-  const Eigen::ArrayXd gap =
-      ((centers_.colwise() - w).colwise().norm().transpose().array() - radii_).max(0.0);
-  const size_t first = std::min(hint_.load(std::memory_order_relaxed), tri_.size() - 1);
-  visit(tri_[first]);
-  for (size_t i = 0; i < tri_.size(); ++i)
-    if (i != first && gap[Eigen::Index(i)] * gap[Eigen::Index(i)] <= best) visit(tri_[i]);
+  }
   hint_.store(size_t(best_tri - tri_.data()), std::memory_order_relaxed);
   if (!point) return best;
   const Triangle& t = *best_tri;

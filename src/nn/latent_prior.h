@@ -48,9 +48,9 @@ class LatentPrior {
   std::vector<Triangle> tri_;
   Eigen::MatrixXd centers_;  // r × triangles: each triangle's centroid
   Eigen::ArrayXd radii_;     // and the distance from it to the farthest corner
-  // The triangle closest to the previous query, visited first: the inversion's latent moves
-  // little between calls, so the best distance starts near its final value. Only a hint (any
-  // value gives the same answer), atomic so that threads sharing a prior do not race.
+  // The triangle closest to the previous query: the inversion's latent moves little between
+  // calls, so its corners bound the next distance tightly. Only a hint (any value gives the same
+  // answer), atomic so that threads sharing a prior do not race.
   mutable std::atomic<size_t> hint_{0};
   Eigen::VectorXd spread_;
 };
