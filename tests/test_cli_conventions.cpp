@@ -28,7 +28,7 @@ using nsf::testing::run_cli;
 
 const std::vector<std::string> kCommands = {"simulate", "sweep",  "train",  "eval",
                                             "rom",      "render", "export", "contact-sheet",
-                                            "demo",     "report", "serve"};
+                                            "demo",     "report", "serve",  "calibrate"};
 
 const std::string kScene = NSF_SOURCE_DIR "/scenes/examples/elastic_drop.json";
 

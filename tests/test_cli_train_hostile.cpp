@@ -167,6 +167,8 @@ TEST_F(HostileTraining, AnIncompleteDatasetIsRefusedUnlessAllowed) {
   expect_contains(r.output, "WARNING: dataset");
   expect_contains(r.output, "3 training runs, 1 test runs");
   EXPECT_TRUE(fs::exists(model()));
+  // No scene file to run the ROM on (a synthetic dataset): trained, not calibrated, said so.
+  expect_contains(r.output, "latent prior: not calibrated (the dataset's scene file is not here");
 
   // No manifest (the sweep was killed before writing it), and a run killed mid-write.
   fs::remove(data() / "manifest.json");

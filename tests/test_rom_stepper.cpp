@@ -12,6 +12,7 @@
 #include <fstream>
 #include <random>
 
+#include "app/latent_prior_calibration.h"
 #include "app/rom_run.h"
 #include "cli_runner.h"
 #include "core/error.h"
@@ -171,6 +172,7 @@ TEST(RomReport, ALatentFarFromTheTrainingLatentsIsAWarningNamingTheLatentPrior) 
   const std::string none = nsf::latent_drift_warning(30.2, 0.0);
   EXPECT_NE(none.find("30.2 training spreads"), std::string::npos) << none;
   EXPECT_NE(none.find("--latent-prior 0.0001 to 0.0003"), std::string::npos) << none;
+  EXPECT_NE(none.find("nsf calibrate MODEL DATA"), std::string::npos) << none;
   const std::string some = nsf::latent_drift_warning(nsf::kLatentDriftWarning, 0.0002);
   EXPECT_NE(some.find("a stronger latent prior"), std::string::npos) << some;
   EXPECT_NE(some.find("now 0.2 mm"), std::string::npos) << some;
@@ -956,7 +958,7 @@ TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
                                           "' --mu 1.0 --threads 2 --no-full-order --truth '" +
                                           truth() + "' --latent-prior 0.002 --json '" + row + "'");
   ASSERT_EQ(held.exit_code, 0) << held.output;
-  EXPECT_THAT(held.output, HasSubstr("(latent prior, epsilon = 2 mm)"));
+  EXPECT_THAT(held.output, HasSubstr("(latent prior, epsilon = 2 mm from the command line)"));
   // --json: the printed summary as a docs/results row.
   std::ifstream in(row);
   const nlohmann::json j = nlohmann::json::parse(in);
@@ -1203,3 +1205,89 @@ TEST_F(RomEndToEnd, HAndLRetrainedOnTheRomsOwnLatentsKeepGAndFitThem) {
 }
 
 }  // namespace
+
+// `nsf calibrate` (app/latent_prior_calibration.h): each ε's δ is the ROM's on that training run,
+// the lowest mean wins, the model file keeps it, and `nsf rom` takes it only where neither its
+// command line nor the scene's rom section gives one. Training the model again forgets it.
+TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrainingRuns) {
+  const std::string calibrated = (root_ / "calibrated.nsf").string();
+  fs::copy_file(basis_model(), calibrated, fs::copy_options::overwrite_existing);
+  EXPECT_LT(nsf::NeuralFields::load(calibrated).calibrated_latent_prior(), 0);
+  nsf::CalibrationOptions co;
+  co.model_path = calibrated;
+  co.data_dir = (root_ / "data").string();
+  co.scene_path = kTinyScene;
+  co.grid = {0.0, 0.01, 0.3};  // none, a weak pull, one that pins the latent to the training runs
+  co.runs = 2;
+  co.quiet = true;
+  const nsf::CalibrationResult r = nsf::calibrate_latent_prior(co);
+  ASSERT_EQ(r.runs.size(), 2u);
+  ASSERT_EQ(r.delta.size(), 3u);
+  EXPECT_EQ(r.runs, (std::vector<std::string>{"train_1.h5", "train_3.h5"}));  // each half's middle
+  // δ of one cell, made again by hand: the ROM at that run's μ against that run.
+  nsf::RomRunOptions o = options();
+  o.model_path = basis_model();
+  o.mu = r.mu[1];
+  o.truth_path = (root_ / "data" / r.runs[1]).string();
+  o.latent_prior = r.grid[2];
+  EXPECT_EQ(nsf::run_rom(o).delta, r.delta[2][1]);
+  size_t best = 0;
+  for (size_t g = 0; g < r.grid.size(); ++g) {
+    EXPECT_DOUBLE_EQ(r.mean[g], (r.delta[g][0] + r.delta[g][1]) / 2);
+    if (r.mean[g] < r.mean[best]) best = g;
+  }
+  EXPECT_EQ(r.chosen, r.grid[best]);
+  EXPECT_NE(r.mean[0], r.mean[2]) << "the grid's ends must differ for the choice to mean anything";
+  std::printf("tiny scene: calibration means %.3f%% (none), %.3f%%, %.3f%%: chose %g m\n",
+              100 * r.mean[0], 100 * r.mean[1], 100 * r.mean[2], r.chosen);
+
+  nsf::store_calibration(calibrated, r);
+  EXPECT_EQ(nsf::NeuralFields::load(calibrated).calibrated_latent_prior(), r.chosen);
+  const nlohmann::json table =
+      nlohmann::json::parse(nsf::NeuralModel::load(calibrated).latent_prior_calibration);
+  EXPECT_EQ(table.at("chosen").get<double>(), r.chosen);
+  EXPECT_EQ(table.at("grid").size(), 3u);
+
+  // Where ε comes from: the model; the command line; the scene's rom section.
+  o = options();
+  o.model_path = calibrated;
+  nsf::RomReport used = nsf::run_rom(o);
+  EXPECT_EQ(used.latent_prior, r.chosen);
+  EXPECT_EQ(used.latent_prior_source, "model");
+  o.latent_prior = 0.02;
+  used = nsf::run_rom(o);
+  EXPECT_EQ(used.latent_prior, 0.02);
+  EXPECT_EQ(used.latent_prior_source, "command line");
+  o.latent_prior.reset();
+  o.overrides = {"rom.latent_prior=0.03"};
+  used = nsf::run_rom(o);
+  EXPECT_EQ(used.latent_prior, 0.03);
+  EXPECT_EQ(used.latent_prior_source, "scene");
+  o = options();  // an uncalibrated model and a scene without one: none
+  o.model_path = basis_model();
+  EXPECT_EQ(nsf::run_rom(o).latent_prior, 0.0);
+
+  // h and l trained again on the calibrated model's latents: another ROM, so no calibration (and
+  // the bases take the base model's shapes, not the defaults: K 16, coefficient width 64).
+  nsf::TrainOptions t;
+  t.base_model = calibrated;
+  t.config.steps = {1, 20, 20};
+  t.config.quiet = true;
+  const std::string again = (root_ / "again.nsf").string();
+  nsf::train_model((root_ / "data").string(), again, t);
+  EXPECT_LT(nsf::NeuralFields::load(again).calibrated_latent_prior(), 0);
+
+  // No scene file to run the ROM on: a clear error, and the model stays as it was.
+  co.scene_path.clear();
+  auto bytes = [&] {
+    std::ifstream in(calibrated, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string before = bytes();
+  const nsf::testing::CliResult cli =
+      nsf::testing::run_cli("calibrate '" + calibrated + "' '" + co.data_dir + "' --scene '" +
+                            (root_ / "missing.json").string() + "' -q");
+  EXPECT_NE(cli.exit_code, 0);
+  EXPECT_THAT(cli.output, HasSubstr("missing.json"));
+  EXPECT_EQ(bytes(), before);
+}

@@ -64,6 +64,14 @@ void check_row(const ReportArgs& a, const std::string& tag, const nlohmann::json
   fail(path, " does not reproduce:", all);
 }
 
+// --check reruns a row with the latent prior it was made with (the scene's then, or its model's
+// calibration), whatever the scene or the model says now; a row that names none had none.
+double stored_latent_prior(const ReportArgs& a, const std::string& tag) {
+  std::ifstream in(a.docs + "/results/" + tag + ".json");
+  const nlohmann::json stored = nlohmann::json::parse(in, nullptr, false);
+  return stored.is_object() ? stored.value("latent_prior", 0.0) : 0.0;
+}
+
 // One reduced-order run, its picture and its stored row.
 // `tag` names the row's files (docs/results/TAG.json, …); `set` are the case's --set overrides.
 void report_run(const ReportArgs& a, const std::string& scene, const std::string& model,
@@ -105,6 +113,7 @@ void report_run(const ReportArgs& a, const std::string& scene, const std::string
   else
     ro.coarse_factor = 1.5;
   ro.coarse_optional = true;  // a row without it (a body in the coarser wall band) still counts
+  if (a.check) ro.latent_prior = stored_latent_prior(a, tag);
   const RomReport r = run_rom(ro);
   std::printf("%s", format_rom_report(r).c_str());
   const std::string picture = "results/" + tag + ".png";

@@ -69,7 +69,8 @@ void add_rom_command(CLI::App& app) {
       cmd->add_option("--latent-prior", a->latent_prior,
                       "Hold the inversion near the training runs' latents: a latent one training "
                       "spread off them costs as much as every sample this far out of place, in "
-                      "metres (default: the scene's rom.latent_prior, or 0 = none, the paper)")
+                      "metres (default: the scene's rom.latent_prior, else the model's calibration "
+                      "(nsf calibrate), else 0 = none, the paper)")
           ->check(in_range(0.0, 1e3));
   auto* gn_iterations =
       cmd->add_option("--gn-iterations", a->gn_iterations,

@@ -10,6 +10,7 @@
 
 #include "app/commands.h"
 #include "app/common_options.h"
+#include "app/latent_prior_calibration.h"
 #include "app/pipeline.h"
 #include "app/train_size_options.h"
 #include "app/train_team.h"
@@ -37,7 +38,7 @@ struct TrainArgs {
   std::vector<int> frames, particles;
   int r = 0, depth = 0, width_g = 0, width_h = 0, width_l = 0, encoder_channels = 0,
       encoder_hidden = 0, encoder_max_length = 0;
-  bool no_mu = false, no_scene_recipe = false, latent_noise_given = false;
+  bool no_mu = false, no_scene_recipe = false, latent_noise_given = false, no_calibrate = false;
   std::string decoder;
   std::vector<int> modes;
   int coefficient_width = 0, coefficient_depth = 0;
@@ -273,6 +274,7 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
       rate(1, r.stages[1].points_per_second).c_str(),
       rate(2, r.stages[2].points_per_second).c_str(),
       rate(0, r.stages[0].frames_per_second).c_str(), peak_rss_mib());
+  if (!a.no_calibrate) calibrate_trained_model(r.model_path, a.data, c.threads, c.quiet);
   if (!a.json.empty()) {
     write_json(a, r, threads);
     std::printf("wrote %s\n", a.json.c_str());
@@ -367,6 +369,9 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_flag("--no-scene-recipe", a->no_scene_recipe,
                 "Ignore the scene's \"train\" section (steps, widths, encoder length, batches) and "
                 "use the defaults: Table 1's widths, the documented steps");
+  cmd->add_flag("--no-calibrate", a->no_calibrate,
+                "Do not choose the latent prior on the training runs after training (a basis "
+                "model's default; nsf calibrate does it later)");
   cmd->add_option("--seed", c.seed, "Random seed (initialisation and batches)")
       ->capture_default_str()
       ->check(in_range<long long>(0, std::numeric_limits<long long>::max()));

@@ -11,6 +11,7 @@ void add_render_command(CLI::App& app);
 void add_export_command(CLI::App& app);
 void add_contact_sheet_command(CLI::App& app);
 void add_rom_command(CLI::App& app);
+void add_calibrate_command(CLI::App& app);  // cmd_calibrate.cpp
 void add_demo_command(CLI::App& app);
 void add_report_command(CLI::App& app);
 void add_serve_command(CLI::App& app);  // cmd_serve.cpp

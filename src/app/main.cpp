@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
   add_export_command(app);
   add_contact_sheet_command(app);
   add_rom_command(app);
+  add_calibrate_command(app);
   add_demo_command(app);
   add_report_command(app);
   add_serve_command(app);

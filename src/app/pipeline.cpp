@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "app/latent_prior_calibration.h"
 #include "app/scene_file.h"
 #include "core/error.h"
 #include "data/sweep.h"
@@ -81,6 +82,7 @@ bool ensure_model(const std::string& data, const std::string& model, const Train
   to.config.quiet = quiet;
   to.resume = true;  // an interrupted demo or report continues where it stopped
   train_model(data, model, to);
+  calibrate_trained_model(model, data, threads, quiet);
   return true;
 }
 

@@ -103,6 +103,7 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   j["threads"] = r.threads;
   j["delta"] = r.delta;
   j["latent_prior"] = r.latent_prior;
+  j["latent_prior_source"] = r.latent_prior_source;
   j["stress_error"] = r.stress_error;
   j["affine_error"] = r.affine_error;
   j["frames"] = r.frames;
@@ -178,8 +179,9 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
        "mass, volume and centre of mass; docs/ROM.md, \"Thinned quadrature\"), and their mean "
        "|N| counts those points; the others use every particle, as the paper does. The latent "
        "prior column is the ε of the inversion's pull toward the training runs' latents "
-       "(`rom.latent_prior`, docs/ROM.md, \"Latent prior\"; — without one, as in the paper, or "
-       "for rows stored before it existed).\n\n";
+       "(the scene's `rom.latent_prior` or the model's calibration, `nsf calibrate`; docs/ROM.md, "
+       "\"Latent prior\"; — without one, as in the paper, or for rows stored before it "
+       "existed).\n\n";
   s << "| scene | μ | \\|P\\| | r | decoders | γ | \\|S\\| | mean \\|N\\| | latent prior | δ | τ "
        "error | "
        "speed-up | ROM ms/frame | full ms/frame | memory full / ROM (MiB) | paper: \\|P\\|, δ, "

@@ -185,7 +185,12 @@ RomReport run_rom(const RomRunOptions& o) {
   // The scene's rom section, then what the command line gave.
   RomOptions ro = with_rom_section(o.rom, file.sections.rom);
   if (o.dt_ratio) ro.dt_ratio = *o.dt_ratio;
-  if (o.latent_prior) ro.latent_prior = *o.latent_prior;
+  // ε: the command line's, else the scene's, else the one `nsf calibrate` stored in the model.
+  rep.latent_prior_source = "scene";
+  if (o.latent_prior)
+    ro.latent_prior = *o.latent_prior, rep.latent_prior_source = "command line";
+  else if (!file.sections.rom.latent_prior && fields.calibrated_latent_prior() >= 0)
+    ro.latent_prior = fields.calibrated_latent_prior(), rep.latent_prior_source = "model";
   if (o.quadrature) ro.quadrature_per_cell = *o.quadrature;
   if (o.gn_iterations) ro.inversion.max_iterations = *o.gn_iterations;
   if (o.samples) ro.sampling.count = *o.samples;
@@ -393,7 +398,9 @@ RomReport run_rom(const RomRunOptions& o) {
 
 std::string latent_drift_warning(double mean_spreads, double latent_prior) {
   if (!(mean_spreads >= kLatentDriftWarning)) return "";
-  char remedy[128] = "a weak latent prior holds it (--latent-prior 0.0001 to 0.0003)";
+  char remedy[160] =
+      "a weak latent prior holds it (nsf calibrate MODEL DATA chooses one on the training runs; "
+      "or --latent-prior 0.0001 to 0.0003)";
   if (latent_prior > 0)
     std::snprintf(remedy, sizeof remedy, "a stronger latent prior holds it (now %g mm)",
                   1e3 * latent_prior);
@@ -424,9 +431,11 @@ std::string format_rom_report(const RomReport& r) {
   put("  inversion keeps %.2f%% of the samples' kinetic energy per step (energy-weighted mean)",
       100 * r.energy_kept);
   if (r.training_distance_max >= 0) {
-    char prior[64] = "no latent prior";
+    char prior[128] = "no latent prior";
     if (r.latent_prior > 0)
-      std::snprintf(prior, sizeof prior, "latent prior, epsilon = %g mm", 1e3 * r.latent_prior);
+      std::snprintf(
+          prior, sizeof prior, "latent prior, epsilon = %g mm from the %s", 1e3 * r.latent_prior,
+          r.latent_prior_source == "model" ? "model's calibration" : r.latent_prior_source.c_str());
     put("  latent: %.2f training spreads from the training runs' latents on average, %.2f at most "
         "(%s)",
         r.training_distance_mean, r.training_distance_max, prior);

@@ -20,7 +20,7 @@ struct RomRunOptions {
   std::optional<int> samples;          // |S| at t = 0; default: the scene's "rom" section
   std::optional<uint64_t> seed;        // of the sample choice; default: the scene's, else 1
   std::optional<double> dt_ratio;      // ROM step over Δt; default: the scene's, else rom's
-  std::optional<double> latent_prior;  // ε (m); default: the scene's, else rom's (0: none)
+  std::optional<double> latent_prior;  // ε (m); default: the scene's, else the model's, else 0
   std::optional<int> quadrature;       // points per cell; default: the scene's, else rom's (0)
   std::optional<int> gn_iterations;    // Gauss–Newton cap; default: the scene's, else rom's
   // rom.fields names the sources the command line chose; each empty one takes the scene's.
@@ -65,6 +65,9 @@ struct RomReport {
   double mean_N = 0, mean_K = 0;
   double energy_kept = 1;   // LatentStepper::inversion_energy_kept
   double latent_prior = 0;  // ε of the inversion's latent prior (m); 0: none
+  // Where ε came from: "command line", "scene" (its rom section, or none there) or "model" (the
+  // model's calibration, `nsf calibrate`).
+  std::string latent_prior_source;
   // LatentStepper::training_distance over frames 1…N; −1 when the model has no training latents.
   double training_distance_mean = 0, training_distance_max = 0;
   int threads = 0;               // in use, for both engines alike

@@ -151,6 +151,10 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   a.write("mu_min", c10::IValue(mu_min));
   a.write("mu_max", c10::IValue(mu_max));
   a.write("train_seconds", c10::IValue(train_seconds));
+  if (latent_prior >= 0) {
+    a.write("latent_prior", c10::IValue(latent_prior));
+    a.write("latent_prior_calibration", c10::IValue(latent_prior_calibration));
+  }
   write_normalizer(a, "X", norm_X);
   write_normalizer(a, "x", norm_x);
   write_normalizer(a, "z", norm_z);
@@ -293,6 +297,14 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   m.mu_max = read_value(a, "mu_max", path).toDouble();
   c10::IValue seconds;  // absent before nsf recorded it
   if (a.try_read("train_seconds", seconds)) m.train_seconds = seconds.toDouble();
+  c10::IValue prior, table;  // absent unless `nsf calibrate` ran (older nsf ignores them)
+  if (a.try_read("latent_prior", prior)) {
+    if (!prior.isDouble() || !std::isfinite(prior.toDouble()) || prior.toDouble() < 0 ||
+        !a.try_read("latent_prior_calibration", table) || !table.isString())
+      fail("model file ", path, ": damaged entry 'latent_prior'");
+    m.latent_prior = prior.toDouble();
+    m.latent_prior_calibration = table.toStringRef();
+  }
   m.norm_X = read_normalizer(a, "X", 3, path);
   m.norm_x = read_normalizer(a, "x", 3, path);
   m.norm_z = read_normalizer(a, "z", c.latent_dim, path);

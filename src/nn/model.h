@@ -122,6 +122,10 @@ class NeuralModel {
   // Wall time of the training that made this model, all stages (and resumed runs) together;
   // 0 in files written before nsf recorded it.
   double train_seconds = 0;
+  // ε of the latent prior chosen by `nsf calibrate` (metres, 0: none chosen), and its table
+  // (JSON: the ε tried, the training runs, δ of each); < 0 / "" where never calibrated.
+  double latent_prior = -1;
+  std::string latent_prior_calibration;
 };
 
 }  // namespace nsf

@@ -112,6 +112,9 @@ const std::string& NeuralFields::scene_name() const {
 bool NeuralFields::stress_uses_mu() const {
   return model_->stress_has_mu();
 }
+double NeuralFields::calibrated_latent_prior() const {
+  return model_->latent_prior;
+}
 double NeuralFields::mu_min() const {
   return model_->mu_min;
 }

@@ -35,6 +35,9 @@ class NeuralFields {
   double mu_min() const;  // the training runs' μ range (extrapolation beyond it is risky)
   double mu_max() const;
   double train_seconds() const;  // wall time of the training that made it (0: not recorded)
+  // ε of the latent prior `nsf calibrate` chose for it (metres; 0: none), or < 0 where it was
+  // never calibrated.
+  double calibrated_latent_prior() const;
 
   // Throws nsf::Error unless X (rest positions of `what`, e.g. a run file) is the model's scene.
   void check_scene(const std::string& scene_name, const std::vector<Vec3>& X,

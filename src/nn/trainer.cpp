@@ -478,13 +478,14 @@ void Trainer::fit_bases(int first_field) {
   const int64_t P = int64_t(data_.particle_count());
   const std::vector<Vec3>& X = data_.rest_positions();
   const double gib = 1024.0 * 1024.0 * 1024.0;
+  // The model's shapes, not this run's flags: with --base-model they are the base's.
   for (int f = first_field; f < kStageCount; ++f) {
     const int d = kTargetDim[f];
     const double start = now_seconds();
     // The frames × columns matrix of a field takes what the memory budget leaves beside the
     // cached frames and the field's modes (held twice for a moment: the fit's and the model's),
     // at least 256 MiB; a larger one goes through in slices (nn/basis_fit.h).
-    const double modes_gib = 2.0 * double(P * d) * cfg_.net.modes[f] * sizeof(float) / gib;
+    const double modes_gib = 2.0 * double(P * d) * model_.config.modes[f] * sizeof(float) / gib;
     const size_t cap =
         size_t(std::max(0.25, store_.budget_gib() - store_.cached_gib() - modes_gib) * gib);
     const SnapshotBasis b = fit_snapshot_basis(
@@ -496,14 +497,15 @@ void Trainer::fit_bases(int first_field) {
           else
             std::copy_n(v.data(), P * d, row);
         },
-        kBasisWeights[f], cfg_.net.modes[f], cap);
+        kBasisWeights[f], model_.config.modes[f], cap);
     const int64_t K = b.sigma.size();
-    if (K != cfg_.net.modes[f]) {
+    if (K != model_.config.modes[f]) {
       say("basis of " + std::string(kStageNames[f]) + ": " + std::to_string(K) +
-          " modes (the training frames' rank), not " + std::to_string(cfg_.net.modes[f]));
+          " modes (the training frames' rank), not " + std::to_string(model_.config.modes[f]));
       model_.config.modes[f] = int(K);
       const int64_t in = model_.basis[f].net->in_features();
-      model_.basis[f].net = FieldMlp(in, K, cfg_.net.coefficient_width, cfg_.net.coefficient_depth);
+      model_.basis[f].net =
+          FieldMlp(in, K, model_.config.coefficient_width, model_.config.coefficient_depth);
     }
     BasisField& field = model_.basis[f];
     field.mean = torch::from_blob(const_cast<float*>(b.mean.data()), {P, d}).clone();
@@ -979,6 +981,8 @@ TrainReport Trainer::run() {
     rep.steps = total - first;
     rep.seconds = now_seconds() - start;
     model_.train_seconds += rep.seconds;
+    model_.latent_prior = -1;  // a base model's calibration was of other fields
+    model_.latent_prior_calibration.clear();
     rep.points_per_second = rep.steps * double(points_per_step) / std::max(rep.seconds, 1e-9);
     if (stage_ == 0)
       rep.frames_per_second =

@@ -1,0 +1,71 @@
+// `nsf calibrate models/NAME.nsf data/NAME`: choose the model's latent prior ε on its training
+// runs and store it in the model file (app/latent_prior_calibration.h, docs/ROM.md).
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "app/common_options.h"
+#include "app/latent_prior_calibration.h"
+#include "core/error.h"
+#include "io/atomic_file.h"
+
+namespace nsf::app {
+
+namespace {
+
+struct CalibrateArgs {
+  CalibrationOptions opt;
+  std::string json;
+  bool dry_run = false;
+};
+
+// A scene whose rom section sets latent_prior overrides the model's calibration in `nsf rom`.
+void warn_if_scene_overrides(const std::string& scene) {
+  if (const std::optional<double> set = scene_latent_prior(scene))
+    std::fprintf(stderr,
+                 "nsf: warning: scene %s sets rom.latent_prior = %g m, which nsf rom uses ahead "
+                 "of the model's calibration; remove it there to use the calibration\n",
+                 scene.c_str(), *set);
+}
+
+}  // namespace
+
+void add_calibrate_command(CLI::App& app) {
+  auto a = std::make_shared<CalibrateArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "calibrate",
+      "Choose a model's latent prior on its training runs (the ROM at each length of a grid, "
+      "the lowest mean delta wins) and store it in the model file");
+  cmd->add_option("model", a->opt.model_path, "Model file (nsf train); rewritten in place")
+      ->required();
+  cmd->add_option("data", a->opt.data_dir, "The dataset it was trained on")->required();
+  cmd->add_option("--scene", a->opt.scene_path,
+                  "Scene file whose rom section the ROM runs with (default: the dataset "
+                  "manifest's scene_file)");
+  add_list_option(cmd, "--grid", a->opt.grid,
+                  "Latent prior lengths to try, metres, comma-separated (0: none; default "
+                  "0,0.0001,0.0003,0.001,0.002)",
+                  0.0, 1e3);
+  cmd->add_option("--runs", a->opt.runs, "Training runs to measure on, spread over the sweep")
+      ->capture_default_str()
+      ->check(in_range(1, 1000));
+  cmd->add_option("--json", a->json, "Also write the table as JSON");
+  cmd->add_flag("--dry-run", a->dry_run, "Measure and print, leave the model file as it is");
+  add_threads_option(cmd, a->opt.threads);
+  add_quiet_flag(cmd, a->opt.quiet);
+  cmd->callback([a] {
+    const CalibrationResult r = calibrate_latent_prior(a->opt);
+    std::printf("%s%s", r.table().c_str(), r.summary().c_str());
+    warn_if_scene_overrides(a->opt.scene_path.empty() ? dataset_scene_file(a->opt.data_dir)
+                                                      : a->opt.scene_path);
+    if (!a->json.empty()) write_file_atomic(a->json, r.to_json().dump(2) + "\n");
+    if (a->dry_run) return;
+    store_calibration(a->opt.model_path, r);
+    std::printf("  stored in %s\n", a->opt.model_path.c_str());
+  });
+}
+
+}  // namespace nsf::app
