@@ -31,6 +31,7 @@
 #include "rom/integration_set.h"
 #include "rom/latent_stepper.h"
 #include "rom/linearized_field.h"
+#include "runtime/rom_setup.h"
 
 namespace fs = std::filesystem;
 using nsf::Mat3;
@@ -1248,12 +1249,21 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
   EXPECT_EQ(table.at("chosen").get<double>(), r.chosen);
   EXPECT_EQ(table.at("grid").size(), 3u);
 
-  // Where ε comes from: the model; the command line; the scene's rom section.
+  // Where ε comes from: the model; the command line; the scene's rom section. (A stored choice
+  // of 0.01 m, so that it differs from the default of none.)
+  nsf::CalibrationResult forced = r;
+  forced.chosen = 0.01;
+  nsf::store_calibration(calibrated, forced);
   o = options();
   o.model_path = calibrated;
   nsf::RomReport used = nsf::run_rom(o);
-  EXPECT_EQ(used.latent_prior, r.chosen);
+  EXPECT_EQ(used.latent_prior, 0.01);
   EXPECT_EQ(used.latent_prior_source, "model");
+  // The runtime (the embedding API, Python, nsf serve) takes it the same way.
+  const nsf::NeuralFields cf = nsf::NeuralFields::load(calibrated);
+  EXPECT_EQ(nsf::rom_setup(cf, kTinyScene, 1.0, {}, 0).options.latent_prior, 0.01);
+  EXPECT_EQ(nsf::rom_setup(cf, kTinyScene, 1.0, {"rom.latent_prior=0.03"}, 0).options.latent_prior,
+            0.03);
   o.latent_prior = 0.02;
   used = nsf::run_rom(o);
   EXPECT_EQ(used.latent_prior, 0.02);
