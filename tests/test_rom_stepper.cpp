@@ -604,17 +604,18 @@ TEST_F(RomEndToEnd, BasisModelRunsCloseToGroundTruth) {
 // thread counts (their GEMMs go through OpenBLAS, whose blocking follows the thread count: this
 // test on model() finds two thirds of the coordinates differing in the last bits; docs/ROM.md).
 TEST_F(RomEndToEnd, BasisRunIsBitIdenticalAcrossThreadCounts) {
-  // The bases' own fields, and the tracked state on a thinned quadrature (every point's G2P and
-  // return map, each point on its own).
-  for (const bool tracked : {false, true}) {
-    const std::string m = basis_model() + (tracked ? " with the tracked state" : "");
+  // The bases' own fields, the tracked state on a thinned quadrature (every point's G2P and
+  // return map, each point on its own), and the latent prior (which a calibrated model brings).
+  for (const std::string variant : {"", "tracked", "prior"}) {
+    const std::string m = basis_model() + " " + variant;
     nsf::RomRunOptions o = options();
     o.model_path = basis_model();
     o.rom.serial_below_points = 0;
-    if (tracked) {
+    if (variant == "tracked") {
       o.rom.fields = {"", "tracked", "tracked"};
       o.rom.quadrature_per_cell = 1;
     }
+    if (variant == "prior") o.latent_prior = 0.01;
     std::vector<std::vector<nsf::Vec3>> runs;
     for (int threads : {1, 2, 3}) {
       o.threads = threads;
