@@ -99,9 +99,12 @@ CalibrationResult calibrate_latent_prior(const CalibrationOptions& o) {
   const double start = now_seconds();
   Progress bar("calibrating the latent prior", long(r.grid.size() * runs.size()), "runs");
   long done = 0;
+  const double n = double(runs.size());
+  double best_mean = kInf;  // the lowest mean of an ε measured on every run so far
   for (double eps : r.grid) {
     std::vector<double> row(runs.size(), NAN);
     double sum = 0;
+    bool stopped = false;
     for (size_t k = 0; k < runs.size(); ++k) {
       RomRunOptions ro;
       ro.model_path = o.model_path;
@@ -122,13 +125,18 @@ CalibrationResult calibrate_latent_prior(const CalibrationOptions& o) {
       }
       sum += row[k];
       if (!o.quiet) bar.update(++done, "epsilon " + millimetres(eps));
-      if (std::isinf(row[k])) {  // this ε is out: skip its other runs
+      // Out: diverged, or its mean can no longer be the lowest (every δ ≥ 0, so sum / n bounds
+      // it from below). The choice is the one the whole grid would give, in fewer runs.
+      stopped = !std::isinf(row[k]) && k + 1 < runs.size() && sum / n > best_mean;
+      if (std::isinf(row[k]) || stopped) {
         done += long(runs.size() - k - 1);
         break;
       }
     }
     r.delta.push_back(row);
-    r.mean.push_back(std::isinf(sum) ? kInf : sum / double(runs.size()));
+    r.mean.push_back(std::isinf(sum) ? kInf : sum / n);
+    r.stopped.push_back(stopped);
+    if (!stopped) best_mean = std::min(best_mean, r.mean.back());
   }
   if (!o.quiet) bar.finish();
   const size_t best = size_t(std::min_element(r.mean.begin(), r.mean.end()) - r.mean.begin());
@@ -152,7 +160,8 @@ nlohmann::json CalibrationResult::to_json() const {
   j["seconds"] = seconds;
   j["grid"] = nlohmann::json::array();
   for (size_t g = 0; g < grid.size(); ++g) {
-    nlohmann::json row = {{"latent_prior", grid[g]}, {"mean_delta", number(mean[g])}};
+    nlohmann::json row = {
+        {"latent_prior", grid[g]}, {"mean_delta", number(mean[g])}, {"stopped", stopped[g]}};
     row["delta"] = nlohmann::json::array();
     for (double d : delta[g]) row["delta"].push_back(number(d));
     j["grid"].push_back(row);
@@ -181,6 +190,8 @@ std::string CalibrationResult::table() const {
     }
     if (std::isinf(mean[g]))
       std::snprintf(line, sizeof line, "   mean -");
+    else if (stopped[g])
+      std::snprintf(line, sizeof line, "   mean > %.3f%% (cannot win)", 100 * mean[g]);
     else
       std::snprintf(line, sizeof line, "   mean %.3f%%", 100 * mean[g]);
     s << line << (grid[g] == chosen && !all_diverged ? "  <- chosen" : "") << "\n";

@@ -25,10 +25,13 @@ struct CalibrationResult {
   std::vector<std::string> runs;  // the training runs' files
   std::vector<double> mu;
   // δ per ε and run: +inf where the latent dynamics diverged, NaN where the run was skipped
-  // (its ε had already diverged on an earlier run).
+  // (its ε had diverged on an earlier run, or was stopped).
   std::vector<std::vector<double>> delta;
-  std::vector<double> mean;  // per ε; +inf where a run diverged
-  double chosen = 0;         // the ε with the lowest mean (0 where every ε diverged)
+  std::vector<double> mean;  // per ε; +inf where a run diverged; a lower bound where stopped
+  // Per ε: stopped after some runs because its runs so far already put its mean above the lowest
+  // complete mean before it (it could not win; the choice is the whole grid's).
+  std::vector<bool> stopped;
+  double chosen = 0;  // the ε with the lowest mean (0 where every ε diverged)
   bool all_diverged = false;
   double seconds = 0;
 
