@@ -86,7 +86,7 @@ const std::vector<std::string> kIntegers = {
     "encoder_hidden",  "encoder_channels",  "encoder_max_length",
     "scene_particles", "coefficient_width", "coefficient_depth",
     "modes_u",         "modes_tau",         "modes_C"};
-const std::vector<std::string> kDoubles = {"mu_min", "mu_max", "train_seconds"};
+const std::vector<std::string> kDoubles = {"mu_min", "mu_max", "train_seconds", "latent_prior"};
 const std::vector<std::string> kStrings = {"format", "nsf_version", "scene_name", "scene_x_hash",
                                            "decoder"};
 const std::vector<std::string> kBools = {"stress_uses_mu", "has_mu", "displacement"};
@@ -248,6 +248,11 @@ TEST(FuzzModel, EntriesNsfNeverWritesAreNamedErrorsUnderAValidChecksum) {
   nsf::testing::expect_contains(refused(basis, "map_C_poly", nullptr, &poly),
                                 "damaged coefficient map of C");
   nsf::testing::expect_contains(refused(mlp, "norm_z_std", nullptr, &nan), "'norm_z_std'");
+  // A calibrated latent prior no calibration gives (negative), or one without its table.
+  const c10::IValue negative(-0.001), alone(0.001);
+  nsf::testing::expect_contains(refused(basis, "latent_prior", &negative, nullptr),
+                                "'latent_prior'");
+  nsf::testing::expect_contains(refused(basis, "latent_prior", &alone, nullptr), "'latent_prior'");
   // A basis model not in displacement form would have no rest positions to add to its bases.
   const c10::IValue no(false);
   nsf::testing::expect_contains(refused(basis, "displacement", &no, nullptr), "'displacement'");
