@@ -1256,6 +1256,10 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
 
   nsf::store_calibration(calibrated, r);
   EXPECT_EQ(nsf::NeuralFields::load(calibrated).calibrated_latent_prior(), r.chosen);
+  // The model file written again holds the same fields: a run at a given ε has the same bits.
+  o.model_path = calibrated;
+  o.latent_prior = r.grid[2];
+  EXPECT_EQ(nsf::run_rom(o).delta, r.delta[2][0]);
   const nlohmann::json table =
       nlohmann::json::parse(nsf::NeuralModel::load(calibrated).latent_prior_calibration);
   EXPECT_EQ(table.at("chosen").get<double>(), r.chosen);
