@@ -80,11 +80,14 @@ TEST(RomResults, ARerunDiffersOnlyWhereAFigureDoes) {
   r.rom_seconds = 1.0, r.fom_seconds = 3.0;
   r.rom_peak_mib = 280;
   r.threads = 1;
+  r.cpu = "AMD EPYC 7B13";
   r.baselines.lookup_delta = 0.0044, r.baselines.lookup_mu = 0.018;
   const auto stored = nsf::result_json(r, "scenes/paper/metal_small.json", "models/metal_small.nsf",
                                        "results/metal_small.png", "");
   nsf::RomReport again = r;
   again.rom_seconds = 1.3, again.fom_seconds = 2.7, again.rom_peak_mib = 290, again.threads = 2;
+  again.cpu = "Intel(R) Xeon(R) Processor @ 2.50GHz";  // another machine: a timing, not a figure
+  EXPECT_EQ(stored.at("cpu"), "AMD EPYC 7B13");
   again.model_checksum = "1a2b3c4d";  // recorded only by the rerun
   EXPECT_TRUE(
       nsf::row_differences(stored, nsf::result_json(again, "scenes/paper/metal_small.json",

@@ -14,6 +14,7 @@
 #include "app/pipeline.h"
 #include "app/train_size_options.h"
 #include "app/train_team.h"
+#include "core/cpu_model.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/path_clash.h"
@@ -125,6 +126,7 @@ void write_json(const TrainArgs& a, const TrainReport& r, int threads) {
   j["data"] = a.data;
   j["device"] = a.opt.device;
   j["threads"] = threads;
+  j["cpu"] = cpu_model();
   j["decoder"] = a.opt.config.net.decoder;
   if (a.opt.config.net.decoder == "basis")
     j["coefficients"] = {{"tau", a.opt.config.net.coefficients[0]},

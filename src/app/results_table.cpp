@@ -62,7 +62,7 @@ bool machine_key(const std::string& k) {
     return k.size() >= tail.size() && k.compare(k.size() - tail.size(), tail.size(), tail) == 0;
   };
   return ends("_seconds") || ends("_mib") || k == "speedup" || k == "coarse_speedup" ||
-         k == "threads" || k == "picture";
+         k == "threads" || k == "cpu" || k == "picture";
 }
 
 }  // namespace
@@ -101,6 +101,7 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   j["mean_N"] = r.mean_N;
   j["quadrature_points"] = r.quadrature_points;
   j["threads"] = r.threads;
+  if (!r.cpu.empty()) j["cpu"] = r.cpu;
   j["delta"] = r.delta;
   j["latent_prior"] = r.latent_prior;
   j["latent_prior_source"] = r.latent_prior_source;

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "app/scene_file.h"
+#include "core/cpu_model.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/progress.h"
@@ -380,6 +381,7 @@ RomReport run_rom(const RomRunOptions& o) {
     rep.warnings.push_back(w);
   rep.quadrature_points = d.quadrature_points;
   rep.threads = threads;
+  rep.cpu = cpu_model();
   rep.refreshes = d.refreshes;
   rep.linearization_anchors = d.anchors;
   rep.rom_times = d.times;
@@ -486,6 +488,7 @@ std::string format_rom_report(const RomReport& r) {
     put("  full order:    %.3f s for %d frames (%.2f ms/frame, %d steps/frame)", r.fom_seconds,
         r.frames, 1e3 * r.fom_seconds / r.frames, r.fom_steps_per_frame);
     put("  speed-up (full order / reduced order, same process, same threads): %.2fx", r.speedup());
+    if (!r.cpu.empty()) put("    on %d threads of %s", r.threads, r.cpu.c_str());
     put("  peak memory: reduced order %.0f MiB, full order %.0f MiB (process baseline %.0f MiB "
         "with the model loaded)%s",
         r.rom_peak_mib, r.fom_peak_mib, r.baseline_mib,

@@ -71,6 +71,7 @@ struct RomReport {
   // LatentStepper::training_distance over frames 1…N; −1 when the model has no training latents.
   double training_distance_mean = 0, training_distance_max = 0;
   int threads = 0;               // in use, for both engines alike
+  std::string cpu;               // the processor they ran on (core/cpu_model.h)
   size_t quadrature_points = 0;  // particles that can join N: |P| unless the quadrature is thinned
   long refreshes = 0;
   long linearization_anchors = 0;  // re-anchorings of g's tangent cache
