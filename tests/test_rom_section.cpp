@@ -53,5 +53,18 @@ TEST(RomSection, TakesQuadratureIterationsAndFieldSources) {
                   {"rom.fields.velocity", "deformation, stress, affine"});
 }
 
+// ε of the latent prior: the section's, else the model's calibration (≥ 0), else the options'.
+TEST(RomSection, ALatentPriorOfItsOwnWinsOverTheModelsCalibration) {
+  const RomSection none = parse_rom_section(json::parse(R"({"samples": 100})"));
+  const RomSection own = parse_rom_section(json::parse(R"({"latent_prior": 0.002})"));
+  RomOptions o;
+  o.latent_prior = 0.5;  // what a caller had before the section
+  EXPECT_EQ(with_rom_section(o, none).latent_prior, 0.5);
+  EXPECT_EQ(with_rom_section(o, none, 0.0003).latent_prior, 0.0003);
+  EXPECT_EQ(with_rom_section(o, none, 0.0).latent_prior, 0.0);  // calibrated to none
+  EXPECT_EQ(with_rom_section(o, own, 0.0003).latent_prior, 0.002);
+  EXPECT_EQ(with_rom_section(o, own).latent_prior, 0.002);
+}
+
 }  // namespace
 }  // namespace nsf

@@ -183,15 +183,14 @@ RomReport run_rom(const RomRunOptions& o) {
   if (!baseline_inputs.coarse_skipped.empty())
     rep.warnings.push_back(baseline_inputs.coarse_skipped);
 
-  // The scene's rom section, then what the command line gave.
-  RomOptions ro = with_rom_section(o.rom, file.sections.rom);
+  // The scene's rom section (ε: else the model's calibration), then what the command line gave.
+  RomOptions ro = with_rom_section(o.rom, file.sections.rom, fields.calibrated_latent_prior());
   if (o.dt_ratio) ro.dt_ratio = *o.dt_ratio;
-  // ε: the command line's, else the scene's, else the one `nsf calibrate` stored in the model.
-  rep.latent_prior_source = "scene";
-  if (o.latent_prior)
-    ro.latent_prior = *o.latent_prior, rep.latent_prior_source = "command line";
-  else if (!file.sections.rom.latent_prior && fields.calibrated_latent_prior() >= 0)
-    ro.latent_prior = fields.calibrated_latent_prior(), rep.latent_prior_source = "model";
+  if (o.latent_prior) ro.latent_prior = *o.latent_prior;
+  rep.latent_prior_source = o.latent_prior                          ? "command line"
+                            : file.sections.rom.latent_prior        ? "scene"
+                            : fields.calibrated_latent_prior() >= 0 ? "model"
+                                                                    : "scene";
   if (o.quadrature) ro.quadrature_per_cell = *o.quadrature;
   if (o.gn_iterations) ro.inversion.max_iterations = *o.gn_iterations;
   if (o.samples) ro.sampling.count = *o.samples;

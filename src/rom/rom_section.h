@@ -24,7 +24,9 @@ struct RomSection {
 RomSection parse_rom_section(const nlohmann::json& rom);
 
 // `options` with the section's settings: its sampling, and each other value the section gives;
-// a field source only where `options` names none (a command line's own choice wins).
-RomOptions with_rom_section(RomOptions options, const RomSection& section);
+// a field source only where `options` names none (a command line's own choice wins). A section
+// without latent_prior takes the model's calibrated one where it has one (`calibrated` ≥ 0,
+// NeuralFields::calibrated_latent_prior, `nsf calibrate`).
+RomOptions with_rom_section(RomOptions options, const RomSection& section, double calibrated = -1);
 
 }  // namespace nsf

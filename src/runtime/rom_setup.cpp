@@ -34,10 +34,7 @@ RomSetup rom_setup(const NeuralFields& fields, const std::string& scene_path,
   }
   fields.check_scene(s.scene.name, s.scene.particles.X, "scene " + scene_path);
 
-  s.options = with_rom_section(RomOptions(), section);
-  // ε: the scene's, else the one `nsf calibrate` stored in the model, as `nsf rom` takes it.
-  if (!section.latent_prior && fields.calibrated_latent_prior() >= 0)
-    s.options.latent_prior = fields.calibrated_latent_prior();
+  s.options = with_rom_section(RomOptions(), section, fields.calibrated_latent_prior());
   if (samples > 0) s.options.sampling.count = samples;
   return s;
 }
