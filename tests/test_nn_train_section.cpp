@@ -64,6 +64,20 @@ TEST(TrainSection, SetsWhatTheCommandLineLeavesOpen) {
   EXPECT_EQ(partial.frames_per_batch, (std::array<int, 3>{0, 0, 0}));
 }
 
+// r: the scene's latent dimension in place of Table 1's, unless the command line gives -r.
+TEST(TrainSection, SetsTheLatentDimensionUnlessTheCommandLineGivesOne) {
+  const TrainSection t = parse_train_section(json::parse(R"({"latent_dim": 8})"));
+  EXPECT_EQ(t.latent_dim, 8);
+  TrainPlan cli;
+  EXPECT_EQ(with_train_section(cli, t, {}).latent_dim, 8);
+  EXPECT_EQ(recipe_taken(t, {}), "r 8");
+  GivenOnCommandLine r;
+  r.latent_dim = true;
+  EXPECT_EQ(with_train_section(cli, t, r).latent_dim, 0);
+  EXPECT_EQ(recipe_taken(t, r), "");
+  EXPECT_EQ(parse_train_section(json::object()).latent_dim, 0);
+}
+
 TEST(TrainSection, NamesTheKeyAtFault) {
   expect_rejected({{"steps", {100, 0, 100}}}, {"train.steps[1]", "0"});
   expect_rejected({{"widths", {64, 64}}}, {"train.widths", "three"});
@@ -71,6 +85,8 @@ TEST(TrainSection, NamesTheKeyAtFault) {
                   {"train.particles_per_frame[1]", "-1"});
   expect_rejected({{"encoder_max_length", 3}}, {"train.encoder_max_length", "3"});
   expect_rejected({{"epochs", 5}}, {"train.epochs"});
+  expect_rejected({{"latent_dim", 0}}, {"train.latent_dim", "0"});
+  expect_rejected({{"latent_dim", 2.5}}, {"train.latent_dim"});
   expect_rejected(5, {"'train'"});
 }
 

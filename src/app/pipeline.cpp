@@ -51,6 +51,7 @@ void apply_plan(const TrainPlan& plan, TrainConfig& config) {
   for (int n = 0; n < 3; ++n)
     if (plan.widths[n] > 0) *widths[n] = plan.widths[n];
   if (plan.encoder_max_length > 0) config.net.encoder_max_length = plan.encoder_max_length;
+  if (plan.latent_dim > 0) config.net.latent_dim = plan.latent_dim;
   for (int s = 0; s < kStageCount; ++s) {
     if (plan.frames_per_batch[s] > 0) config.frames_per_batch[s] = plan.frames_per_batch[s];
     if (plan.particles_per_frame[s] > 0)

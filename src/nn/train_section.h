@@ -15,6 +15,7 @@ struct TrainSection {
   std::optional<std::array<long, 3>> steps;  // optimiser steps of stages 1, 2, 3
   std::optional<std::array<int, 3>> widths;  // hidden widths of g, h, l
   int encoder_max_length = 0;                // 0: App. E's (the encoder's default)
+  int latent_dim = 0;                        // r; 0: Table 1's for the scene
   // A stage's batch: frames, then particles within each frame.
   std::optional<std::array<int, 3>> frames_per_batch, particles_per_frame;
 };
@@ -28,6 +29,7 @@ struct TrainPlan {
   std::array<long, 3> steps = {2000, 1500, 1500};
   std::array<int, 3> widths = {0, 0, 0};
   int encoder_max_length = 0;                          // 0: App. E's
+  int latent_dim = 0;                                  // 0: Table 1's for the scene
   std::array<int, 3> frames_per_batch = {0, 0, 0};     // per stage; 0: the trainer's default
   std::array<int, 3> particles_per_frame = {0, 0, 0};  // likewise
   std::string decoder;       // the decoder family, "mlp" or "basis"; "": NetConfig's default
@@ -39,6 +41,7 @@ struct GivenOnCommandLine {
   bool steps = false;
   std::array<bool, 3> widths = {false, false, false};  // g, h, l
   bool encoder_max_length = false, frames_per_batch = false, particles_per_frame = false;
+  bool latent_dim = false;
 };
 
 // `plan` with the section's values in place of those the command line did not give.
@@ -46,7 +49,7 @@ TrainPlan with_train_section(TrainPlan plan, const TrainSection& section,
                              const GivenOnCommandLine& given);
 
 // What with_train_section takes from `section`, for the log: "steps 34000,1500,1500; width g
-// 192; encoder_max_length 1024" ("" if nothing).
+// 192; encoder_max_length 1024; r 8" ("" if nothing).
 std::string recipe_taken(const TrainSection& section, const GivenOnCommandLine& given);
 
 }  // namespace nsf
