@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/pipeline.h"
 #include "core/error.h"
 #include "error_matchers.h"
 #include "nn/train_section.h"
@@ -76,6 +77,14 @@ TEST(TrainSection, SetsTheLatentDimensionUnlessTheCommandLineGivesOne) {
   EXPECT_EQ(with_train_section(cli, t, r).latent_dim, 0);
   EXPECT_EQ(recipe_taken(t, r), "");
   EXPECT_EQ(parse_train_section(json::object()).latent_dim, 0);
+  // What nsf report and nsf demo train with (app::apply_plan): r from the plan, else Table 1's.
+  TrainConfig config;
+  config.net.latent_dim = 5;
+  app::apply_plan(with_train_section(cli, t, {}), config);
+  EXPECT_EQ(config.net.latent_dim, 8);
+  config.net.latent_dim = 5;
+  app::apply_plan(with_train_section(cli, t, r), config);
+  EXPECT_EQ(config.net.latent_dim, 5);
 }
 
 TEST(TrainSection, NamesTheKeyAtFault) {
