@@ -164,6 +164,8 @@ TEST_F(CliConventions, ChoicesAreListedByNameAndCheckedBeforeRunning) {
        "rom " + in_dir("m.nsf") + " " + in_dir("s.json") + " --stress bogus"},
       {"rom", "--affine", "{basis,network,none,tangent,tracked,velocity}",
        "rom " + in_dir("m.nsf") + " " + in_dir("s.json") + " --affine bogus"},
+      {"rom", "--velocity", "{latent,tracked}",
+       "rom " + in_dir("m.nsf") + " " + in_dir("s.json") + " --velocity bogus"},
       {"rom", "--deformation", "{basis,network,tangent}",
        "rom " + in_dir("m.nsf") + " " + in_dir("s.json") + " --deformation bogus"},
       {"render", "--color", "{material,object,speed,stress}",

@@ -44,13 +44,23 @@ TEST(RomSection, TakesQuadratureIterationsAndFieldSources) {
   EXPECT_EQ(*r.gn_iterations, 2);
   EXPECT_EQ(r.fields.affine, "none");
   EXPECT_EQ(r.fields.stress, "");
+  EXPECT_EQ(r.fields.velocity, "");
   EXPECT_FALSE(parse_rom_section(json::parse(R"({"samples": 200})")).quadrature.has_value());
+  // The velocity's source (the elastic scenes' points carry their own), kept unless the options
+  // name one.
+  const RomSection v = parse_rom_section(json::parse(R"({"fields": {"velocity": "tracked"}})"));
+  EXPECT_EQ(v.fields.velocity, "tracked");
+  EXPECT_EQ(with_rom_section(RomOptions(), v, -1).fields.velocity, "tracked");
+  RomOptions given;
+  given.fields.velocity = "latent";
+  EXPECT_EQ(with_rom_section(given, v, -1).fields.velocity, "latent");
+  EXPECT_EQ(RomOptions().resolved_fields("basis").velocity, "latent");
 
   expect_rejected({{"quadrature", 1.5}}, {"rom.quadrature", "whole number"});
   expect_rejected({{"gn_iterations", 0}}, {"rom.gn_iterations", "1 to 100"});
   expect_rejected({{"fields", {{"affine", 3}}}}, {"rom.fields.affine", "name"});
-  expect_rejected({{"fields", {{"velocity", "none"}}}},
-                  {"rom.fields.velocity", "deformation, stress, affine"});
+  expect_rejected({{"fields", {{"density", "none"}}}},
+                  {"rom.fields.density", "deformation, stress, affine, velocity"});
 }
 
 // ε of the latent prior: the section's, else the model's calibration (≥ 0), else the options'.

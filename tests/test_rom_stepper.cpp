@@ -605,17 +605,19 @@ TEST_F(RomEndToEnd, BasisModelRunsCloseToGroundTruth) {
 // test on model() finds two thirds of the coordinates differing in the last bits; docs/ROM.md).
 TEST_F(RomEndToEnd, BasisRunIsBitIdenticalAcrossThreadCounts) {
   // The bases' own fields, the tracked state on a thinned quadrature (every point's G2P and
-  // return map, each point on its own), and the latent prior (which a calibrated model brings).
-  for (const std::string variant : {"", "tracked", "prior"}) {
+  // return map, each point on its own), the latent prior (which a calibrated model brings), and
+  // the points' own velocities.
+  for (const std::string variant : {"", "tracked", "prior", "velocity"}) {
     const std::string m = basis_model() + " " + variant;
     nsf::RomRunOptions o = options();
     o.model_path = basis_model();
     o.rom.serial_below_points = 0;
     if (variant == "tracked") {
-      o.rom.fields = {"", "tracked", "tracked"};
+      o.rom.fields.stress = o.rom.fields.affine = "tracked";
       o.rom.quadrature_per_cell = 1;
     }
     if (variant == "prior") o.latent_prior = 0.01;
+    if (variant == "velocity") o.rom.fields.velocity = "tracked";  // every point's own G2P v
     std::vector<std::vector<nsf::Vec3>> runs;
     for (int threads : {1, 2, 3}) {
       o.threads = threads;
@@ -680,9 +682,14 @@ TEST_F(RomEndToEnd, UnknownFieldSourceIsAClearErrorListingTheKnownOnes) {
   const std::string msg = nsf::testing::error_of([&] { nsf::run_rom(o); });
   nsf::testing::expect_contains(msg, "unknown stress source 'magic'");
   nsf::testing::expect_contains(msg, "basis, crom, network, tangent, tracked");
-  o.rom.fields = {"", "", "nope"};
+  o.rom.fields = {};
+  o.rom.fields.affine = "nope";
   nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
                                 "unknown affine source 'nope'");
+  o.rom.fields = {};
+  o.rom.fields.velocity = "smooth";
+  nsf::testing::expect_error([&] { nsf::run_rom(o); },
+                             {"unknown velocity source 'smooth'", "latent, tracked"});
 }
 
 // A bar thrown at 6 m/s, four times the training range, runs into the wall; the samples trail
@@ -750,7 +757,7 @@ TEST_F(RomEndToEnd, TrackedStateOnTheIntegrationPointsReplacesTheNetworks) {
   nsf::RomRunOptions o = options();
   o.samples = 864;  // |P| of the tiny scene
   const nsf::RomReport networks = nsf::run_rom(o);
-  o.rom.fields = {"", "tracked", "tracked"};
+  o.rom.fields.stress = o.rom.fields.affine = "tracked";
   const nsf::RomReport tracked = nsf::run_rom(o);
   EXPECT_NE(tracked.delta, networks.delta);
   EXPECT_LT(tracked.delta, 0.05);
@@ -779,6 +786,21 @@ TEST_F(RomEndToEnd, TrackedStateOnTheIntegrationPointsReplacesTheNetworks) {
   EXPECT_EQ(scheduled.quadrature_points, thinned.quadrature_points);
   std::printf("tiny scene: tracked, one point per cell, 100 then 50 samples: ROM delta %.3f%%\n",
               100 * scheduled.delta);
+  // Each point's own G2P velocity in place of g's backward difference (--velocity tracked): a
+  // run of its own, as close to the truth, from the scene's rom section as from the options.
+  o.overrides.clear();
+  o.rom.quadrature_per_cell = 0;
+  o.rom.fields.velocity = "tracked";
+  const nsf::RomReport own_v = nsf::run_rom(o);
+  EXPECT_NE(own_v.delta, few.delta);
+  EXPECT_LT(own_v.delta, 0.05);
+  EXPECT_THAT(own_v.field_sources, HasSubstr("v from each point's own G2P"));
+  EXPECT_THAT(few.field_sources, Not(HasSubstr("G2P")));
+  o.rom.fields.velocity.clear();
+  o.overrides = {R"(rom.fields={"stress": "tracked", "affine": "tracked", "velocity": "tracked"})"};
+  EXPECT_EQ(nsf::run_rom(o).delta, own_v.delta);
+  std::printf("tiny scene: tracked, 100 samples, each point's own velocity: ROM delta %.3f%%\n",
+              100 * own_v.delta);
   o.overrides.clear();
   o.dt_ratio = 5;  // past the CFL bound, where the explicit tracked stress would blow up
   nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "CFL bound");

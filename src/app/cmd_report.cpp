@@ -95,7 +95,7 @@ void report_run(const ReportArgs& a, const std::string& scene, const std::string
   RomRunOptions ro;
   if (a.quadrature > 0) ro.quadrature = a.quadrature;
   ro.rom.flip = a.flip;
-  if (a.tracked) ro.rom.fields = {"", "tracked", "tracked"};
+  if (a.tracked) ro.rom.fields.stress = ro.rom.fields.affine = "tracked";
   ro.model_path = model;
   ro.overrides = set;
   ro.scene_path = scene;

@@ -115,6 +115,12 @@ void add_rom_command(CLI::App& app) {
              "crom; velocity: the gradient of the ROM's own velocity field; tracked: each "
              "integration point's own G2P C)")
       ->check(CLI::IsMember(point_field_source_names(FieldRole::affine)));
+  cmd->add_option("--velocity", a->opt.rom.fields.velocity,
+                  "Velocities on N from: " + names(velocity_source_names()) +
+                      " (default: the scene's rom.fields, else latent: g's backward difference, "
+                      "the paper; tracked: each integration point's own G2P velocity of the step "
+                      "before, as full order carries each particle's)")
+      ->check(CLI::IsMember(velocity_source_names()));
   cmd->add_flag("--crom", a->crom,
                 "CROM-style baseline: --stress crom (and --affine none unless given)");
   cmd->add_option("--linearize", a->linearize,

@@ -86,6 +86,7 @@ struct LatentStepper::Impl {
 
   // The field sources (rom/field_source.h), chosen once; the tracked state that two of them read.
   std::unique_ptr<TrackedParticles> tracked;
+  bool track_velocity = false;  // v on N from each point's own G2P (--velocity tracked)
   std::unique_ptr<FieldContext> context;
   std::unique_ptr<DeformationSource> g;
   std::unique_ptr<PointFieldSource> stress, affine;
@@ -181,6 +182,12 @@ struct LatentStepper::Impl {
     g = make_deformation_source(c.deformation, *context);
     stress = make_point_field_source(FieldRole::stress, c.stress, *context);
     affine = make_point_field_source(FieldRole::affine, c.affine, *context);
+    if (c.velocity == "tracked") {
+      tracked->enlist("--velocity tracked", false);
+      track_velocity = true;
+    } else if (c.velocity != "latent") {
+      fail("rom: unknown velocity source '", c.velocity, "' (known: latent, tracked)");
+    }
   }
 
   // Each latent component's spread over the training latents: the unit in which the tangent
@@ -369,7 +376,8 @@ struct LatentStepper::Impl {
         if (marks.touches(xK[k])) {
           N.push_back(ids[k]);
           xN.push_back(xK[k]);
-          vN.push_back((xK[k] - xK_prev[k]) / dt);
+          const Vec3* own = track_velocity ? tracked->last_velocity(ids[k]) : nullptr;
+          vN.push_back(own ? *own : Vec3((xK[k] - xK_prev[k]) / dt));
         }
       // A diverging latent can carry a particle of N off the grid while its clamped stencil
       // still touches I's boundary nodes. S ⊆ N (a sample touches its own nodes), so this
@@ -558,6 +566,7 @@ RomDiagnostics LatentStepper::diagnostics() const {
   RomDiagnostics d;
   d.times = m.times;
   d.field_sources = m.g->describe() + ", " + m.stress->describe() + ", " + m.affine->describe();
+  if (m.track_velocity) d.field_sources += ", v from each point's own G2P";
   d.mean_N = m.n ? m.sum_N / double(m.n) : 0.0;
   d.mean_K = m.n ? m.sum_K / double(m.n) : 0.0;
   d.quadrature_points = m.quad.ids.size();

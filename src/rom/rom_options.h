@@ -2,6 +2,7 @@
 // Settings of the reduced-order simulator (docs/ROM.md), free of torch types.
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "nn/gauss_newton.h"
 #include "rom/sampling.h"
@@ -16,7 +17,16 @@ struct FieldChoice {
   std::string deformation;  // g on the candidates: network, basis, tangent
   std::string stress;       // τ on N: network, basis, tangent, crom, tracked
   std::string affine;       // C on N: network, basis, tangent, velocity, none, tracked
+  // v on N: latent (g's backward difference, the paper), tracked (each point's own G2P velocity
+  // of the step before, where it had one; else latent's).
+  std::string velocity;
 };
+
+// The names FieldChoice::velocity takes.
+inline const std::vector<std::string>& velocity_source_names() {
+  static const std::vector<std::string> names = {"latent", "tracked"};
+  return names;
+}
 
 struct RomOptions {
   // ROM step over the scene's Δt, rounded so that a frame is a whole number of ROM steps; a
@@ -65,6 +75,7 @@ struct RomOptions {
     if (f.deformation.empty()) f.deformation = decoder;
     if (f.affine.empty()) f.affine = f.stress == "crom" ? "none" : decoder;
     if (f.stress.empty()) f.stress = decoder;
+    if (f.velocity.empty()) f.velocity = "latent";
     return f;
   }
 };

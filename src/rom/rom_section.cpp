@@ -45,9 +45,11 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
       std::string* slot = key == "deformation" ? &s.fields.deformation
                           : key == "stress"    ? &s.fields.stress
                           : key == "affine"    ? &s.fields.affine
+                          : key == "velocity"  ? &s.fields.velocity
                                                : nullptr;
       if (!slot)
-        fail("scene key 'rom.fields.", key, "' is unknown (known: deformation, stress, affine)");
+        fail("scene key 'rom.fields.", key,
+             "' is unknown (known: deformation, stress, affine, velocity)");
       if (!v.is_string() || v.get<std::string>().empty())
         fail("scene key 'rom.fields.", key, "' must be a field source's name, got ", v.dump());
       *slot = v.get<std::string>();
@@ -67,7 +69,8 @@ RomOptions with_rom_section(RomOptions o, const RomSection& s, double calibrated
   o.inversion.max_iterations = s.gn_iterations.value_or(o.inversion.max_iterations);
   for (auto [mine, scenes] : {std::pair{&o.fields.deformation, &s.fields.deformation},
                               std::pair{&o.fields.stress, &s.fields.stress},
-                              std::pair{&o.fields.affine, &s.fields.affine}})
+                              std::pair{&o.fields.affine, &s.fields.affine},
+                              std::pair{&o.fields.velocity, &s.fields.velocity}})
     if (mine->empty()) *mine = *scenes;
   return o;
 }

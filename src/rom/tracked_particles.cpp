@@ -23,6 +23,8 @@ TrackedParticles::TrackedParticles(std::vector<Mat3> F0, std::vector<MaterialPoi
 void TrackedParticles::enlist(const std::string& what, bool explicit_stress) {
   if (!active()) {
     C_.assign(F_.size(), Mat3::Zero());
+    v_.assign(F_.size(), Vec3::Zero());
+    advanced_in_.assign(F_.size(), 0);
     tau_.resize(F_.size());
     for (size_t p = 0; p < F_.size(); ++p) tau_[p] = update(p);
   }
@@ -53,6 +55,8 @@ void TrackedParticles::set_points(const PointTable& table) {
     material_.push_back(table.material[particles_ + j]);
   }
   C_.assign(n, Mat3::Zero());
+  v_.assign(n, Vec3::Zero());
+  advanced_in_.assign(n, 0);
   tau_.resize(n);
   for (size_t p = 0; p < n; ++p) tau_[p] = update(p);
 }
@@ -72,6 +76,7 @@ Mat3 TrackedParticles::update(size_t p) {
 void TrackedParticles::advance(const std::vector<uint32_t>& ids, const Particles& P,
                                const std::vector<uint32_t>& rows) {
   advanced_ = true;
+  ++advances_;
   const int64_t n = int64_t(ids.size());
   // Each point on its own: any thread count gives the same bits.
 #pragma omp parallel for schedule(static) if (n > 512)
@@ -80,6 +85,8 @@ void TrackedParticles::advance(const std::vector<uint32_t>& ids, const Particles
     F_[p] = P.F[rows[k]];
     tau_[p] = update(p);
     C_[p] = P.C[rows[k]];
+    v_[p] = P.v[rows[k]];
+    advanced_in_[p] = advances_;
   }
 }
 

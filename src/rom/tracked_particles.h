@@ -47,6 +47,12 @@ class TrackedParticles {
   const Mat3& F(size_t p) const { return F_[at(p)]; }
   const Mat3& tau(size_t p) const { return tau_[at(p)]; }
   const Mat3& C(size_t p) const { return C_[at(p)]; }
+  // Point p's velocity from its G2P in the last advance, if it went through that one (a point
+  // that joined N since has none: nullptr).
+  const Vec3* last_velocity(size_t p) const {
+    const size_t i = at(p);
+    return advances_ > 0 && advanced_in_[i] == advances_ ? &v_[i] : nullptr;
+  }
 
  private:
   Mat3 update(size_t p);
@@ -56,6 +62,9 @@ class TrackedParticles {
   bool advanced_ = false;
   std::vector<uint32_t> owner_;  // per particle: the point that carries its state
   std::vector<Mat3> F_, tau_, C_;
+  std::vector<Vec3> v_;
+  std::vector<long> advanced_in_;  // per point: the advance it last went through (0: none)
+  long advances_ = 0;
   std::vector<MaterialPoint> mp_;
   std::vector<uint16_t> material_;
   const std::vector<std::unique_ptr<Material>>& materials_;
