@@ -40,11 +40,12 @@ Mat3 stretch(double a) {
   return F;
 }
 
-// One G2P's worth of new F for point 0, as the step hands it over.
+// One G2P's worth of new F (and a velocity) for point 0, as the step hands it over.
 void advance_to(nsf::TrackedParticles& t, const Mat3& F) {
   nsf::Particles P;
   P.F = {F};
   P.C = {Mat3::Zero()};
+  P.v = {nsf::Vec3(0.5, 0, 0)};
   t.advance({0}, P, {0});
 }
 
@@ -66,8 +67,16 @@ TEST(TrackedParticles, AMergedPointStartsFromItsGroupAndStandsForItsMembers) {
   EXPECT_EQ(t.tau(3), t.tau(4));
   EXPECT_EQ(t.F(1), F0[1]);  // a particle that stays itself keeps its own
   EXPECT_GT(t.tau(4).norm(), 0.0);
-  // Once the run has begun, new merged points would start without their history.
+  // Once the run has begun, new merged points would start without their history. A point keeps
+  // its G2P velocity from the last advance it went through (--velocity tracked); one that did not
+  // go through it has none.
+  EXPECT_EQ(t.last_velocity(0), nullptr);
   advance_to(t, stretch(1.005));
+  ASSERT_NE(t.last_velocity(0), nullptr);
+  EXPECT_EQ(*t.last_velocity(0), nsf::Vec3(0.5, 0, 0));
+  EXPECT_EQ(t.last_velocity(1), nullptr);
+  advance_to(t, stretch(1.005));
+  EXPECT_NE(t.last_velocity(0), nullptr);
   table.X.push_back(nsf::Vec3::Zero());
   table.material.push_back(0);
   table.mat0.push_back(s.mat0[0]);

@@ -39,7 +39,7 @@ class TrackedParticles {
   // Throws nsf::Error when an explicit stress breaks the full-order CFL bound.
   void check(double cfl_bound) const;
 
-  // After G2P: point ids[k] sits at row rows[k] of P, with its new F and C.
+  // After G2P: point ids[k] sits at row rows[k] of P, with its new F, C and velocity.
   void advance(const std::vector<uint32_t>& ids, const Particles& P,
                const std::vector<uint32_t>& rows);
 
