@@ -186,7 +186,10 @@ struct LatentStepper::Impl {
       tracked->enlist("--velocity tracked", false);
       track_velocity = true;
     } else if (c.velocity != "latent") {
-      fail("rom: unknown velocity source '", c.velocity, "' (known: latent, tracked)");
+      std::string known;
+      for (const std::string& name : velocity_source_names())
+        known += (known.empty() ? "" : ", ") + name;
+      fail("rom: unknown velocity source '", c.velocity, "' (known: ", known, ")");
     }
   }
 
