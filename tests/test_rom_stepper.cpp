@@ -28,6 +28,7 @@
 #include "nn/runtime.h"
 #include "nn/trainer.h"
 #include "rom/field_gradients.h"
+#include "rom/field_source.h"
 #include "rom/integration_set.h"
 #include "rom/latent_stepper.h"
 #include "rom/linearized_field.h"
@@ -690,6 +691,45 @@ TEST_F(RomEndToEnd, UnknownFieldSourceIsAClearErrorListingTheKnownOnes) {
   o.rom.fields.velocity = "smooth";
   nsf::testing::expect_error([&] { nsf::run_rom(o); },
                              {"unknown velocity source 'smooth'", "latent, tracked"});
+}
+
+// A field source from outside the library is one class plus its registration: the stepper takes
+// it by name. A copy of g's backward difference under another name gives the default run's bits;
+// a source that halves it gives another run, and the summary names each.
+TEST_F(RomEndToEnd, ARegisteredVelocitySourceIsChosenByName) {
+  class Scaled final : public nsf::VelocitySource {
+   public:
+    Scaled(double dt, double scale) : dt_(dt), scale_(scale) {}
+    std::string describe() const override {
+      return "v from a test source x" + std::to_string(scale_);
+    }
+    void evaluate(const std::vector<uint32_t>& ids, const std::vector<nsf::Vec3>& x,
+                  const std::vector<nsf::Vec3>& x_prev, std::vector<nsf::Vec3>& v) override {
+      v.resize(ids.size());
+      for (size_t k = 0; k < ids.size(); ++k) v[k] = scale_ * ((x[k] - x_prev[k]) / dt_);
+    }
+
+   private:
+    double dt_, scale_;
+  };
+  // Named to sort after the built-in ones, whose list another test reads.
+  nsf::register_velocity_source(
+      "zz_copy", [](const nsf::FieldContext& c) { return std::make_unique<Scaled>(c.dt, 1.0); });
+  nsf::register_velocity_source(
+      "zz_half", [](const nsf::FieldContext& c) { return std::make_unique<Scaled>(c.dt, 0.5); });
+  const std::vector<std::string> names = nsf::velocity_source_names();
+  EXPECT_NE(std::find(names.begin(), names.end(), "zz_half"), names.end());
+  nsf::RomRunOptions o = options();
+  const nsf::RomReport plain = nsf::run_rom(o);
+  o.rom.fields.velocity = "zz_copy";
+  const nsf::RomReport copy = nsf::run_rom(o);
+  EXPECT_EQ(copy.delta, plain.delta);
+  nsf::testing::expect_contains(copy.field_sources, "v from a test source x1");
+  EXPECT_THAT(plain.field_sources, Not(HasSubstr("v from")));
+  o.rom.fields.velocity = "zz_half";
+  const nsf::RomReport half = nsf::run_rom(o);
+  EXPECT_NE(half.delta, plain.delta);
+  nsf::testing::expect_contains(half.field_sources, "v from a test source x0.5");
 }
 
 // A bar thrown at 6 m/s, four times the training range, runs into the wall; the samples trail

@@ -27,6 +27,10 @@ struct Tables {
       {"tangent", make_tangent_affine}, {"velocity", make_velocity_affine},
       {"none", make_zero_affine},       {"tracked", make_tracked_affine},
   };
+  std::map<std::string, VelocityFactory> velocity = {
+      {"latent", make_latent_velocity},
+      {"tracked", make_tracked_velocity},
+  };
   std::map<std::string, PointFieldFactory>& of(FieldRole role) {
     return role == FieldRole::stress ? stress : affine;
   }
@@ -77,6 +81,11 @@ void register_point_field_source(FieldRole role, const std::string& name,
   tables().of(role)[name] = std::move(factory);
 }
 
+void register_velocity_source(const std::string& name, VelocityFactory factory) {
+  std::lock_guard<std::mutex> lock(tables_mutex());
+  tables().velocity[name] = std::move(factory);
+}
+
 std::unique_ptr<DeformationSource> make_deformation_source(const std::string& name,
                                                            const FieldContext& context) {
   DeformationFactory factory;
@@ -97,6 +106,16 @@ std::unique_ptr<PointFieldSource> make_point_field_source(FieldRole role, const 
   return factory(context);
 }
 
+std::unique_ptr<VelocitySource> make_velocity_source(const std::string& name,
+                                                     const FieldContext& context) {
+  VelocityFactory factory;
+  {
+    std::lock_guard<std::mutex> lock(tables_mutex());
+    factory = find(tables().velocity, name, "velocity");
+  }
+  return factory(context);
+}
+
 std::vector<std::string> deformation_source_names() {
   std::lock_guard<std::mutex> lock(tables_mutex());
   return names_of(tables().deformation);
@@ -105,6 +124,11 @@ std::vector<std::string> deformation_source_names() {
 std::vector<std::string> point_field_source_names(FieldRole role) {
   std::lock_guard<std::mutex> lock(tables_mutex());
   return names_of(tables().of(role));
+}
+
+std::vector<std::string> velocity_source_names() {
+  std::lock_guard<std::mutex> lock(tables_mutex());
+  return names_of(tables().velocity);
 }
 
 }  // namespace nsf

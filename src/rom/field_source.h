@@ -4,8 +4,9 @@
 // is an object behind one of two small interfaces, chosen once, by name, when the stepper is
 // built (as materials are by their registry): the trained decoders (the paper's networks, or the
 // per-point bases of a basis model), their first-order tangent cache, CROM's τ(∂g/∂X), the
-// velocity-derived C, the particles' own tracked state. A new source is one file in
-// src/rom/fields/ plus a line in rom/field_registry.cpp.
+// velocity-derived C, the particles' own tracked state; and the velocities P2G carries (g's
+// backward difference, or each point's own). A new source is one file in src/rom/fields/ plus a
+// line in rom/field_registry.cpp.
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
@@ -89,8 +90,20 @@ class PointFieldSource {
                         std::vector<Mat3>& out) = 0;
 };
 
+// v: the velocities on N that the step's P2G carries (§5.3: g's backward difference).
+class VelocitySource {
+ public:
+  virtual ~VelocitySource() = default;
+  // Appended to the step's field sources ("v from …"); empty for the paper's backward difference.
+  virtual std::string describe() const = 0;
+  // Velocities at rows `ids`, whose positions are x = g(X, ẑ_n) and x_prev = g(X, ẑ_{n−1}).
+  virtual void evaluate(const std::vector<uint32_t>& ids, const std::vector<Vec3>& x,
+                        const std::vector<Vec3>& x_prev, std::vector<Vec3>& v) = 0;
+};
+
 using DeformationFactory = std::function<std::unique_ptr<DeformationSource>(const FieldContext&)>;
 using PointFieldFactory = std::function<std::unique_ptr<PointFieldSource>(const FieldContext&)>;
+using VelocityFactory = std::function<std::unique_ptr<VelocitySource>(const FieldContext&)>;
 
 // The registries (rom/field_registry.cpp). `make_*` throw nsf::Error naming the known sources
 // for an unknown name.
@@ -98,11 +111,15 @@ enum class FieldRole { stress, affine };
 void register_deformation_source(const std::string& name, DeformationFactory factory);
 void register_point_field_source(FieldRole role, const std::string& name,
                                  PointFieldFactory factory);
+void register_velocity_source(const std::string& name, VelocityFactory factory);
 std::unique_ptr<DeformationSource> make_deformation_source(const std::string& name,
                                                            const FieldContext& context);
 std::unique_ptr<PointFieldSource> make_point_field_source(FieldRole role, const std::string& name,
                                                           const FieldContext& context);
+std::unique_ptr<VelocitySource> make_velocity_source(const std::string& name,
+                                                     const FieldContext& context);
 std::vector<std::string> deformation_source_names();
 std::vector<std::string> point_field_source_names(FieldRole role);
+std::vector<std::string> velocity_source_names();
 
 }  // namespace nsf

@@ -84,12 +84,13 @@ struct LatentStepper::Impl {
   bool xK_last_valid = false;
   long refreshed_at = -1;  // step of the last refresh: g(X, ẑ_n) on K is then known
 
-  // The field sources (rom/field_source.h), chosen once; the tracked state that two of them read.
+  // The field sources (rom/field_source.h), chosen once, and the tracked state they may read.
   std::unique_ptr<TrackedParticles> tracked;
-  bool track_velocity = false;  // v on N from each point's own G2P (--velocity tracked)
   std::unique_ptr<FieldContext> context;
   std::unique_ptr<DeformationSource> g;
   std::unique_ptr<PointFieldSource> stress, affine;
+  std::unique_ptr<VelocitySource> velocity;
+  std::vector<Vec3> xN_prev;
   std::unique_ptr<SampleDeformation> g_S;  // g and ∂g/∂ẑ on S, for the inversion
 
   double sum_N = 0, sum_K = 0, last_residual = 0;
@@ -182,15 +183,7 @@ struct LatentStepper::Impl {
     g = make_deformation_source(c.deformation, *context);
     stress = make_point_field_source(FieldRole::stress, c.stress, *context);
     affine = make_point_field_source(FieldRole::affine, c.affine, *context);
-    if (c.velocity == "tracked") {
-      tracked->enlist("--velocity tracked", false);
-      track_velocity = true;
-    } else if (c.velocity != "latent") {
-      std::string known;
-      for (const std::string& name : velocity_source_names())
-        known += (known.empty() ? "" : ", ") + name;
-      fail("rom: unknown velocity source '", c.velocity, "' (known: ", known, ")");
-    }
+    velocity = make_velocity_source(c.velocity, *context);
   }
 
   // Each latent component's spread over the training latents: the unit in which the tangent
@@ -351,7 +344,7 @@ struct LatentStepper::Impl {
   }
 
   // (1) g on the candidates K ⊇ N, then N itself: the integration points whose stencils touch the
-  // nodes I of the samples' stencils (§5.4). Positions and backward-difference velocities on N.
+  // nodes I of the samples' stencils (§5.4). Positions and velocities on N.
   void infer_positions(std::vector<Vec3>& xN, std::vector<Vec3>& vN, std::vector<Vec3>& xs) {
     std::vector<Vec3> xK, xK_prev;
     // Free when all particles' positions are known (output frames), unless thinned.
@@ -374,14 +367,14 @@ struct LatentStepper::Impl {
       marks.clear();
       marks.mark_stencils(xs, 0);
       N.clear();
-      xN.clear(), vN.clear();
+      xN.clear(), xN_prev.clear();
       for (size_t k = 0; k < ids.size(); ++k)
         if (marks.touches(xK[k])) {
           N.push_back(ids[k]);
           xN.push_back(xK[k]);
-          const Vec3* own = track_velocity ? tracked->last_velocity(ids[k]) : nullptr;
-          vN.push_back(own ? *own : Vec3((xK[k] - xK_prev[k]) / dt));
+          xN_prev.push_back(xK_prev[k]);
         }
+      velocity->evaluate(N, xN, xN_prev, vN);
       // A diverging latent can carry a particle of N off the grid while its clamped stencil
       // still touches I's boundary nodes. S ⊆ N (a sample touches its own nodes), so this
       // checks the samples too.
@@ -569,7 +562,7 @@ RomDiagnostics LatentStepper::diagnostics() const {
   RomDiagnostics d;
   d.times = m.times;
   d.field_sources = m.g->describe() + ", " + m.stress->describe() + ", " + m.affine->describe();
-  if (m.track_velocity) d.field_sources += ", v from each point's own G2P";
+  if (!m.velocity->describe().empty()) d.field_sources += ", " + m.velocity->describe();
   d.mean_N = m.n ? m.sum_N / double(m.n) : 0.0;
   d.mean_K = m.n ? m.sum_K / double(m.n) : 0.0;
   d.quadrature_points = m.quad.ids.size();

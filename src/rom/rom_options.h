@@ -17,16 +17,8 @@ struct FieldChoice {
   std::string deformation;  // g on the candidates: network, basis, tangent
   std::string stress;       // τ on N: network, basis, tangent, crom, tracked
   std::string affine;       // C on N: network, basis, tangent, velocity, none, tracked
-  // v on N: latent (g's backward difference, the paper), tracked (each point's own G2P velocity
-  // of the step before, where it had one; else latent's).
-  std::string velocity;
+  std::string velocity;     // v on N: latent (g's backward difference, the paper), tracked
 };
-
-// The names FieldChoice::velocity takes.
-inline const std::vector<std::string>& velocity_source_names() {
-  static const std::vector<std::string> names = {"latent", "tracked"};
-  return names;
-}
 
 struct RomOptions {
   // ROM step over the scene's Δt, rounded so that a frame is a whole number of ROM steps; a

@@ -25,5 +25,8 @@ std::unique_ptr<PointFieldSource> make_zero_affine(const FieldContext& context);
 // Each particle's own F^E, plastic state and C, as full order keeps them (rom/tracked_particles.h).
 std::unique_ptr<PointFieldSource> make_tracked_stress(const FieldContext& context);
 std::unique_ptr<PointFieldSource> make_tracked_affine(const FieldContext& context);
+// v on N: g's backward difference (the paper); each point's own G2P velocity of the step before.
+std::unique_ptr<VelocitySource> make_latent_velocity(const FieldContext& context);
+std::unique_ptr<VelocitySource> make_tracked_velocity(const FieldContext& context);
 
 }  // namespace nsf

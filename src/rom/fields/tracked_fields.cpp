@@ -1,5 +1,6 @@
-// τ and C from each particle's own tracked state (rom/tracked_particles.h), as full order has
-// them: an ablation of h and l that says how much of the ROM's error is theirs.
+// τ, C and v from each particle's own tracked state (rom/tracked_particles.h), as full order has
+// them: τ and C an ablation of h and l that says how much of the ROM's error is theirs; v each
+// point's own G2P velocity of the step before, in place of g's backward difference.
 #include "core/error.h"
 #include "rom/fields/sources.h"
 #include "rom/tracked_particles.h"
@@ -29,6 +30,28 @@ class TrackedField final : public PointFieldSource {
   bool stress_;
 };
 
+// A point new to N (and every point at the first step) has no G2P velocity of its own yet: it
+// takes g's backward difference.
+class TrackedVelocity final : public VelocitySource {
+ public:
+  explicit TrackedVelocity(const FieldContext& c) : tracked_(*c.tracked), dt_(c.dt) {
+    tracked_.enlist("--velocity tracked", false);
+  }
+  std::string describe() const override { return "v from each point's own G2P"; }
+  void evaluate(const std::vector<uint32_t>& ids, const std::vector<Vec3>& x,
+                const std::vector<Vec3>& x_prev, std::vector<Vec3>& v) override {
+    v.resize(ids.size());
+    for (size_t k = 0; k < ids.size(); ++k) {
+      const Vec3* own = tracked_.last_velocity(ids[k]);
+      v[k] = own ? *own : Vec3((x[k] - x_prev[k]) / dt_);
+    }
+  }
+
+ private:
+  TrackedParticles& tracked_;
+  double dt_;
+};
+
 }  // namespace
 
 std::unique_ptr<PointFieldSource> make_tracked_stress(const FieldContext& c) {
@@ -36,6 +59,10 @@ std::unique_ptr<PointFieldSource> make_tracked_stress(const FieldContext& c) {
 }
 std::unique_ptr<PointFieldSource> make_tracked_affine(const FieldContext& c) {
   return std::make_unique<TrackedField>(c, false);
+}
+
+std::unique_ptr<VelocitySource> make_tracked_velocity(const FieldContext& c) {
+  return std::make_unique<TrackedVelocity>(c);
 }
 
 }  // namespace nsf

@@ -1,0 +1,29 @@
+// v = (g(X, ẑ_n) − g(X, ẑ_{n−1})) / Δt on N: the paper's velocities, a backward difference of the
+// deformation field across one ROM step.
+#include "rom/fields/sources.h"
+
+namespace nsf {
+
+namespace {
+
+class LatentVelocity final : public VelocitySource {
+ public:
+  explicit LatentVelocity(double dt) : dt_(dt) {}
+  std::string describe() const override { return ""; }
+  void evaluate(const std::vector<uint32_t>& ids, const std::vector<Vec3>& x,
+                const std::vector<Vec3>& x_prev, std::vector<Vec3>& v) override {
+    v.resize(ids.size());
+    for (size_t k = 0; k < ids.size(); ++k) v[k] = (x[k] - x_prev[k]) / dt_;
+  }
+
+ private:
+  double dt_;
+};
+
+}  // namespace
+
+std::unique_ptr<VelocitySource> make_latent_velocity(const FieldContext& c) {
+  return std::make_unique<LatentVelocity>(c.dt);
+}
+
+}  // namespace nsf
