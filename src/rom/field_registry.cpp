@@ -64,6 +64,18 @@ const typename Map::mapped_type& find(const Map& m, const std::string& name, con
   return it->second;
 }
 
+// A copy of the factory, taken under the lock, is called outside it: a factory may build
+// sources that look up others.
+template <typename Map>
+auto make(Map& m, const std::string& name, const char* what, const FieldContext& context) {
+  typename Map::mapped_type factory;
+  {
+    std::lock_guard<std::mutex> lock(tables_mutex());
+    factory = find(m, name, what);
+  }
+  return factory(context);
+}
+
 const char* role_name(FieldRole role) {
   return role == FieldRole::stress ? "stress" : "affine";
 }
@@ -88,32 +100,17 @@ void register_velocity_source(const std::string& name, VelocityFactory factory) 
 
 std::unique_ptr<DeformationSource> make_deformation_source(const std::string& name,
                                                            const FieldContext& context) {
-  DeformationFactory factory;
-  {
-    std::lock_guard<std::mutex> lock(tables_mutex());
-    factory = find(tables().deformation, name, "deformation");
-  }
-  return factory(context);
+  return make(tables().deformation, name, "deformation", context);
 }
 
 std::unique_ptr<PointFieldSource> make_point_field_source(FieldRole role, const std::string& name,
                                                           const FieldContext& context) {
-  PointFieldFactory factory;
-  {
-    std::lock_guard<std::mutex> lock(tables_mutex());
-    factory = find(tables().of(role), name, role_name(role));
-  }
-  return factory(context);
+  return make(tables().of(role), name, role_name(role), context);
 }
 
 std::unique_ptr<VelocitySource> make_velocity_source(const std::string& name,
                                                      const FieldContext& context) {
-  VelocityFactory factory;
-  {
-    std::lock_guard<std::mutex> lock(tables_mutex());
-    factory = find(tables().velocity, name, "velocity");
-  }
-  return factory(context);
+  return make(tables().velocity, name, "velocity", context);
 }
 
 std::vector<std::string> deformation_source_names() {
