@@ -87,6 +87,26 @@ TEST(TrainSection, SetsTheLatentDimensionUnlessTheCommandLineGivesOne) {
   EXPECT_EQ(config.net.latent_dim, 5);
 }
 
+// The decoder family: a scene whose ROM runs better on the paper's MLP fields says so, and the
+// command line's --decoder wins.
+TEST(TrainSection, SetsTheDecoderFamilyUnlessTheCommandLineGivesOne) {
+  const TrainSection t = parse_train_section(json::parse(R"({"decoder": "mlp"})"));
+  EXPECT_EQ(t.decoder, "mlp");
+  TrainPlan cli;
+  EXPECT_EQ(with_train_section(cli, t, {}).decoder, "mlp");
+  EXPECT_EQ(recipe_taken(t, {}), "decoder mlp");
+  GivenOnCommandLine d;
+  d.decoder = true;
+  cli.decoder = "basis";
+  EXPECT_EQ(with_train_section(cli, t, d).decoder, "basis");
+  EXPECT_EQ(recipe_taken(t, d), "");
+  EXPECT_EQ(parse_train_section(json::object()).decoder, "");
+  TrainConfig config;
+  config.net.decoder = "basis";
+  app::apply_plan(with_train_section(TrainPlan(), t, {}), config);
+  EXPECT_EQ(config.net.decoder, "mlp");
+}
+
 TEST(TrainSection, NamesTheKeyAtFault) {
   expect_rejected({{"steps", {100, 0, 100}}}, {"train.steps[1]", "0"});
   expect_rejected({{"widths", {64, 64}}}, {"train.widths", "three"});
@@ -96,6 +116,8 @@ TEST(TrainSection, NamesTheKeyAtFault) {
   expect_rejected({{"epochs", 5}}, {"train.epochs"});
   expect_rejected({{"latent_dim", 0}}, {"train.latent_dim", "0"});
   expect_rejected({{"latent_dim", 2.5}}, {"train.latent_dim"});
+  expect_rejected({{"decoder", "svd"}}, {"train.decoder", "\"mlp\" or \"basis\"", "svd"});
+  expect_rejected({{"decoder", 1}}, {"train.decoder"});
   expect_rejected(5, {"'train'"});
 }
 

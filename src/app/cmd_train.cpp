@@ -93,6 +93,7 @@ std::string apply_recipe(const TrainSection& t, const TrainArgs& a, TrainConfig&
   given.widths = {a.width_g > 0, a.width_h > 0, a.width_l > 0};
   given.encoder_max_length = a.encoder_max_length > 0;
   given.latent_dim = a.r > 0;
+  given.decoder = !a.decoder.empty();
   given.frames_per_batch = !a.frames.empty();
   given.particles_per_frame = !a.particles.empty();
   TrainPlan plan;  // widths, encoder length and batches 0: c's stay unless the recipe sets them

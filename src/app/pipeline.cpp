@@ -41,6 +41,7 @@ TrainPlan with_scene_recipe(TrainPlan plan, const std::string& scene, bool steps
   GivenOnCommandLine given;
   given.steps = steps_given;
   given.widths.fill(widths_given);
+  given.decoder = !plan.decoder.empty();  // --decoder on the command line
   return with_train_section(plan, *train, given);
 }
 

@@ -29,8 +29,8 @@ std::array<T, 3> positive_triple(const nlohmann::json& j, const std::string& pat
 TrainSection parse_train_section(const nlohmann::json& train, const std::string& path) {
   json::require_object(train, path);
   json::check_keys(train, path,
-                   {"steps", "widths", "encoder_max_length", "latent_dim", "frames_per_batch",
-                    "particles_per_frame"});
+                   {"steps", "widths", "encoder_max_length", "latent_dim", "decoder",
+                    "frames_per_batch", "particles_per_frame"});
   TrainSection t;
   if (train.contains("steps"))
     t.steps = positive_triple<long>(train.at("steps"), json::child(path, "steps"), 100000000);
@@ -46,6 +46,13 @@ TrainSection parse_train_section(const nlohmann::json& train, const std::string&
          "' must be at least 5 (the convolution kernel is 6), or 0 for App. E's, got ",
          t.encoder_max_length);
   t.latent_dim = json::get_int(train, path, "latent_dim", 0, 1, 1024);
+  if (train.contains("decoder")) {
+    const nlohmann::json& d = train.at("decoder");
+    if (!d.is_string() || (d.get<std::string>() != "mlp" && d.get<std::string>() != "basis"))
+      fail("scene: '", json::child(path, "decoder"), "' must be \"mlp\" or \"basis\", got ",
+           d.dump());
+    t.decoder = d.get<std::string>();
+  }
   return t;
 }
 
@@ -57,6 +64,7 @@ TrainPlan with_train_section(TrainPlan plan, const TrainSection& section,
   if (section.encoder_max_length > 0 && !given.encoder_max_length)
     plan.encoder_max_length = section.encoder_max_length;
   if (section.latent_dim > 0 && !given.latent_dim) plan.latent_dim = section.latent_dim;
+  if (!section.decoder.empty() && !given.decoder) plan.decoder = section.decoder;
   if (section.frames_per_batch && !given.frames_per_batch)
     plan.frames_per_batch = *section.frames_per_batch;
   if (section.particles_per_frame && !given.particles_per_frame)
@@ -77,6 +85,7 @@ std::string recipe_taken(const TrainSection& section, const GivenOnCommandLine& 
   if (section.encoder_max_length > 0 && !given.encoder_max_length)
     out << "encoder_max_length " << section.encoder_max_length << "; ";
   if (section.latent_dim > 0 && !given.latent_dim) out << "r " << section.latent_dim << "; ";
+  if (!section.decoder.empty() && !given.decoder) out << "decoder " << section.decoder << "; ";
   if (section.frames_per_batch && !given.frames_per_batch)
     triple("frames_per_batch", *section.frames_per_batch);
   if (section.particles_per_frame && !given.particles_per_frame)

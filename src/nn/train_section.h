@@ -16,6 +16,7 @@ struct TrainSection {
   std::optional<std::array<int, 3>> widths;  // hidden widths of g, h, l
   int encoder_max_length = 0;                // 0: App. E's (the encoder's default)
   int latent_dim = 0;                        // r; 0: Table 1's for the scene
+  std::string decoder;                       // "mlp" or "basis"; "": the commands' default
   // A stage's batch: frames, then particles within each frame.
   std::optional<std::array<int, 3>> frames_per_batch, particles_per_frame;
 };
@@ -42,6 +43,7 @@ struct GivenOnCommandLine {
   std::array<bool, 3> widths = {false, false, false};  // g, h, l
   bool encoder_max_length = false, frames_per_batch = false, particles_per_frame = false;
   bool latent_dim = false;
+  bool decoder = false;
 };
 
 // `plan` with the section's values in place of those the command line did not give.
