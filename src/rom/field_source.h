@@ -90,7 +90,7 @@ class PointFieldSource {
                         std::vector<Mat3>& out) = 0;
 };
 
-// v: the velocities on N that the step's P2G carries (§5.3: g's backward difference).
+// v: the velocities on N that the step's P2G carries (the paper: g's backward difference).
 class VelocitySource {
  public:
   virtual ~VelocitySource() = default;
