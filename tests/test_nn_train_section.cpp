@@ -107,6 +107,31 @@ TEST(TrainSection, SetsTheDecoderFamilyUnlessTheCommandLineGivesOne) {
   EXPECT_EQ(config.net.decoder, "mlp");
 }
 
+// `nsf report --decoder F`: the scene's own family keeps models/NAME.nsf and the plain rows; the
+// other family gets a model and rows of its own, so it never overwrites the scene's.
+TEST(TrainSection, ReportKeepsTheOtherFamilysModelAndRowsApart) {
+  const auto scene = [](const char* name) {
+    return (std::filesystem::path(NSF_SOURCE_DIR) / "scenes" / "paper" / name).string();
+  };
+  EXPECT_EQ(app::scene_decoder(scene("sand_paper.json")), "mlp");  // its recipe says so
+  EXPECT_EQ(app::scene_decoder(scene("jelly_small.json")), "basis");
+  for (const std::string asked : {"", "basis"}) {
+    const app::DecoderRows own = app::decoder_rows("jelly_small", "basis", asked);
+    EXPECT_EQ(own.model, "models/jelly_small.nsf");
+    EXPECT_EQ(own.tag_suffix, "");
+    EXPECT_EQ(own.label, "");
+  }
+  const app::DecoderRows mlp = app::decoder_rows("jelly_small", "basis", "mlp");
+  EXPECT_EQ(mlp.model, "models/jelly_small_mlp.nsf");
+  EXPECT_EQ(mlp.tag_suffix, "_mlp");
+  EXPECT_EQ(mlp.label, "MLP fields");
+  const app::DecoderRows bases = app::decoder_rows("sand_paper", "mlp", "basis");
+  EXPECT_EQ(bases.model, "models/sand_paper_basis.nsf");
+  EXPECT_EQ(bases.tag_suffix, "_basis");
+  EXPECT_EQ(bases.label, "per-point bases");
+  EXPECT_EQ(app::decoder_rows("sand_paper", "mlp", "mlp").model, "models/sand_paper.nsf");
+}
+
 TEST(TrainSection, NamesTheKeyAtFault) {
   expect_rejected({{"steps", {100, 0, 100}}}, {"train.steps[1]", "0"});
   expect_rejected({{"widths", {64, 64}}}, {"train.widths", "three"});

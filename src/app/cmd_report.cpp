@@ -74,9 +74,10 @@ double stored_latent_prior(const ReportArgs& a, const std::string& tag) {
 
 // One reduced-order run, its picture and its stored row.
 // `tag` names the row's files (docs/results/TAG.json, …); `set` are the case's --set overrides.
-void report_run(const ReportArgs& a, const std::string& scene, const std::string& model,
+void report_run(const ReportArgs& a, const std::string& scene, const DecoderRows& decoder,
                 const std::string& data, double mu, std::string label, std::string tag,
                 const std::vector<std::string>& set = {}) {
+  const std::string& model = decoder.model;
   if (a.quadrature > 0) {
     const std::string q = "quadrature " + std::to_string(a.quadrature) + "/cell";
     label = label.empty() ? q : label + ", " + q;
@@ -91,6 +92,10 @@ void report_run(const ReportArgs& a, const std::string& scene, const std::string
   if (a.tracked) {
     label = label.empty() ? "tracked state" : label + ", tracked state";
     tag += "_tracked";
+  }
+  if (!decoder.label.empty()) {
+    label = label.empty() ? decoder.label : label + ", " + decoder.label;
+    tag += decoder.tag_suffix;
   }
   RomRunOptions ro;
   if (a.quadrature > 0) ro.quadrature = a.quadrature;
@@ -143,8 +148,9 @@ void run_report(const ReportArgs& a) {
   for (const std::string& base : a.page_only ? std::vector<std::string>{} : a.scenes) {
     const std::string name = base + "_" + a.size;
     const std::string scene = "scenes/paper/" + name + ".json";
-    const std::string data = "data/" + name, model = "models/" + name + ".nsf";
     if (!fs::exists(scene)) fail("report: no scene file ", scene, " (known: the paper's seven)");
+    const DecoderRows decoder = decoder_rows(name, scene_decoder(scene), a.train.decoder);
+    const std::string data = "data/" + name, model = decoder.model;
     std::printf("== %s\n", name.c_str());
     if ((a.no_make || a.check) && (!fs::exists(data + "/manifest.json") || !fs::exists(model))) {
       std::printf("   skipped: %s or %s is missing (%s)\n", data.c_str(), model.c_str(),
@@ -167,13 +173,13 @@ void run_report(const ReportArgs& a) {
         const std::string tag = name + "_beyond" + std::to_string(i);
         row(tag, [&] {
           const double mu = cases[i].at_test_mu ? test_mu : cases[i].mu;
-          report_run(a, scene, model, data, mu, "beyond-sweep: " + cases[i].what, tag,
+          report_run(a, scene, decoder, data, mu, "beyond-sweep: " + cases[i].what, tag,
                      cases[i].set);
         });
       }
       continue;
     }
-    row(name, [&] { report_run(a, scene, model, data, test_mu, "", name); });
+    row(name, [&] { report_run(a, scene, decoder, data, test_mu, "", name); });
   }
   std::string all_failed;
   for (const std::string& f : failed) all_failed += "\n  " + f;
@@ -194,7 +200,7 @@ void run_report(const ReportArgs& a) {
   // both invocations rather than the last one.
   std::ofstream(page + ".tmp") << results_markdown(
       rows,
-      "nsf report --size small|paper [--quadrature k] [--tracked] [--beyond-sweep]`, the "
+      "nsf report --size small|paper [--quadrature k] [--tracked] [--beyond-sweep] [--decoder F]`, the "
       "`*_paper` rows with `--size paper");
   fs::rename(page + ".tmp", page);
   std::printf("wrote %s (%zu rows)\n", page.c_str(), rows.size());
@@ -214,7 +220,10 @@ void add_report_command(CLI::App& app) {
       ->check(CLI::IsMember({"small", "paper"}));
   cmd->add_option("--scenes", a->scenes, "Scenes to run (default all seven)")->delimiter(',');
   cmd->add_option("--decoder", a->train.decoder,
-                  "Decoder family when training: basis (default) or mlp (docs/TRAINING.md)")
+                  "Decoder family: basis or mlp (docs/TRAINING.md). A scene's own family (its "
+                  "recipe's, else basis) uses models/NAME.nsf; the other family trains and reads "
+                  "models/NAME_FAMILY.nsf, and its rows are labelled with it and kept beside the "
+                  "others")
       ->check(CLI::IsMember({"mlp", "basis"}));
   add_train_size_options(cmd, a->train_size,
                          "where a model is trained: the scene's \"train\" section, else "

@@ -45,6 +45,18 @@ TrainPlan with_scene_recipe(TrainPlan plan, const std::string& scene, bool steps
   return with_train_section(plan, *train, given);
 }
 
+std::string scene_decoder(const std::string& scene) {
+  const std::optional<TrainSection> train = read_scene_file(scene).sections.train;
+  return train && !train->decoder.empty() ? train->decoder : NetConfig().decoder;
+}
+
+DecoderRows decoder_rows(const std::string& name, const std::string& own,
+                         const std::string& asked) {
+  if (asked.empty() || asked == own) return {"models/" + name + ".nsf", "", ""};
+  return {"models/" + name + "_" + asked + ".nsf", "_" + asked,
+          asked == "mlp" ? "MLP fields" : "per-point bases"};
+}
+
 void apply_plan(const TrainPlan& plan, TrainConfig& config) {
   config.steps = plan.steps;
   if (!plan.decoder.empty()) config.net.decoder = plan.decoder;

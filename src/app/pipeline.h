@@ -23,6 +23,20 @@ double ensure_dataset(const std::string& scene, const std::string& data, int thr
 TrainPlan with_scene_recipe(TrainPlan plan, const std::string& scene, bool steps_given,
                             bool widths_given);
 
+// The decoder family a scene's models hold: its recipe's "decoder", else the trainer's default.
+std::string scene_decoder(const std::string& scene);
+
+// Where `nsf report --decoder FAMILY` keeps a scene's model and rows. A family other than the
+// scene's own gets a model of its own, models/NAME_FAMILY.nsf, and rows of its own beside the
+// scene's, their tags ending in _FAMILY and labelled with it; the scene's own family (or none
+// asked) keeps models/NAME.nsf and the plain rows.
+struct DecoderRows {
+  std::string model;       // models/NAME[_FAMILY].nsf
+  std::string tag_suffix;  // "" or "_mlp", "_basis"
+  std::string label;       // "" or "MLP fields", "per-point bases"
+};
+DecoderRows decoder_rows(const std::string& name, const std::string& own, const std::string& asked);
+
 // `plan`'s steps, and its widths, encoder length and batches where it sets them (> 0), into the
 // trainer's configuration: what `nsf train` takes from a scene's recipe, and `ensure_model`.
 void apply_plan(const TrainPlan& plan, TrainConfig& config);
