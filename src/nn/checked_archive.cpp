@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
-#include <iterator>
 
 #include "core/error.h"
 #include "io/atomic_file.h"
@@ -63,10 +63,16 @@ void save_checked_archive(torch::serialize::OutputArchive& a, const std::string&
 
 bool load_checked_archive(torch::serialize::InputArchive& a, const std::string& path,
                           const std::string& what) {
-  std::ifstream in(path, std::ios::binary);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) fail(what, " ", path, " is not a file");
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) fail("cannot open ", what, " ", path);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) fail("cannot read ", what, " ", path);
+  // One read into a buffer of the file's size (a character-wise copy took ~1 s per 400 MB).
+  const std::streamoff size = in.tellg();
+  if (size < 0) fail("cannot read ", what, " ", path);
+  std::string bytes(static_cast<size_t>(size), '\0');
+  in.seekg(0);
+  if (!in.read(bytes.data(), size)) fail("cannot read ", what, " ", path);
   const size_t n = bytes.size();
   // A checksummed file ends in the end record and the comment "nsf-crc32 xxxxxxxx".
   const bool checked =
