@@ -200,9 +200,8 @@ void run_report(const ReportArgs& a) {
   // both invocations rather than the last one.
   std::ofstream(page + ".tmp") << results_markdown(
       rows,
-      "nsf report --size small|paper [--quadrature k] [--tracked] [--beyond-sweep] [--decoder F]`, "
-      "the "
-      "`*_paper` rows with `--size paper");
+      "nsf report --size small|paper [--quadrature k] [--tracked] [--beyond-sweep] "
+      "[--decoder F]`, the `*_paper` rows with `--size paper");
   fs::rename(page + ".tmp", page);
   std::printf("wrote %s (%zu rows)\n", page.c_str(), rows.size());
   if (!failed.empty()) {
