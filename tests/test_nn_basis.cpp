@@ -349,3 +349,45 @@ TEST_F(BasisModel, AnotherScenesParticlesAreAClearError) {
   EXPECT_THROW(nf.check_scene("synthetic", fewer.X, "scene 'fewer'"), nsf::Error);
   EXPECT_THROW(nf.model().deform(torch::zeros({1, 3}), torch::zeros({1, 2})), nsf::Error);
 }
+
+// --encoder modes: no encoder training; the latent of a frame is its first r coefficients of
+// x − X over their spreads, the model holds the fields as the trained encoder's does, and the
+// choice survives saving. It needs the bases (an MLP model has none to project on).
+TEST_F(BasisModel, ModesEncoderIsTheProjectionOnTheLeadingModes) {
+  nsf::TrainOptions o = basis_options();
+  o.config.net.encoder = "modes";
+  const std::string m = (root_ / "modes.nsf").string();
+  ASSERT_TRUE(nsf::train_model(data(), m, o).completed);
+  NeuralFields nf = NeuralFields::load(m);
+  EXPECT_EQ(nf.model().config.encoder, "modes");
+  const nsf::Dataset d(data());
+  const std::vector<Vec3> x = d.read_positions(d.test()[0], 5);
+  const Latent z = nf.encode(x);
+  const nsf::PointBasis& u = nf.bases()->u;
+  const torch::Tensor spread = nf.model().basis[0].scale;
+  ASSERT_EQ(z.size(), 2);
+  for (int i = 0; i < 2; ++i) {
+    double c = 0;
+    for (size_t p = 0; p < u.points; ++p)
+      for (int k = 0; k < 3; ++k)
+        c += double(u.modes[(p * 3 + size_t(k)) * size_t(u.K) + size_t(i)]) *
+             (x[p][k] - nf.bases()->rest[p][k] - double(u.mean[p * 3 + size_t(k)]));
+    EXPECT_NEAR(z[i], c / spread[i].item<double>(), 1e-4 * (1 + std::abs(z[i]))) << i;
+  }
+  nsf::EvalOptions e;
+  for (const nsf::EvalRow& r : nsf::evaluate_model(m, data(), e)) {
+    EXPECT_LT(r.delta, 0.01) << r.run;
+    EXPECT_LT(r.stress_error, 0.2) << r.run;
+    std::printf("modes encoder, run %s: delta %.4f%%, stress %.2f%%, affine %.2f%%\n",
+                r.run.c_str(), 100 * r.delta, 100 * r.stress_error, 100 * r.affine_error);
+  }
+  const std::string copy = (root_ / "modes_copy.nsf").string();
+  nsf::NeuralModel::load(m).save(copy);
+  EXPECT_EQ(nsf::NeuralModel::load(copy).config.encoder, "modes");
+  EXPECT_TRUE(bit_identical(outputs(m, data()), outputs(copy, data())));
+  nsf::TrainOptions mlp = o;
+  mlp.config.net.decoder = "mlp";
+  nsf::testing::expect_contains(
+      nsf::testing::error_of([&] { nsf::train_model(data(), (root_ / "no.nsf").string(), mlp); }),
+      "the modes encoder needs the basis decoders");
+}

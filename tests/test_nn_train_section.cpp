@@ -107,6 +107,29 @@ TEST(TrainSection, SetsTheDecoderFamilyUnlessTheCommandLineGivesOne) {
   EXPECT_EQ(config.net.decoder, "mlp");
 }
 
+// The encoder of a basis model: the recipe's unless the command line gives one, and never on
+// an MLP model (--decoder mlp over a scene whose recipe names the modes encoder).
+TEST(TrainSection, SetsABasisModelsEncoderUnlessTheCommandLineGivesOne) {
+  const TrainSection t = parse_train_section(json::parse(R"({"encoder": "modes"})"));
+  EXPECT_EQ(t.encoder, "modes");
+  EXPECT_EQ(recipe_taken(t, {}), "encoder modes");
+  TrainConfig config;
+  app::apply_plan(with_train_section(TrainPlan(), t, {}), config);
+  EXPECT_EQ(config.net.encoder, "modes");
+  GivenOnCommandLine e;
+  e.encoder = true;
+  EXPECT_EQ(with_train_section(TrainPlan(), t, e).encoder, "");
+  EXPECT_EQ(recipe_taken(t, e), "");
+  TrainPlan mlp;
+  mlp.decoder = "mlp";
+  GivenOnCommandLine d;
+  d.decoder = true;
+  TrainConfig other;
+  app::apply_plan(with_train_section(mlp, t, d), other);
+  EXPECT_EQ(other.net.decoder, "mlp");
+  EXPECT_EQ(other.net.encoder, "network");
+}
+
 // `nsf report --decoder F`: the scene's own family keeps models/NAME.nsf and the plain rows; the
 // other family gets a model and rows of its own, so it never overwrites the scene's.
 TEST(TrainSection, ReportKeepsTheOtherFamilysModelAndRowsApart) {
@@ -143,6 +166,7 @@ TEST(TrainSection, NamesTheKeyAtFault) {
   expect_rejected({{"latent_dim", 2.5}}, {"train.latent_dim"});
   expect_rejected({{"decoder", "svd"}}, {"train.decoder", "\"mlp\" or \"basis\"", "svd"});
   expect_rejected({{"decoder", 1}}, {"train.decoder"});
+  expect_rejected({{"encoder", "pca"}}, {"train.encoder", "\"network\" or \"modes\"", "pca"});
   expect_rejected(5, {"'train'"});
 }
 

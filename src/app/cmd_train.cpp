@@ -45,7 +45,8 @@ struct TrainArgs {
   int coefficient_width = 0, coefficient_depth = 0;
   std::vector<std::string> coefficients;
   std::string affine_input;
-  std::string json;  // --json: the run's row (per stage: steps, seconds, throughput)
+  std::string encoder;  // --encoder network|modes
+  std::string json;     // --json: the run's row (per stage: steps, seconds, throughput)
   TrainOptions opt;
 };
 
@@ -94,6 +95,7 @@ std::string apply_recipe(const TrainSection& t, const TrainArgs& a, TrainConfig&
   given.encoder_max_length = a.encoder_max_length > 0;
   given.latent_dim = a.r > 0;
   given.decoder = !a.decoder.empty();
+  given.encoder = !a.encoder.empty();
   given.frames_per_batch = !a.frames.empty();
   given.particles_per_frame = !a.particles.empty();
   TrainPlan plan;  // widths, encoder length and batches 0: c's stay unless the recipe sets them
@@ -134,6 +136,7 @@ void write_json(const TrainArgs& a, const TrainReport& r, int threads) {
     j["coefficients"] = {{"tau", a.opt.config.net.coefficients[0]},
                          {"C", a.opt.config.net.coefficients[1]},
                          {"affine_reads_velocity", a.opt.config.net.affine_reads_velocity()}};
+  if (a.opt.config.net.decoder == "basis") j["encoder"] = a.opt.config.net.encoder;
   j["peak_memory_mib"] = peak_rss_mib();
   for (int s = 0; s < kStageCount; ++s) {
     const StageReport& st = r.stages[s];
@@ -195,6 +198,7 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
   if (a.encoder_max_length > 0) c.net.encoder_max_length = a.encoder_max_length;
   if (a.no_mu) c.net.stress_uses_mu = false;
   if (!a.decoder.empty()) c.net.decoder = a.decoder;
+  if (c.net.decoder != "basis" && a.encoder.empty()) c.net.encoder = "network";  // a recipe's
   if (a.modes.size() == 1) c.net.modes = {a.modes[0], a.modes[0], a.modes[0]};
   if (a.modes.size() == 3) c.net.modes = {a.modes[0], a.modes[1], a.modes[2]};
   if (!a.modes.empty() && a.modes.size() != 3 && a.modes.size() != 1)
@@ -209,16 +213,18 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
   if (a.coefficients.size() > 2)
     fail("--coefficients takes one kind for tau and C or two (tau,C), got ", a.coefficients.size());
   if (!a.affine_input.empty()) c.net.affine_uses_velocity = a.affine_input == "velocity";
+  if (!a.encoder.empty()) c.net.encoder = a.encoder;
   if (a.affine_input == "velocity" && c.net.coefficients[1] != "map")
     fail(
         "--affine-input velocity needs C's coefficients from a map (--coefficients TAU,map): "
         "the coefficient networks take the latent alone");
   const bool basis_flags = !a.modes.empty() || a.coefficient_width > 0 || a.coefficient_depth > 0 ||
-                           !a.coefficients.empty() || !a.affine_input.empty();
+                           !a.coefficients.empty() || !a.affine_input.empty() ||
+                           a.encoder == "modes";
   if (basis_flags && c.net.decoder != "basis")
     fail(
-        "--modes, --coefficient-*, --coefficients and --affine-input shape the per-point bases: "
-        "give --decoder basis");
+        "--modes, --coefficient-*, --coefficients, --affine-input and --encoder modes shape the "
+        "per-point bases: give --decoder basis");
   set_per_stage(a.size.steps, c.steps, "--steps");
   set_per_stage(a.epochs, a.opt.epochs, "--epochs");
   set_per_stage(a.frames, c.frames_per_batch, "--frames-per-batch");
@@ -228,23 +234,24 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
     if (a.r > 0 || a.depth > 0 || a.width_g > 0 || a.width_h > 0 || a.width_l > 0 ||
         a.encoder_channels > 0 || a.encoder_hidden > 0 || a.encoder_max_length > 0 || a.no_mu ||
         !a.decoder.empty() || !a.modes.empty() || a.coefficient_width > 0 ||
-        a.coefficient_depth > 0)
+        a.coefficient_depth > 0 || !a.encoder.empty())
       fail("--base-model ", a.opt.base_model,
-           " fixes the networks' shapes: drop -r, --depth, --widths, --encoder-*, --no-mu, "
+           " fixes the networks' shapes: drop -r, --depth, --widths, --encoder*, --no-mu, "
            "--decoder, --modes and --coefficient-width/depth");
     if (lead) std::fprintf(stderr, "  networks: those of %s\n", a.opt.base_model.c_str());
   } else if (c.net.decoder == "basis") {
     if (lead)
       std::fprintf(stderr,
                    "  decoders: per-point bases of K = %d (x), %d (tau), %d (C) modes, coefficient "
-                   "network %d x %d for x, %s; r = %d (Table 1 row '%s')\n",
+                   "network %d x %d for x, %s; r = %d (Table 1 row '%s')%s\n",
                    c.net.modes[0], c.net.modes[1], c.net.modes[2], c.net.coefficient_depth,
                    c.net.coefficient_width,
                    (std::string(c.net.uses_map(1) ? "map" : "network") + " for tau, " +
                     (c.net.uses_map(2) ? "map" : "network") + " for C" +
                     (c.net.affine_reads_velocity() ? " (of the latent velocity too)" : ""))
                        .c_str(),
-                   c.net.latent_dim, row.c_str());
+                   c.net.latent_dim, row.c_str(),
+                   c.net.encoder == "modes" ? "; encoder: the first r modes of x - X" : "");
   } else if (lead) {
     std::fprintf(
         stderr, "  networks (Table 1 row '%s'): r = %d, depth %d, widths g %d, h %d, l %d\n",
@@ -370,6 +377,11 @@ void add_nn_commands(CLI::App& app) {
                   "What C's coefficient map reads: velocity (the default: the latent, mu and the "
                   "latent velocity) or latent (the latent alone)")
       ->check(CLI::IsMember({"latent", "velocity"}));
+  cmd->add_option("--encoder", a->encoder,
+                  "The encoder of a basis model: network (the default: App. E's convolutions, "
+                  "trained with c_u) or modes (the latent is the training frames' r leading "
+                  "coefficients of x - X, no training; docs/TRAINING.md, \"Encoders\")")
+      ->check(CLI::IsMember({"network", "modes"}));
   cmd->add_flag("--no-scene-recipe", a->no_scene_recipe,
                 "Ignore the scene's \"train\" section (steps, widths, encoder length, batches) and "
                 "use the defaults: Table 1's widths, the documented steps");

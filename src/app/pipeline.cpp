@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "data/sweep.h"
 #include "nn/dataset.h"
+#include "nn/model.h"
 #include "nn/neural_fields.h"
 #include "nn/trainer.h"
 
@@ -65,6 +66,8 @@ void apply_plan(const TrainPlan& plan, TrainConfig& config) {
     if (plan.widths[n] > 0) *widths[n] = plan.widths[n];
   if (plan.encoder_max_length > 0) config.net.encoder_max_length = plan.encoder_max_length;
   if (plan.latent_dim > 0) config.net.latent_dim = plan.latent_dim;
+  // A recipe's encoder is a basis model's: with --decoder mlp over a basis recipe it stays out.
+  if (!plan.encoder.empty() && config.net.decoder == "basis") config.net.encoder = plan.encoder;
   for (int s = 0; s < kStageCount; ++s) {
     if (plan.frames_per_batch[s] > 0) config.frames_per_batch[s] = plan.frames_per_batch[s];
     if (plan.particles_per_frame[s] > 0)
@@ -82,6 +85,11 @@ bool ensure_model(const std::string& data, const std::string& model, const Train
       const std::string wanted = plan.decoder.empty() ? NetConfig().decoder : plan.decoder;
       if (f.decoder() != wanted)
         fail("it holds ", f.decoder(), " decoders, not ", wanted, " (--decoder)");
+      const std::string encoder =
+          wanted == "basis" && !plan.encoder.empty() ? plan.encoder : NetConfig().encoder;
+      if (f.model().config.encoder != encoder)
+        fail("its encoder is '", f.model().config.encoder, "', the scene's recipe asks for '",
+             encoder, "'");
       std::printf("   reusing %s (delete it to retrain)\n", model.c_str());
       return false;
     } catch (const Error& e) {

@@ -23,6 +23,12 @@ struct NetConfig {
   // the default: more accurate and ~60x cheaper per point than "mlp", the paper's coordinate
   // networks f(X, ẑ), on every scene measured.
   std::string decoder = "basis";
+  // The encoder of a basis model: "network", App. E's convolutions trained with c_u in stage 1,
+  // or "modes", no training: ẑ_i is the training frames' i-th coefficient of x − X (its
+  // projection on the i-th mode of B_u, over that coefficient's spread), so the latent is the
+  // frames' r leading principal components and c_u only adds what they imply of the other modes
+  // (docs/TRAINING.md, "Encoders").
+  std::string encoder = "network";
   std::array<int, 3> modes = {32, 64, 64};             // K of x − X, τ and C (basis)
   int coefficient_width = 128, coefficient_depth = 3;  // the coefficient networks (basis)
   // How a basis model's stages 2 and 3 give τ's and C's coefficients: "network", small ELU

@@ -23,6 +23,10 @@ constexpr int64_t kBasisFormatVersion = 4;
 // 5: a basis model whose τ and C coefficients are maps (nn/rbf_map.h), which an older nsf would
 // take for its untrained networks: it refuses the file.
 constexpr int64_t kMapFormatVersion = 5;
+// 6: a basis model whose encoder is the projection on its leading modes ("encoder" = "modes"),
+// which an older nsf would take for its untrained convolutions: it refuses the file.
+constexpr int64_t kModesEncoderFormatVersion = 6;
+constexpr int64_t kNewestFormatVersion = kModesEncoderFormatVersion;
 constexpr const char* kMapParts[5] = {"centers", "weights", "poly", "shift", "scale"};
 constexpr const char* kBasisNames[3] = {"u", "tau", "C"};
 constexpr int64_t kBasisDims[3] = {3, 6, 9};
@@ -107,6 +111,13 @@ NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
     : config(c), scene(s), has_mu(mu) {
   const int64_t r = c.latent_dim;
   encoder = Encoder(s.particles, r, c.encoder_hidden, c.encoder_channels, c.encoder_max_length);
+  if (c.encoder != "network" && c.encoder != "modes")
+    fail("unknown encoder '", c.encoder, "' (known: network, modes)");
+  if (c.encoder == "modes" && c.decoder != "basis")
+    fail("the modes encoder needs the basis decoders (--decoder basis): it projects on B_u");
+  if (c.encoder == "modes" && c.latent_dim > c.modes[0])
+    fail("the modes encoder takes the first r = ", c.latent_dim, " of the ", c.modes[0],
+         " modes of x - X: r must not exceed K");
   if (c.decoder == "basis") {
     for (int f = 0; f < 3; ++f) {
       if (c.modes[f] < 1) fail("a basis model needs at least one mode per field, got ", c.modes[f]);
@@ -131,9 +142,10 @@ NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
 
 void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   a.write("format", c10::IValue(std::string(kFormat)));
-  a.write("format_version", c10::IValue(config.uses_maps() ? kMapFormatVersion
-                                        : is_basis()       ? kBasisFormatVersion
-                                                           : kFormatVersion));
+  a.write("format_version", c10::IValue(config.encoder == "modes" ? kModesEncoderFormatVersion
+                                        : config.uses_maps()      ? kMapFormatVersion
+                                        : is_basis()              ? kBasisFormatVersion
+                                                                  : kFormatVersion));
   a.write("nsf_version", c10::IValue(std::string(NSF_VERSION)));
   a.write("scene_name", c10::IValue(scene.scene_name));
   a.write("scene_particles", c10::IValue(scene.particles));
@@ -173,6 +185,7 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
     a.write("decoder", c10::IValue(config.decoder));
     a.write("coefficient_width", c10::IValue(int64_t(config.coefficient_width)));
     a.write("coefficient_depth", c10::IValue(int64_t(config.coefficient_depth)));
+    if (config.encoder == "modes") a.write("encoder_kind", c10::IValue(config.encoder));
     if (config.uses_maps()) {
       a.write("coefficients_tau", c10::IValue(config.coefficients[0]));
       a.write("coefficients_C", c10::IValue(config.coefficients[1]));
@@ -241,10 +254,10 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   if (!a.try_read("format", format) || !format.isString() || format.toStringRef() != kFormat)
     fail(path, " is not an nsf model file (no 'format' = '", kFormat, "' entry)");
   const int64_t version = read_value(a, "format_version", path).toInt();
-  if (version > kMapFormatVersion)
+  if (version > kNewestFormatVersion)
     fail("model file ", path, " has format version ", version, "; this nsf reads up to ",
-         kMapFormatVersion, " (written by nsf ", read_value(a, "nsf_version", path).toStringRef(),
-         ")");
+         kNewestFormatVersion, " (written by nsf ",
+         read_value(a, "nsf_version", path).toStringRef(), ")");
   auto integer = [&](const char* key) {
     return model_size_entry(read_value(a, key, path).toInt(), key, path);
   };
@@ -279,6 +292,12 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
                "'; known: map, network)");
       }
       c.affine_uses_velocity = read_value(a, "affine_uses_velocity", path).toBool();
+    }
+    if (version >= kModesEncoderFormatVersion) {
+      c.encoder = read_value(a, "encoder_kind", path).toStringRef();
+      if (c.encoder != "modes" && c.encoder != "network")
+        fail("model file ", path, ": damaged entry 'encoder_kind' ('", c.encoder,
+             "'; known: modes, network)");
     }
   } else {
     c.decoder = "mlp";  // the only family before format version 4
@@ -441,6 +460,15 @@ torch::Tensor NeuralModel::coefficients(int field, const torch::Tensor& z,
 }
 
 torch::Tensor NeuralModel::encode(const torch::Tensor& x) {
+  if (config.encoder == "modes") {
+    // ẑ_i = Σ_p B_p,i · (x_p − X_p − mean_p) / spread_i for the first r modes (orthonormal over
+    // the particles in the fit's norm, which for x − X is the plain one).
+    const BasisField& b = basis[0];
+    const int64_t r = latent_dim();
+    const torch::Tensor u = (x - rest.unsqueeze(0) - b.mean.unsqueeze(0)).reshape({x.size(0), -1});
+    const torch::Tensor B = b.modes.narrow(2, 0, r).reshape({-1, r});
+    return torch::matmul(u, B) / b.scale.narrow(0, 0, r);
+  }
   const torch::Tensor xn = displacement ? norm_u.apply(x - rest.unsqueeze(0)) : norm_x.apply(x);
   return encoder->forward(xn.reshape({x.size(0), -1}));
 }

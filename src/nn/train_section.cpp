@@ -9,6 +9,17 @@ namespace nsf {
 
 namespace {
 
+// The string at `key`, which must be `a` or `b`; "" when absent.
+std::string one_of(const nlohmann::json& train, const std::string& path, const char* key,
+                   const char* a, const char* b) {
+  if (!train.contains(key)) return "";
+  const nlohmann::json& v = train.at(key);
+  if (!v.is_string() || (v.get<std::string>() != a && v.get<std::string>() != b))
+    fail("scene: '", json::child(path, key), "' must be \"", a, "\" or \"", b, "\", got ",
+         v.dump());
+  return v.get<std::string>();
+}
+
 // Three positive integers, each at most `hi`.
 template <typename T>
 std::array<T, 3> positive_triple(const nlohmann::json& j, const std::string& path, long hi) {
@@ -29,7 +40,7 @@ std::array<T, 3> positive_triple(const nlohmann::json& j, const std::string& pat
 TrainSection parse_train_section(const nlohmann::json& train, const std::string& path) {
   json::require_object(train, path);
   json::check_keys(train, path,
-                   {"steps", "widths", "encoder_max_length", "latent_dim", "decoder",
+                   {"steps", "widths", "encoder_max_length", "latent_dim", "decoder", "encoder",
                     "frames_per_batch", "particles_per_frame"});
   TrainSection t;
   if (train.contains("steps"))
@@ -46,13 +57,8 @@ TrainSection parse_train_section(const nlohmann::json& train, const std::string&
          "' must be at least 5 (the convolution kernel is 6), or 0 for App. E's, got ",
          t.encoder_max_length);
   t.latent_dim = json::get_int(train, path, "latent_dim", 0, 1, 1024);
-  if (train.contains("decoder")) {
-    const nlohmann::json& d = train.at("decoder");
-    if (!d.is_string() || (d.get<std::string>() != "mlp" && d.get<std::string>() != "basis"))
-      fail("scene: '", json::child(path, "decoder"), "' must be \"mlp\" or \"basis\", got ",
-           d.dump());
-    t.decoder = d.get<std::string>();
-  }
+  t.decoder = one_of(train, path, "decoder", "mlp", "basis");
+  t.encoder = one_of(train, path, "encoder", "network", "modes");
   return t;
 }
 
@@ -65,6 +71,7 @@ TrainPlan with_train_section(TrainPlan plan, const TrainSection& section,
     plan.encoder_max_length = section.encoder_max_length;
   if (section.latent_dim > 0 && !given.latent_dim) plan.latent_dim = section.latent_dim;
   if (!section.decoder.empty() && !given.decoder) plan.decoder = section.decoder;
+  if (!section.encoder.empty() && !given.encoder) plan.encoder = section.encoder;
   if (section.frames_per_batch && !given.frames_per_batch)
     plan.frames_per_batch = *section.frames_per_batch;
   if (section.particles_per_frame && !given.particles_per_frame)
@@ -86,6 +93,7 @@ std::string recipe_taken(const TrainSection& section, const GivenOnCommandLine& 
     out << "encoder_max_length " << section.encoder_max_length << "; ";
   if (section.latent_dim > 0 && !given.latent_dim) out << "r " << section.latent_dim << "; ";
   if (!section.decoder.empty() && !given.decoder) out << "decoder " << section.decoder << "; ";
+  if (!section.encoder.empty() && !given.encoder) out << "encoder " << section.encoder << "; ";
   if (section.frames_per_batch && !given.frames_per_batch)
     triple("frames_per_batch", *section.frames_per_batch);
   if (section.particles_per_frame && !given.particles_per_frame)

@@ -17,6 +17,7 @@ struct TrainSection {
   int encoder_max_length = 0;                // 0: App. E's (the encoder's default)
   int latent_dim = 0;                        // r; 0: Table 1's for the scene
   std::string decoder;                       // "mlp" or "basis"; "": the commands' default
+  std::string encoder;                       // "network" or "modes" (basis); "": the default
   // A stage's batch: frames, then particles within each frame.
   std::optional<std::array<int, 3>> frames_per_batch, particles_per_frame;
 };
@@ -34,6 +35,7 @@ struct TrainPlan {
   std::array<int, 3> frames_per_batch = {0, 0, 0};     // per stage; 0: the trainer's default
   std::array<int, 3> particles_per_frame = {0, 0, 0};  // likewise
   std::string decoder;       // the decoder family, "mlp" or "basis"; "": NetConfig's default
+  std::string encoder;       // a basis model's encoder, "network" or "modes"; "": NetConfig's
   bool steps_given = false;  // a command line gave the steps (else a family may set its own)
 };
 
@@ -44,6 +46,7 @@ struct GivenOnCommandLine {
   bool encoder_max_length = false, frames_per_batch = false, particles_per_frame = false;
   bool latent_dim = false;
   bool decoder = false;
+  bool encoder = false;
 };
 
 // `plan` with the section's values in place of those the command line did not give.

@@ -239,6 +239,7 @@ std::string Trainer::config_key() const {
   if (n.encoder_max_length != EncoderImpl::kMaxLength)
     os << " encoder_max_length=" << n.encoder_max_length;
   if (cfg_.mix_frames > 0) os << " mix_frames=" << cfg_.mix_frames;
+  if (n.encoder != "network") os << " encoder=" << n.encoder;
   if (n.decoder != "mlp")
     os << " decoder=" << n.decoder << " modes=" << n.modes[0] << "," << n.modes[1] << ","
        << n.modes[2] << " coefficients=" << n.coefficient_width << "x" << n.coefficient_depth;
@@ -436,7 +437,7 @@ void Trainer::refine_latents() {
 std::vector<torch::Tensor> Trainer::stage_parameters() {
   if (model_.is_basis()) {
     auto p = model_.basis[stage_].net->parameters();
-    if (stage_ == 0)
+    if (stage_ == 0 && model_.config.encoder == "network")
       for (auto& t : model_.encoder->parameters()) p.insert(p.begin(), t);
     return p;
   }
