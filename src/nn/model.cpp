@@ -23,7 +23,7 @@ constexpr int64_t kBasisFormatVersion = 4;
 // 5: a basis model whose τ and C coefficients are maps (nn/rbf_map.h), which an older nsf would
 // take for its untrained networks: it refuses the file.
 constexpr int64_t kMapFormatVersion = 5;
-// 6: a basis model whose encoder is the projection on its leading modes ("encoder" = "modes"),
+// 6: a basis model whose encoder is the projection on its leading modes (`encoder_kind` = modes),
 // which an older nsf would take for its untrained convolutions: it refuses the file.
 constexpr int64_t kModesEncoderFormatVersion = 6;
 constexpr int64_t kNewestFormatVersion = kModesEncoderFormatVersion;
