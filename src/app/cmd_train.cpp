@@ -169,6 +169,8 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
                    data.incomplete().c_str());
     refuse_overwriting_inputs(a, data);
     c.net = default_net_config(data.scene_name(), &row);
+    // Before the recipe, so that a basis recipe's encoder stays off an MLP model (apply_plan).
+    if (!a.decoder.empty()) c.net.decoder = a.decoder;
     if (lead)
       std::fprintf(stderr,
                    "nsf train: %s, scene '%s', %zu particles, %zu training runs, %zu test "
@@ -197,8 +199,6 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
   if (a.encoder_hidden > 0) c.net.encoder_hidden = a.encoder_hidden;
   if (a.encoder_max_length > 0) c.net.encoder_max_length = a.encoder_max_length;
   if (a.no_mu) c.net.stress_uses_mu = false;
-  if (!a.decoder.empty()) c.net.decoder = a.decoder;
-  if (c.net.decoder != "basis" && a.encoder.empty()) c.net.encoder = "network";  // a recipe's
   if (a.modes.size() == 1) c.net.modes = {a.modes[0], a.modes[0], a.modes[0]};
   if (a.modes.size() == 3) c.net.modes = {a.modes[0], a.modes[1], a.modes[2]};
   if (!a.modes.empty() && a.modes.size() != 3 && a.modes.size() != 1)
