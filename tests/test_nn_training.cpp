@@ -398,6 +398,21 @@ TEST_F(NnTraining, TrainCommandFollowsTheScenesRecipe) {
             std::string::npos)
       << out;
 
+  // --scene: the recipe of the scene file as edited since the sweep, not the runs' stored one;
+  // a file of another scene is refused before anything trains.
+  const fs::path edited = root_ / "recipe_edited.json";
+  std::ofstream(edited) << R"({"name": "synthetic", "train": {"steps": [5, 4, 3],
+                              "widths": [8, 12, 16]}})";
+  ASSERT_EQ(train("recipe_file", "--scene '" + edited.string() + "'", out), 0) << out;
+  EXPECT_NE(out.find("widths g 8, h 12, l 16"), std::string::npos) << out;
+  EXPECT_EQ(stage_steps("recipe_file"), (std::vector<size_t>{5, 4, 3}));
+  const fs::path other = root_ / "recipe_other.json";
+  std::ofstream(other) << R"({"name": "metal_small", "train": {"steps": [5, 4, 3]}})";
+  EXPECT_NE(train("recipe_other", "--scene '" + other.string() + "'", out), 0);
+  EXPECT_NE(out.find("its scene is 'metal_small', the dataset's is 'synthetic'"), std::string::npos)
+      << out;
+  EXPECT_FALSE(fs::exists(root_ / "recipe_other.nsf"));
+
   // A malformed recipe stops training with the key at fault, and writes no model.
   const fs::path bad = root_ / "recipe_bad";
   nsf::test::write_synthetic_dataset(bad, 64, 7, 4, {0.5, 1.0},

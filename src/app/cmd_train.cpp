@@ -12,6 +12,7 @@
 #include "app/common_options.h"
 #include "app/latent_prior_calibration.h"
 #include "app/pipeline.h"
+#include "app/scene_file.h"
 #include "app/train_size_options.h"
 #include "app/train_team.h"
 #include "core/cpu_model.h"
@@ -46,6 +47,7 @@ struct TrainArgs {
   std::vector<std::string> coefficients;
   std::string affine_input;
   std::string encoder;  // --encoder network|modes
+  std::string scene;    // --scene: the recipe from this scene file, not the dataset's own
   std::string json;     // --json: the run's row (per stage: steps, seconds, throughput)
   TrainOptions opt;
 };
@@ -76,10 +78,32 @@ void check_stage_options(TrainArgs& a) {
 }
 
 // The "train" section of the scene the dataset was simulated from, as its first run stored it
-// (docs/SCENES.md, "Training recipe"); none for a scene without one.
-std::optional<TrainSection> scene_recipe(const Dataset& data) {
+// (docs/SCENES.md, "Training recipe"), or of `scene_path`'s scene when given (which must be the
+// dataset's scene); none for a scene without one. A dataset keeps its scene as it was swept, so
+// a recipe edited in the scene file since is named, with the flag that takes it.
+std::optional<TrainSection> scene_recipe(const Dataset& data, const std::string& scene_path,
+                                         bool lead) {
+  if (!scene_path.empty()) {
+    const SceneFile file = read_scene_file(scene_path);
+    const std::string name = file.json.value("name", std::string());
+    if (name != data.scene_name())
+      fail("--scene ", scene_path, ": its scene is '", name, "', the dataset's is '",
+           data.scene_name(), "'");
+    return file.sections.train;
+  }
   const nlohmann::json scene = nlohmann::json::parse(data.scene_json(), nullptr, false);
-  if (scene.is_discarded() || !scene.is_object() || !scene.contains("train")) return std::nullopt;
+  if (scene.is_discarded() || !scene.is_object()) return std::nullopt;
+  const std::string file = dataset_scene_file(data.dir());
+  if (lead && !file.empty()) {
+    const nlohmann::json now = read_scene_file(file).json;
+    const nlohmann::json none = nlohmann::json::object();
+    if (now.value("train", none) != scene.value("train", none))
+      std::fprintf(stderr,
+                   "  note: %s's \"train\" section is not the one this dataset was swept with, "
+                   "which this training takes; --scene %s takes the file's\n",
+                   file.c_str(), file.c_str());
+  }
+  if (!scene.contains("train")) return std::nullopt;
   try {
     return parse_train_section(scene.at("train"));
   } catch (const Error& e) {
@@ -177,7 +201,7 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
                    "runs%s\n",
                    a.data.c_str(), data.scene_name().c_str(), data.particle_count(),
                    data.train().size(), data.test().size(), data.has_mu() ? " (with mu)" : "");
-    const std::optional<TrainSection> recipe = scene_recipe(data);
+    const std::optional<TrainSection> recipe = scene_recipe(data, a.scene, lead);
     if (recipe && a.no_scene_recipe) {
       if (lead)
         std::fprintf(stderr, "  the scene's \"train\" recipe is ignored (--no-scene-recipe)\n");
@@ -382,6 +406,10 @@ void add_nn_commands(CLI::App& app) {
                   "trained with c_u) or modes (the latent is the training frames' r leading "
                   "coefficients of x - X, no training; docs/TRAINING.md, \"Encoders\")")
       ->check(CLI::IsMember({"network", "modes"}));
+  cmd->add_option("--scene", a->scene,
+                  "Take the \"train\" recipe from this scene file (the dataset's scene, edited "
+                  "since the sweep) instead of the scene the dataset's runs stored")
+      ->check(CLI::ExistingFile);
   cmd->add_flag("--no-scene-recipe", a->no_scene_recipe,
                 "Ignore the scene's \"train\" section (steps, widths, encoder length, batches) and "
                 "use the defaults: Table 1's widths, the documented steps");
