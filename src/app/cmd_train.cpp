@@ -95,13 +95,16 @@ std::optional<TrainSection> scene_recipe(const Dataset& data, const std::string&
   if (scene.is_discarded() || !scene.is_object()) return std::nullopt;
   const std::string file = dataset_scene_file(data.dir());
   if (lead && !file.empty()) {
-    const nlohmann::json now = read_scene_file(file).json;
-    const nlohmann::json none = nlohmann::json::object();
-    if (now.value("train", none) != scene.value("train", none))
-      std::fprintf(stderr,
-                   "  note: %s's \"train\" section is not the one this dataset was swept with, "
-                   "which this training takes; --scene %s takes the file's\n",
-                   file.c_str(), file.c_str());
+    try {  // only a note: a scene file unreadable now does not stop training on the runs' scene
+      const nlohmann::json now = read_scene_file(file).json;
+      const nlohmann::json none = nlohmann::json::object();
+      if (now.value("train", none) != scene.value("train", none))
+        std::fprintf(stderr,
+                     "  note: %s's \"train\" section is not the one this dataset was swept "
+                     "with, which this training takes; --scene %s takes the file's\n",
+                     file.c_str(), file.c_str());
+    } catch (const Error&) {
+    }
   }
   if (!scene.contains("train")) return std::nullopt;
   try {
