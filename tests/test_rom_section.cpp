@@ -33,6 +33,22 @@ TEST(RomSection, TakesSamplesAndATimeStepRatio) {
   expect_rejected(5, {"'rom'"});
 }
 
+// The cake's schedule: 700 samples, 400 from T/2 on. A smaller initial count (--samples 250)
+// is never raised by it: S only shrinks.
+TEST(RomSection, ASampleScheduleOnlyShrinksS) {
+  SamplingSpec s = parse_rom_section(json::parse(R"({"samples": 700, "sampling": "cluster",
+      "sigma": 0.04, "schedule": [{"fraction": 0.5, "samples": 400}]})"))
+                       .sampling;
+  EXPECT_EQ(nsf::sample_count_at(s, 0.0, 1.0), 700);
+  EXPECT_EQ(nsf::sample_count_at(s, 0.49, 1.0), 700);
+  EXPECT_EQ(nsf::sample_count_at(s, 0.5, 1.0), 400);
+  s.count = 250;  // as --samples 250 sets it
+  EXPECT_EQ(nsf::sample_count_at(s, 0.0, 1.0), 250);
+  EXPECT_EQ(nsf::sample_count_at(s, 0.9, 1.0), 250);
+  expect_rejected({{"samples", 300}, {"schedule", {{{"fraction", 0.5}, {"samples", 400}}}}},
+                  {"rom.schedule", "400", "shrink"});
+}
+
 // A scene's measured ROM settings: quadrature, Gauss–Newton cap and field sources by name; each
 // malformed one is rejected with its key.
 TEST(RomSection, TakesQuadratureIterationsAndFieldSources) {

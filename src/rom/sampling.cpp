@@ -96,8 +96,10 @@ std::vector<uint32_t> rank_samples(const std::vector<Vec3>& X, const SamplingSpe
 
 int sample_count_at(const SamplingSpec& spec, double t, double T) {
   int count = spec.count;
+  // S only shrinks: a later size above the initial one (a --samples below the scene's schedule,
+  // which the scene's own check never saw) keeps the initial.
   for (const auto& c : spec.schedule)
-    if (t >= c.fraction * T) count = c.count;
+    if (t >= c.fraction * T) count = std::min(c.count, spec.count);
   return count;
 }
 

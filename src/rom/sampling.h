@@ -35,7 +35,7 @@ SamplingSpec parse_sampling(const nlohmann::json& rom_section);
 // Throws nsf::Error if the spec asks for more particles than X holds or fewer than one.
 std::vector<uint32_t> rank_samples(const std::vector<Vec3>& X, const SamplingSpec& spec);
 
-// |S| at time t of a run of duration T.
+// |S| at time t of a run of duration T; never above spec.count (S only shrinks).
 int sample_count_at(const SamplingSpec& spec, double t, double T);
 
 }  // namespace nsf
