@@ -6,6 +6,7 @@
 // (BasisDecoders::latent_velocity).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -71,6 +72,25 @@ TEST(CoefficientMap, InterpolatesASmoothFunctionAndReportsItsHeldOutError) {
     err += (m(p) - f(p)).squaredNorm(), norm += f(p).squaredNorm();
   }
   EXPECT_LT(std::sqrt(err / norm), 0.01);
+}
+
+// One training run that no other predicts (a slab that tore another way) must not choose the
+// smoothing for the others: the error reported, and judged by, is the median run's, so it stays
+// that of the smooth runs where a sum over the rows would be the odd run's.
+TEST(CoefficientMap, OneUnpredictableRunDoesNotDecideTheSmoothing) {
+  // Each run its own band of the first input (as each run has its μ), the fourth band the odd one.
+  const Eigen::MatrixXd x = rows(320, 2, 6);
+  std::vector<int> g(320);
+  for (int i = 0; i < 320; ++i) g[size_t(i)] = std::min(7, int((x(i, 0) + 1.0) / 3.0 * 8));
+  Eigen::MatrixXd y(320, 1);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 3.0);
+  for (int i = 0; i < 320; ++i)
+    y(i, 0) = g[size_t(i)] == 3 ? noise(rng) : std::sin(x(i, 0)) + 0.5 * x(i, 1) * x(i, 1);
+  nsf::RbfFitReport report;
+  const nsf::RbfMap m = nsf::fit_rbf(x, y, g, &report);
+  EXPECT_LT(report.cv_error, 0.05);
+  EXPECT_LT(report.smoothing, 1.0);
 }
 
 // ∂c/∂x against central differences, inside the training rows' box; outside it (past half a

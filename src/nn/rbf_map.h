@@ -28,15 +28,17 @@ struct RbfMap {
 
 struct RbfFitReport {
   double smoothing = 0;
-  // Σ‖c − c_train‖² / Σ‖c_train‖² over the rows, each predicted by the map fitted without its
-  // group (leave-group-out cross-validation), at the chosen smoothing; NaN with one group.
+  // Each row predicted by the map fitted without its group's fold (leave-groups-out
+  // cross-validation): the median over the groups of Σ‖c − c_train‖² / Σ‖c_train‖² over the
+  // group's rows, at the chosen smoothing; NaN with one group.
   double cv_error = 0;
   int folds = 0;
 };
 
 // The map through `targets` (N × K) at `inputs` (N × d), its smoothing chosen from a fixed grid
 // by cross-validation over `group` (one id per row: the training run it came from), so that the
-// map is judged on runs it did not see, as at a held-out μ.
+// map is judged on runs it did not see, as at a held-out μ; by the median run, so that one run
+// that no other predicts does not choose for all.
 RbfMap fit_rbf(const Eigen::MatrixXd& inputs, const Eigen::MatrixXd& targets,
                const std::vector<int>& group, RbfFitReport* report = nullptr);
 

@@ -571,7 +571,7 @@ double Trainer::fit_coefficient_map() {
   char line[200];
   std::snprintf(line, sizeof line,
                 "coefficient map of %s: %lld training latents of %lld inputs%s, smoothing %.0e, "
-                "error %.2f%% of the coefficients on runs left out (%d folds)",
+                "error %.2f%% of the coefficients on the median run left out (%d folds)",
                 kStageNames[f], static_cast<long long>(rows), static_cast<long long>(d),
                 with_velocity ? " (z, mu, latent velocity)" : "", m.smoothing,
                 100 * std::sqrt(report.cv_error), report.folds);
