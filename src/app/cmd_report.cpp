@@ -123,8 +123,10 @@ void report_run(const ReportArgs& a, const std::string& scene, const DecoderRows
   std::printf("%s", format_rom_report(r).c_str());
   const std::string picture = "results/" + tag + ".png";
   if (a.check) return check_row(a, tag, result_json(r, scene, model, picture, label));
-  const ComparisonFiles pics = write_comparison(ro.fom_out, ro.out_path, "ground truth",
-                                                "reduced order", a.out + "/" + tag + "_compare");
+  // The row's label in the truth's title: a beyond-sweep or tracked row's picture says so.
+  const std::string truth = label.empty() ? "ground truth" : "ground truth (" + label + ")";
+  const ComparisonFiles pics = write_comparison(ro.fom_out, ro.out_path, truth, "reduced order",
+                                                a.out + "/" + tag + "_compare");
   fs::copy_file(pics.still, a.docs + "/" + picture, fs::copy_options::overwrite_existing);
   write_json_atomically(a.docs + "/results/" + tag + ".json",
                         result_json(r, scene, model, picture, label));
