@@ -112,7 +112,7 @@ RbfMap fit_rbf(const Eigen::MatrixXd& inputs, const Eigen::MatrixXd& targets,
   // Each smoothing is scored by the median over the training runs of each run's relative error
   // when its fold is left out: a run that no other run predicts (the bread run whose slab tears
   // another way: 394 % at any smoothing) would otherwise decide the smoothing for all the others
-  // (bread_small's stress map: 25.8 % on the held-out runs with the sum, 10.7 % with the median).
+  // (bread_small's stress map: 25.2 % on the held-out runs with the sum, 12.6 % with the median).
   double best = std::numeric_limits<double>::infinity(), chosen = kSmoothing[2];
   if (folds >= 2) {
     std::vector<double> norm(fold_of.size(), 0.0);
