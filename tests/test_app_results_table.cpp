@@ -4,8 +4,12 @@
 #include "app/results_table.h"
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 namespace {
 
@@ -101,6 +105,32 @@ TEST(RomResults, ARerunDiffersOnlyWhereAFigureDoes) {
   ASSERT_EQ(d.size(), 6u);  // delta, then the interpolation's three keys and look-up's two
   EXPECT_EQ(d[0].rfind("delta: stored 0.0050812345678901", 0), 0u) << d[0];
   EXPECT_NE(d[1].find("not in the rerun"), std::string::npos) << d[1];
+}
+
+// The page is rebuilt from every stored row, whichever command stored it (`nsf report`, `nsf
+// demo --docs`), and replaces the old page whole.
+TEST(RomResults, ThePageIsRebuiltFromEveryStoredRow) {
+  namespace fs = std::filesystem;
+  const fs::path docs =
+      fs::temp_directory_path() / ("nsf_results_page_" + std::to_string(::getpid()));
+  fs::remove_all(docs);
+  fs::create_directories(docs / "results");
+  nsf::RomReport r;
+  r.particles = 100, r.frames = 2, r.delta = 0.01, r.rom_seconds = 1, r.fom_seconds = 3;
+  for (const char* scene : {"metal_small", "sand_small"}) {
+    r.scene = scene;
+    std::ofstream(docs / "results" / (std::string(scene) + ".json")) << nsf::result_json(
+        r, "s.json", "m.nsf", "p.png", scene == std::string("metal_small") ? "demo" : "");
+  }
+  std::ofstream(docs / "RESULTS.md") << "an old page\n";
+  EXPECT_EQ(nsf::write_results_page(docs.string()), 2u);
+  std::ifstream in(docs / "RESULTS.md");
+  const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(md.find("an old page"), std::string::npos);
+  EXPECT_NE(md.find("metal_small (demo)"), std::string::npos) << md;
+  EXPECT_NE(md.find("| sand_small |"), std::string::npos) << md;
+  EXPECT_FALSE(fs::exists(docs / "RESULTS.md.tmp"));
+  fs::remove_all(docs);
 }
 
 }  // namespace

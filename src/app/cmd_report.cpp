@@ -191,21 +191,8 @@ void run_report(const ReportArgs& a) {
     std::printf("report --check: every row run reproduces its stored figures\n");
     return;
   }
-  std::vector<nlohmann::json> rows;
-  for (const auto& e : fs::directory_iterator(a.docs + "/results"))
-    if (e.path().extension() == ".json") {
-      std::ifstream in(e.path());
-      rows.push_back(nlohmann::json::parse(in));
-    }
-  const std::string page = a.docs + "/RESULTS.md";
-  // The page holds the rows of every size ever made (each kept in results/*.json), so it names
-  // both invocations rather than the last one.
-  std::ofstream(page + ".tmp") << results_markdown(
-      rows,
-      "nsf report --size small|paper [--quadrature k] [--tracked] [--beyond-sweep] "
-      "[--decoder F]`, the `*_paper` rows with `--size paper");
-  fs::rename(page + ".tmp", page);
-  std::printf("wrote %s (%zu rows)\n", page.c_str(), rows.size());
+  const size_t rows = write_results_page(a.docs);
+  std::printf("wrote %s/RESULTS.md (%zu rows)\n", a.docs.c_str(), rows);
   if (!failed.empty()) {
     fail("report: ", failed.size(), " row(s) failed, the others are stored:", all_failed);
   }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -279,6 +281,25 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
     for (const auto& w : j["warnings"]) s << "> warning: " << w.get<std::string>() << "\n\n";
   }
   return s.str();
+}
+
+size_t write_results_page(const std::string& docs) {
+  namespace fs = std::filesystem;
+  std::vector<nlohmann::json> rows;
+  for (const auto& e : fs::directory_iterator(docs + "/results"))
+    if (e.path().extension() == ".json") {
+      std::ifstream in(e.path());
+      rows.push_back(nlohmann::json::parse(in));
+    }
+  const std::string page = docs + "/RESULTS.md";
+  // The page holds the rows of every size ever made (each kept in results/*.json), so it names
+  // both invocations rather than the last one.
+  std::ofstream(page + ".tmp") << results_markdown(
+      rows,
+      "nsf report --size small|paper [--quadrature k] [--tracked] [--beyond-sweep] "
+      "[--decoder F]`, the `*_paper` rows with `--size paper");
+  fs::rename(page + ".tmp", page);
+  return rows.size();
 }
 
 }  // namespace nsf

@@ -25,4 +25,8 @@ std::vector<std::string> row_differences(const nlohmann::json& stored, const nlo
 // The markdown page for all rows (sorted by scene), naming `command` as its source.
 std::string results_markdown(const std::vector<nlohmann::json>& rows, const std::string& command);
 
+// DOCS/RESULTS.md rebuilt from every row stored in DOCS/results/*.json (written to a temporary
+// name, then renamed); returns the number of rows. `nsf report` and `nsf demo --docs` call it.
+size_t write_results_page(const std::string& docs);
+
 }  // namespace nsf
