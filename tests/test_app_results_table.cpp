@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "app/results_table.h"
+#include "core/error.h"
 
 #include <cmath>
 #include <filesystem>
@@ -130,6 +131,12 @@ TEST(RomResults, ThePageIsRebuiltFromEveryStoredRow) {
   EXPECT_NE(md.find("metal_small (demo)"), std::string::npos) << md;
   EXPECT_NE(md.find("| sand_small |"), std::string::npos) << md;
   EXPECT_FALSE(fs::exists(docs / "RESULTS.md.tmp"));
+  // A page that cannot be written is a named error, and the old page stays as it was.
+  fs::create_directories(docs / "RESULTS.md.tmp" / "blocked");
+  EXPECT_THROW(nsf::write_results_page(docs.string()), nsf::Error);
+  std::ifstream again(docs / "RESULTS.md");
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(again)), std::istreambuf_iterator<char>()),
+            md);
   fs::remove_all(docs);
 }
 

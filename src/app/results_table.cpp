@@ -7,6 +7,8 @@
 #include <map>
 #include <sstream>
 
+#include "core/error.h"
+
 namespace nsf {
 
 namespace {
@@ -294,10 +296,19 @@ size_t write_results_page(const std::string& docs) {
   const std::string page = docs + "/RESULTS.md";
   // The page holds the rows of every size ever made (each kept in results/*.json), so it names
   // both invocations rather than the last one.
-  std::ofstream(page + ".tmp") << results_markdown(
-      rows,
-      "nsf report --size small|paper [--quadrature k] [--tracked] [--beyond-sweep] "
-      "[--decoder F]`, the `*_paper` rows with `--size paper");
+  {
+    std::ofstream out(page + ".tmp");
+    out << results_markdown(
+        rows,
+        "nsf report --size small|paper [--quadrature k] [--tracked] [--beyond-sweep] "
+        "[--decoder F]`, the `*_paper` rows with `--size paper");
+    out.close();
+    if (!out) {  // the old page stays whole
+      std::error_code ignored;
+      fs::remove(page + ".tmp", ignored);
+      fail("could not write ", page, ".tmp (disk full, or not writable?)");
+    }
+  }
   fs::rename(page + ".tmp", page);
   return rows.size();
 }
