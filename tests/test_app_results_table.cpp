@@ -3,14 +3,13 @@
 
 #include "app/results_table.h"
 #include "core/error.h"
+#include "mesh_fixtures.h"
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
-
-#include <unistd.h>
 
 namespace {
 
@@ -112,9 +111,8 @@ TEST(RomResults, ARerunDiffersOnlyWhereAFigureDoes) {
 // demo --docs`), and replaces the old page whole.
 TEST(RomResults, ThePageIsRebuiltFromEveryStoredRow) {
   namespace fs = std::filesystem;
-  const fs::path docs =
-      fs::temp_directory_path() / ("nsf_results_page_" + std::to_string(::getpid()));
-  fs::remove_all(docs);
+  const nsf::testing::TempDir dir("results_page");
+  const fs::path& docs = dir.path();
   fs::create_directories(docs / "results");
   nsf::RomReport r;
   r.particles = 100, r.frames = 2, r.delta = 0.01, r.rom_seconds = 1, r.fom_seconds = 3;
@@ -137,7 +135,6 @@ TEST(RomResults, ThePageIsRebuiltFromEveryStoredRow) {
   std::ifstream again(docs / "RESULTS.md");
   EXPECT_EQ(std::string((std::istreambuf_iterator<char>(again)), std::istreambuf_iterator<char>()),
             md);
-  fs::remove_all(docs);
 }
 
 }  // namespace

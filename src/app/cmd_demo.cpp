@@ -88,8 +88,9 @@ void run_demo(const DemoArgs& a) {
     fs::copy_file(pics.still, a.docs + "/results/demo.png", fs::copy_options::overwrite_existing);
     write_json_atomically(a.docs + "/results/demo.json",
                           result_json(r, a.scene, model, "results/demo.png", "demo"));
+    const size_t rows = write_results_page(a.docs);
     std::printf("  stored in %s/results/demo.json, shown in %s/RESULTS.md (%zu rows)\n",
-                a.docs.c_str(), a.docs.c_str(), write_results_page(a.docs));
+                a.docs.c_str(), a.docs.c_str(), rows);
   }
   std::printf("  demo total: %.1f s\n", now_seconds() - start);
 }
