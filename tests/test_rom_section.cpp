@@ -66,10 +66,10 @@ TEST(RomSection, TakesQuadratureIterationsAndFieldSources) {
   // name one.
   const RomSection v = parse_rom_section(json::parse(R"({"fields": {"velocity": "tracked"}})"));
   EXPECT_EQ(v.fields.velocity, "tracked");
-  EXPECT_EQ(with_rom_section(RomOptions(), v, -1).fields.velocity, "tracked");
+  EXPECT_EQ(with_rom_section(RomOptions(), v).fields.velocity, "tracked");
   RomOptions given;
   given.fields.velocity = "latent";
-  EXPECT_EQ(with_rom_section(given, v, -1).fields.velocity, "latent");
+  EXPECT_EQ(with_rom_section(given, v).fields.velocity, "latent");
   EXPECT_EQ(RomOptions().resolved_fields("basis").velocity, "latent");
 
   expect_rejected({{"quadrature", 1.5}}, {"rom.quadrature", "whole number"});
@@ -86,10 +86,22 @@ TEST(RomSection, ALatentPriorOfItsOwnWinsOverTheModelsCalibration) {
   RomOptions o;
   o.latent_prior = 0.5;  // what a caller had before the section
   EXPECT_EQ(with_rom_section(o, none).latent_prior, 0.5);
-  EXPECT_EQ(with_rom_section(o, none, 0.0003).latent_prior, 0.0003);
-  EXPECT_EQ(with_rom_section(o, none, 0.0).latent_prior, 0.0);  // calibrated to none
-  EXPECT_EQ(with_rom_section(o, own, 0.0003).latent_prior, 0.002);
+  EXPECT_EQ(with_rom_section(o, none, {0.0003}).latent_prior, 0.0003);
+  EXPECT_EQ(with_rom_section(o, none, {0.0}).latent_prior, 0.0);  // calibrated to none
+  EXPECT_EQ(with_rom_section(o, own, {0.0003}).latent_prior, 0.002);
   EXPECT_EQ(with_rom_section(o, own).latent_prior, 0.002);
+}
+
+// The ROM's step: the section's, else the model's calibration (> 0), else the options'.
+TEST(RomSection, AStepOfItsOwnWinsOverTheModelsCalibration) {
+  const RomSection none = parse_rom_section(json::parse(R"({"samples": 100})"));
+  const RomSection own = parse_rom_section(json::parse(R"({"dt_ratio": 2})"));
+  RomOptions o;
+  o.dt_ratio = 1.5;
+  EXPECT_EQ(with_rom_section(o, none).dt_ratio, 1.5);
+  EXPECT_EQ(with_rom_section(o, none, {-1, 3}).dt_ratio, 3);
+  EXPECT_EQ(with_rom_section(o, none, {0.001, -1}).dt_ratio, 1.5);  // a prior, but no step chosen
+  EXPECT_EQ(with_rom_section(o, own, {-1, 3}).dt_ratio, 2);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
-// `nsf calibrate models/NAME.nsf data/NAME`: choose the model's latent prior ε on its training
-// runs and store it in the model file (app/latent_prior_calibration.h, docs/ROM.md).
+// `nsf calibrate models/NAME.nsf data/NAME [--dt-ratios 1,1.5,2]`: choose the model's latent prior
+// ε (and the ROM's step) on its training runs and store them in the model file
+// (app/latent_prior_calibration.h, docs/ROM.md).
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -22,13 +23,18 @@ struct CalibrateArgs {
   bool dry_run = false;
 };
 
-// A scene whose rom section sets latent_prior overrides the model's calibration in `nsf rom`.
-void warn_if_scene_overrides(const std::string& scene) {
-  if (const std::optional<double> set = scene_latent_prior(scene))
+// A scene whose rom section sets latent_prior (or dt_ratio, where the step was calibrated)
+// overrides the model's calibration in `nsf rom`.
+void warn_if_scene_overrides(const std::string& scene, bool step) {
+  const auto warn = [&](const char* key, double value, const char* unit) {
     std::fprintf(stderr,
-                 "nsf: warning: scene %s sets rom.latent_prior = %g m, which nsf rom uses ahead "
-                 "of the model's calibration; remove it there to use the calibration\n",
-                 scene.c_str(), *set);
+                 "nsf: warning: scene %s sets rom.%s = %g%s, which nsf rom uses ahead of the "
+                 "model's calibration; remove it there to use the calibration\n",
+                 scene.c_str(), key, value, unit);
+  };
+  if (const std::optional<double> set = scene_latent_prior(scene)) warn("latent_prior", *set, " m");
+  if (const std::optional<double> set = scene_dt_ratio(scene); set && step)
+    warn("dt_ratio", *set, "");
 }
 
 }  // namespace
@@ -38,17 +44,34 @@ void add_calibrate_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "calibrate",
       "Choose a model's latent prior on its training runs (the ROM at each length of a grid, "
-      "the lowest mean delta wins) and store it in the model file");
+      "the lowest mean delta wins), optionally its ROM step, and store them in the model file");
   cmd->add_option("model", a->opt.model_path, "Model file (nsf train); rewritten in place")
       ->required();
   cmd->add_option("data", a->opt.data_dir, "The dataset it was trained on")->required();
   cmd->add_option("--scene", a->opt.scene_path,
                   "Scene file whose rom section the ROM runs with (default: the dataset "
                   "manifest's scene_file)");
+  cmd->add_option("--set", a->opt.overrides,
+                  "Override a scene value for the ROM runs, e.g. --set rom.quadrature=1 (the "
+                  "setting the model will run with)");
   add_list_option(cmd, "--grid", a->opt.grid,
                   "Latent prior lengths to try, metres, comma-separated (0: none; default "
                   "0,0.0001,0.0003,0.001,0.002)",
                   0.0, 1e3);
+  add_list_option(cmd, "--dt-ratios", a->opt.dt_ratios,
+                  "Also choose the ROM's step: ratios to the scene's dt to try, ascending "
+                  "(e.g. 1,1.5,2,3,4); at the chosen prior, the largest whose mean delta is within "
+                  "--dt-tolerance of the first's (or within --dt-budget) wins, and nsf rom takes "
+                  "it where the scene's rom "
+                  "section sets no dt_ratio",
+                  1e-3, 1e3);
+  cmd->add_option("--dt-tolerance", a->opt.dt_tolerance,
+                  "How much larger than the first ratio's mean delta a ratio's may be")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 100.0));
+  cmd->add_option("--dt-budget", a->opt.dt_budget,
+                  "Or at most this mean delta (e.g. 0.01 for 1 %; 0: only --dt-tolerance)")
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--runs", a->opt.runs, "Training runs to measure on, spread over the sweep")
       ->capture_default_str()
       ->check(in_range(1, 1000));
@@ -59,8 +82,9 @@ void add_calibrate_command(CLI::App& app) {
   cmd->callback([a] {
     const CalibrationResult r = calibrate_latent_prior(a->opt);
     std::printf("%s%s", r.table().c_str(), r.summary().c_str());
-    warn_if_scene_overrides(a->opt.scene_path.empty() ? dataset_scene_file(a->opt.data_dir)
-                                                      : a->opt.scene_path);
+    warn_if_scene_overrides(
+        a->opt.scene_path.empty() ? dataset_scene_file(a->opt.data_dir) : a->opt.scene_path,
+        !a->opt.dt_ratios.empty());
     if (!a->json.empty()) write_file_atomic(a->json, r.to_json().dump(2) + "\n");
     if (a->dry_run) return;
     store_calibration(a->opt.model_path, r);

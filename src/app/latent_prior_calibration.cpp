@@ -55,6 +55,94 @@ std::vector<SimulationFile> spread_runs(std::vector<SimulationFile> runs, int co
   return out;
 }
 
+// One ROM run against one training run. δ is +inf where the latent dynamics diverged or the ROM
+// refused the step (the tracked state's CFL bound); any other failure is thrown.
+struct Measured {
+  double delta = 0;
+  double rom_seconds = 0;
+  int frames = 0, steps_per_frame = 0;
+};
+
+Measured measure(const CalibrationOptions& o, const std::string& scene,
+                 const std::vector<std::string>& overrides, const SimulationFile& run, double eps,
+                 std::optional<double> dt_ratio) {
+  RomRunOptions ro;
+  ro.model_path = o.model_path;
+  ro.scene_path = scene;
+  ro.overrides = overrides;
+  ro.mu = run.mu;
+  ro.latent_prior = eps;
+  ro.dt_ratio = dt_ratio;
+  ro.truth_path = run.path;
+  ro.full_order = false;
+  ro.threads = o.threads;
+  ro.quiet = true;
+  Measured m;
+  try {
+    const RomReport rep = run_rom(ro);
+    m.delta = std::isfinite(rep.delta) ? rep.delta : kInf;
+    m.rom_seconds = rep.rom_seconds;
+    m.frames = rep.frames;
+    m.steps_per_frame = rep.rom_steps_per_frame;
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    if (what.find("diverged") == std::string::npos && what.find("CFL bound") == std::string::npos)
+      throw;
+    m.delta = kInf;
+  }
+  return m;
+}
+
+// The step pass: each ratio at ε on the same runs; the largest within tolerance of the first wins.
+StepCalibration calibrate_step(const CalibrationOptions& o, const std::string& scene,
+                               const std::vector<std::string>& overrides,
+                               const std::vector<SimulationFile>& runs, double eps) {
+  StepCalibration s;
+  s.ratios = o.dt_ratios;
+  s.tolerance = o.dt_tolerance;
+  s.budget = o.dt_budget;
+  Progress bar("calibrating the ROM step", long(s.ratios.size() * runs.size()), "runs");
+  long done = 0;
+  const double n = double(runs.size());
+  for (size_t i = 0; i < s.ratios.size(); ++i) {
+    std::vector<double> row(runs.size(), NAN);
+    double sum = 0, seconds = 0;
+    int frames = 0, per_frame = 0;
+    bool stopped = false;
+    for (size_t k = 0; k < runs.size(); ++k) {
+      const Measured m = measure(o, scene, overrides, runs[k], eps, s.ratios[i]);
+      row[k] = m.delta;
+      sum += m.delta;
+      seconds += m.rom_seconds;
+      frames += m.frames;
+      if (m.steps_per_frame) per_frame = m.steps_per_frame;
+      if (!o.quiet) {
+        char what[48];
+        std::snprintf(what, sizeof what, "dt ratio %g", s.ratios[i]);
+        bar.update(++done, what);
+      }
+      // Out: failed, or its runs so far already put the mean over the tolerance.
+      stopped = i > 0 && !std::isinf(m.delta) && k + 1 < runs.size() && sum / n > s.limit;
+      if (std::isinf(m.delta) || stopped) {
+        done += long(runs.size() - k - 1);
+        break;
+      }
+    }
+    s.delta.push_back(row);
+    s.mean.push_back(std::isinf(sum) ? kInf : sum / n);
+    s.stopped.push_back(stopped);
+    s.steps_per_frame.push_back(per_frame);
+    s.rom_ms_per_frame.push_back(frames ? 1e3 * seconds / frames : NAN);
+    if (i == 0 && std::isinf(s.mean[0])) break;  // nothing to hold the others to
+    if (i == 0) s.limit = std::max(s.tolerance * s.mean[0], s.budget);
+  }
+  if (!o.quiet) bar.finish();
+  if (!std::isinf(s.mean[0]))
+    for (size_t i = 0; i < s.mean.size(); ++i)
+      if (!s.stopped[i] && s.mean[i] <= s.limit) s.chosen = s.ratios[i];
+  return s;
+}
+
 std::string millimetres(double eps) {
   if (eps <= 0) return "none";
   char b[32];
@@ -66,6 +154,10 @@ std::string millimetres(double eps) {
 
 std::optional<double> scene_latent_prior(const std::string& scene_path) {
   return app::read_scene_file(scene_path).sections.rom.latent_prior;
+}
+
+std::optional<double> scene_dt_ratio(const std::string& scene_path) {
+  return app::read_scene_file(scene_path).sections.rom.dt_ratio;
 }
 
 std::string dataset_scene_file(const std::string& data_dir) {
@@ -81,13 +173,28 @@ CalibrationResult calibrate_latent_prior(const CalibrationOptions& o) {
     if (!(e >= 0) || !std::isfinite(e))
       fail("calibrate: a latent prior length must be finite and at least 0, got ", e);
   if (o.runs < 1) fail("calibrate: --runs must be at least 1, got ", o.runs);
+  for (size_t i = 0; i < o.dt_ratios.size(); ++i)
+    if (!(o.dt_ratios[i] > 0) || !std::isfinite(o.dt_ratios[i]) ||
+        (i && !(o.dt_ratios[i] > o.dt_ratios[i - 1])))
+      fail(
+          "calibrate: --dt-ratios must be positive and ascending (the first is the reference), "
+          "got ",
+          o.dt_ratios[i], " after ", i ? o.dt_ratios[i - 1] : 0.0);
+  if (!(o.dt_budget >= 0) || !std::isfinite(o.dt_budget))
+    fail("calibrate: --dt-budget must be a delta of at least 0, got ", o.dt_budget);
+  if (!o.dt_ratios.empty() && !(o.dt_tolerance >= 1))
+    fail(
+        "calibrate: --dt-tolerance must be at least 1 (a factor on the first ratio's mean delta), "
+        "got ",
+        o.dt_tolerance);
   const Dataset data(o.data_dir);
   if (!data.has_mu()) fail("calibrate: dataset ", o.data_dir, " has no parameter mu per run");
   const std::string scene = o.scene_path.empty() ? dataset_scene_file(o.data_dir) : o.scene_path;
   if (scene.empty())
     fail("calibrate: dataset ", o.data_dir,
          " names no scene file that exists here (its manifest's scene_file); give --scene");
-  const std::vector<std::string> overrides = manifest_overrides(read_manifest(o.data_dir));
+  std::vector<std::string> overrides = manifest_overrides(read_manifest(o.data_dir));
+  overrides.insert(overrides.end(), o.overrides.begin(), o.overrides.end());
 
   CalibrationResult r;
   r.grid = o.grid;
@@ -106,23 +213,9 @@ CalibrationResult calibrate_latent_prior(const CalibrationOptions& o) {
     double sum = 0;
     bool stopped = false;
     for (size_t k = 0; k < runs.size(); ++k) {
-      RomRunOptions ro;
-      ro.model_path = o.model_path;
-      ro.scene_path = scene;
-      ro.overrides = overrides;
-      ro.mu = runs[k].mu;
-      ro.latent_prior = eps;
-      ro.truth_path = runs[k].path;
-      ro.full_order = false;
-      ro.threads = o.threads;
-      ro.quiet = true;
-      try {
-        const RomReport rep = run_rom(ro);
-        row[k] = std::isfinite(rep.delta) ? rep.delta : kInf;
-      } catch (const Error& e) {
-        if (std::string(e.what()).find("diverged") == std::string::npos) throw;
-        row[k] = kInf;
-      }
+      const std::optional<double> ratio =
+          o.dt_ratios.empty() ? std::nullopt : std::optional<double>(o.dt_ratios[0]);
+      row[k] = measure(o, scene, overrides, runs[k], eps, ratio).delta;
       sum += row[k];
       if (!o.quiet) bar.update(++done, "epsilon " + millimetres(eps));
       // Out: diverged, or its mean can no longer be the lowest (every δ ≥ 0, so sum / n bounds
@@ -142,6 +235,7 @@ CalibrationResult calibrate_latent_prior(const CalibrationOptions& o) {
   const size_t best = size_t(std::min_element(r.mean.begin(), r.mean.end()) - r.mean.begin());
   r.all_diverged = std::isinf(r.mean[best]);
   r.chosen = r.all_diverged ? 0.0 : r.grid[best];
+  if (!o.dt_ratios.empty()) r.step = calibrate_step(o, scene, overrides, runs, r.chosen);
   r.seconds = now_seconds() - start;
   return r;
 }
@@ -165,6 +259,24 @@ nlohmann::json CalibrationResult::to_json() const {
     row["delta"] = nlohmann::json::array();
     for (double d : delta[g]) row["delta"].push_back(number(d));
     j["grid"].push_back(row);
+  }
+  if (step) {
+    nlohmann::json s = {{"tolerance", step->tolerance},
+                        {"budget", step->budget},
+                        {"limit", step->limit},
+                        {"chosen", step->chosen > 0 ? nlohmann::json(step->chosen) : nullptr},
+                        {"ratios", nlohmann::json::array()}};
+    for (size_t i = 0; i < step->mean.size(); ++i) {
+      nlohmann::json row = {{"dt_ratio", step->ratios[i]},
+                            {"steps_per_frame", step->steps_per_frame[i]},
+                            {"mean_delta", number(step->mean[i])},
+                            {"stopped", bool(step->stopped[i])},
+                            {"rom_ms_per_frame", number(step->rom_ms_per_frame[i])}};
+      row["delta"] = nlohmann::json::array();
+      for (double d : step->delta[i]) row["delta"].push_back(number(d));
+      s["ratios"].push_back(row);
+    }
+    j["step"] = s;
   }
   return j;
 }
@@ -199,6 +311,36 @@ std::string CalibrationResult::table() const {
   if (all_diverged)
     s << "  every epsilon diverged on some run: the model keeps no prior (latent prior 0); more "
          "samples or a smaller rom.dt_ratio may hold the dynamics\n";
+  if (step) {
+    s << "ROM step calibration at epsilon " << millimetres(chosen)
+      << ": delta on the same runs; a ratio qualifies at a mean within " << step->tolerance
+      << "x the first's";
+    if (step->budget > 0) s << " or within " << 100 * step->budget << "%";
+    s << "\n";
+    for (size_t i = 0; i < step->mean.size(); ++i) {
+      std::snprintf(line, sizeof line, "  dt ratio %-6g", step->ratios[i]);
+      s << line;
+      for (double d : step->delta[i]) {
+        if (std::isnan(d))
+          std::snprintf(line, sizeof line, " %9s", "-");
+        else if (std::isinf(d))
+          std::snprintf(line, sizeof line, " %9s", "failed");
+        else
+          std::snprintf(line, sizeof line, " %8.3f%%", 100 * d);
+        s << line;
+      }
+      if (std::isinf(step->mean[i]))
+        std::snprintf(line, sizeof line, "   mean -");
+      else if (step->stopped[i])
+        std::snprintf(line, sizeof line, "   mean > %.3f%% (over)", 100 * step->mean[i]);
+      else
+        std::snprintf(line, sizeof line, "   mean %.3f%%, %d steps/frame, ROM %.1f ms/frame",
+                      100 * step->mean[i], step->steps_per_frame[i], step->rom_ms_per_frame[i]);
+      s << line << (step->ratios[i] == step->chosen ? "  <- chosen" : "") << "\n";
+    }
+    if (step->chosen < 0)
+      s << "  the first ratio failed on some run: no step is chosen (nsf rom keeps the scene's)\n";
+  }
   return s.str();
 }
 
@@ -251,13 +393,27 @@ std::string CalibrationResult::summary() const {
     std::snprintf(line, sizeof line,
                   "latent prior: %g mm, mean delta %.3f %% on %zu training runs (%.0f s)\n",
                   1e3 * chosen, 100 * best, runs.size(), seconds);
-  return line;
+  std::string out = line;
+  if (step && step->chosen > 0) {
+    const size_t i = size_t(std::find(step->ratios.begin(), step->ratios.end(), step->chosen) -
+                            step->ratios.begin());
+    std::snprintf(line, sizeof line,
+                  "ROM step: %g x dt (%d steps a frame), mean delta %.3f %% against %.3f %% at "
+                  "%g x dt\n",
+                  step->chosen, step->steps_per_frame[i], 100 * step->mean[i], 100 * step->mean[0],
+                  step->ratios[0]);
+    out += line;
+  } else if (step) {
+    out += "ROM step: not chosen (the first ratio failed on some run)\n";
+  }
+  return out;
 }
 
 void store_calibration(const std::string& model_path, const CalibrationResult& r) {
   NeuralFields f = NeuralFields::load(model_path);
   f.model().latent_prior = r.chosen;
   f.model().latent_prior_calibration = r.to_json().dump();
+  if (r.step) f.model().dt_ratio = r.step->chosen;
   f.model().save(model_path);
 }
 

@@ -3,6 +3,8 @@
 // scene's rom section, at a few training runs' μ and against those runs, once per ε of a grid;
 // the ε with the lowest mean δ wins, a run that diverges ruling its ε out. Training runs, not
 // held-out ones: they are what a user has before any test. `nsf calibrate` and `nsf train`.
+// Optionally also the ROM's time step (`--dt-ratios`): at the chosen ε, the largest ratio of the
+// ROM step to the scene's Δt whose mean δ stays within a tolerance of the first ratio's.
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,10 +16,33 @@ namespace nsf {
 struct CalibrationOptions {
   std::string model_path, data_dir;
   std::string scene_path;  // empty: the dataset manifest's scene_file
+  // Scene values set on top of the sweep's own (`--set rom.quadrature=1`): the ROM a user runs.
+  std::vector<std::string> overrides;
   std::vector<double> grid = {0, 1e-4, 3e-4, 1e-3, 2e-3};  // ε tried (m); 0: no prior
-  int runs = 4;     // training runs, spread over the sweep's interior
-  int threads = 0;  // as `nsf rom -j`; 0: all cores
+  // ROM steps over the scene's Δt to try, ascending; the first is the reference, at which ε is
+  // chosen. Empty: the step is not calibrated (ε is chosen at the step nsf rom would take).
+  std::vector<double> dt_ratios;
+  double dt_tolerance = 1.25;  // a ratio qualifies where its mean δ ≤ this × the first's,
+  double dt_budget = 0;        // or ≤ this (a δ, e.g. 0.01; 0: none)
+  int runs = 4;                // training runs, spread over the sweep's interior
+  int threads = 0;             // as `nsf rom -j`; 0: all cores
   bool quiet = false;
+};
+
+// The step ratios tried at the chosen ε, on the same runs.
+struct StepCalibration {
+  std::vector<double> ratios;
+  std::vector<int> steps_per_frame;  // the ROM steps a frame takes at each (rounded)
+  // δ per ratio and run: +inf where the dynamics diverged or the ROM refused the step (a tracked
+  // state's explicit stress past the CFL bound), NaN where skipped (as CalibrationResult::delta).
+  std::vector<std::vector<double>> delta;
+  std::vector<double> mean;  // per ratio; +inf where a run failed; a lower bound where stopped
+  // Stopped after some runs because those already put its mean over the tolerance.
+  std::vector<bool> stopped;
+  std::vector<double> rom_ms_per_frame;  // the latent steps, mean over the runs measured
+  double tolerance = 0, budget = 0;
+  double limit = 0;    // the mean δ a ratio may reach: max(tolerance × the first's, budget)
+  double chosen = -1;  // the largest ratio within the limit; < 0 where the first one failed
 };
 
 struct CalibrationResult {
@@ -33,6 +58,7 @@ struct CalibrationResult {
   std::vector<bool> stopped;
   double chosen = 0;  // the ε with the lowest mean (0 where every ε diverged)
   bool all_diverged = false;
+  std::optional<StepCalibration> step;  // with CalibrationOptions::dt_ratios
   double seconds = 0;
 
   nlohmann::json to_json() const;
@@ -47,6 +73,8 @@ std::string dataset_scene_file(const std::string& data_dir);
 // The latent prior a scene file's rom section sets, which `nsf rom` takes ahead of a model's
 // calibration (none where it sets none).
 std::optional<double> scene_latent_prior(const std::string& scene_path);
+// The same for the ROM's step (rom.dt_ratio).
+std::optional<double> scene_dt_ratio(const std::string& scene_path);
 
 // Runs the ROM grid × runs times. Throws nsf::Error for a missing scene or dataset, a model of
 // another scene, or any failure of a run other than divergence.
@@ -60,8 +88,9 @@ CalibrationResult calibrate_latent_prior(const CalibrationOptions& options);
 bool calibrate_trained_model(const std::string& model_path, const std::string& data_dir,
                              int threads, bool quiet);
 
-// Stores the chosen ε and the table (to_json) in the model file, atomically; `nsf rom` then uses
-// that ε where neither its command line nor the scene's rom section gives one.
+// Stores the chosen ε (and the step ratio, where calibrated) and the table (to_json) in the
+// model file, atomically; `nsf rom` then uses them where neither its command line nor the
+// scene's rom section gives its own.
 void store_calibration(const std::string& model_path, const CalibrationResult& result);
 
 }  // namespace nsf

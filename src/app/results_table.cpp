@@ -123,6 +123,8 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   j["fom_peak_mib"] = r.fom_peak_mib;
   j["baseline_mib"] = r.baseline_mib;
   j["rom_steps_per_frame"] = r.rom_steps_per_frame;
+  j["dt_ratio"] = r.dt_ratio;
+  j["dt_ratio_source"] = r.dt_ratio_source;
   j["fom_steps_per_frame"] = r.fom_steps_per_frame;
   j["field_sources"] = r.field_sources;
   if (r.train_seconds > 0) j["train_seconds"] = r.train_seconds;

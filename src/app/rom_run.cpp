@@ -183,9 +183,16 @@ RomReport run_rom(const RomRunOptions& o) {
   if (!baseline_inputs.coarse_skipped.empty())
     rep.warnings.push_back(baseline_inputs.coarse_skipped);
 
-  // The scene's rom section (ε: else the model's calibration), then what the command line gave.
-  RomOptions ro = with_rom_section(o.rom, file.sections.rom, fields.calibrated_latent_prior());
+  // The scene's rom section (ε and the step: else the model's calibration), then what the
+  // command line gave.
+  RomOptions ro = with_rom_section(
+      o.rom, file.sections.rom, {fields.calibrated_latent_prior(), fields.calibrated_dt_ratio()});
   if (o.dt_ratio) ro.dt_ratio = *o.dt_ratio;
+  rep.dt_ratio = ro.dt_ratio;
+  rep.dt_ratio_source = o.dt_ratio                         ? "command line"
+                        : file.sections.rom.dt_ratio       ? "scene"
+                        : fields.calibrated_dt_ratio() > 0 ? "model"
+                                                           : "default";
   if (o.latent_prior) ro.latent_prior = *o.latent_prior;
   rep.latent_prior_source = o.latent_prior                          ? "command line"
                             : file.sections.rom.latent_prior        ? "scene"
@@ -475,9 +482,11 @@ std::string format_rom_report(const RomReport& r) {
     }
   }
   const double steps = double(r.frames) * r.rom_steps_per_frame;
-  put("  reduced order: %.3f s for %d frames (%.2f ms/frame, %d steps/frame of %.3g x dt)",
+  put("  reduced order: %.3f s for %d frames (%.2f ms/frame, %d steps/frame of %.3g x dt, the "
+      "step from the %s)",
       r.rom_seconds, r.frames, 1e3 * r.rom_seconds / r.frames, r.rom_steps_per_frame,
-      double(r.fom_steps_per_frame) / r.rom_steps_per_frame);
+      double(r.fom_steps_per_frame) / r.rom_steps_per_frame,
+      r.dt_ratio_source == "model" ? "model's calibration" : r.dt_ratio_source.c_str());
   const RomTimes& t = r.rom_times;
   put("    inference %.3f s, MPM on N %.3f s, inversion %.3f s, candidate refresh %.3f s",
       t.inference.seconds(), t.mpm.seconds(), t.inversion.seconds(), t.refresh.seconds());

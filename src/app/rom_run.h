@@ -68,6 +68,11 @@ struct RomReport {
   // Where ε came from: "command line", "scene" (its rom section, or none there) or "model" (the
   // model's calibration, `nsf calibrate`).
   std::string latent_prior_source;
+  double dt_ratio =
+      1;  // the ROM step over the scene's Δt asked for (rom_steps_per_frame rounds it)
+  // Where it came from: "command line", "scene" (its rom section), "model" (`nsf calibrate
+  // --dt-ratios`) or "default" (1).
+  std::string dt_ratio_source;
   // LatentStepper::training_distance over frames 1…N; −1 when the model has no training latents.
   double training_distance_mean = 0, training_distance_max = 0;
   int threads = 0;               // in use, for both engines alike

@@ -167,6 +167,7 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
     a.write("latent_prior", c10::IValue(latent_prior));
     a.write("latent_prior_calibration", c10::IValue(latent_prior_calibration));
   }
+  if (dt_ratio > 0) a.write("calibrated_dt_ratio", c10::IValue(dt_ratio));
   write_normalizer(a, "X", norm_X);
   write_normalizer(a, "x", norm_x);
   write_normalizer(a, "z", norm_z);
@@ -323,6 +324,12 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
       fail("model file ", path, ": damaged entry 'latent_prior'");
     m.latent_prior = prior.toDouble();
     m.latent_prior_calibration = table.toStringRef();
+  }
+  c10::IValue ratio;  // absent unless `nsf calibrate --dt-ratios` chose one
+  if (a.try_read("calibrated_dt_ratio", ratio)) {
+    if (!ratio.isDouble() || !std::isfinite(ratio.toDouble()) || ratio.toDouble() <= 0)
+      fail("model file ", path, ": damaged entry 'calibrated_dt_ratio'");
+    m.dt_ratio = ratio.toDouble();
   }
   m.norm_X = read_normalizer(a, "X", 3, path);
   m.norm_x = read_normalizer(a, "x", 3, path);

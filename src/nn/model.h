@@ -126,6 +126,9 @@ class NeuralModel {
   // (JSON: the ε tried, the training runs, δ of each); < 0 / "" where never calibrated.
   double latent_prior = -1;
   std::string latent_prior_calibration;
+  // The ROM's step over the scene's Δt chosen by `nsf calibrate --dt-ratios` (its table is in
+  // latent_prior_calibration); < 0 where never chosen.
+  double dt_ratio = -1;
 };
 
 }  // namespace nsf

@@ -115,6 +115,9 @@ bool NeuralFields::stress_uses_mu() const {
 double NeuralFields::calibrated_latent_prior() const {
   return model_->latent_prior;
 }
+double NeuralFields::calibrated_dt_ratio() const {
+  return model_->dt_ratio;
+}
 double NeuralFields::mu_min() const {
   return model_->mu_min;
 }

@@ -38,6 +38,8 @@ class NeuralFields {
   // ε of the latent prior `nsf calibrate` chose for it (metres; 0: none), or < 0 where it was
   // never calibrated.
   double calibrated_latent_prior() const;
+  // The ROM step over the scene's Δt that `nsf calibrate --dt-ratios` chose, or < 0 where none.
+  double calibrated_dt_ratio() const;
 
   // Throws nsf::Error unless X (rest positions of `what`, e.g. a run file) is the model's scene.
   void check_scene(const std::string& scene_name, const std::vector<Vec3>& X,

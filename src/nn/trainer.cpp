@@ -984,6 +984,7 @@ TrainReport Trainer::run() {
     model_.train_seconds += rep.seconds;
     model_.latent_prior = -1;  // a base model's calibration was of other fields
     model_.latent_prior_calibration.clear();
+    model_.dt_ratio = -1;
     rep.points_per_second = rep.steps * double(points_per_step) / std::max(rep.seconds, 1e-9);
     if (stage_ == 0)
       rep.frames_per_second =

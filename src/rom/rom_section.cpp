@@ -61,10 +61,11 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
   return s;
 }
 
-RomOptions with_rom_section(RomOptions o, const RomSection& s, double calibrated) {
+RomOptions with_rom_section(RomOptions o, const RomSection& s, const ModelCalibration& calibrated) {
   o.sampling = s.sampling;
-  o.dt_ratio = s.dt_ratio.value_or(o.dt_ratio);
-  o.latent_prior = s.latent_prior.value_or(calibrated >= 0 ? calibrated : o.latent_prior);
+  o.dt_ratio = s.dt_ratio.value_or(calibrated.dt_ratio > 0 ? calibrated.dt_ratio : o.dt_ratio);
+  o.latent_prior = s.latent_prior.value_or(calibrated.latent_prior >= 0 ? calibrated.latent_prior
+                                                                        : o.latent_prior);
   o.quadrature_per_cell = s.quadrature.value_or(o.quadrature_per_cell);
   o.inversion.max_iterations = s.gn_iterations.value_or(o.inversion.max_iterations);
   for (auto [mine, scenes] : {std::pair{&o.fields.deformation, &s.fields.deformation},

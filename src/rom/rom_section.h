@@ -23,10 +23,17 @@ struct RomSection {
 // Throws nsf::Error naming the key for a malformed value.
 RomSection parse_rom_section(const nlohmann::json& rom);
 
+// What `nsf calibrate` chose for a model (NeuralFields::calibrated_latent_prior and
+// calibrated_dt_ratio); < 0 where it chose nothing.
+struct ModelCalibration {
+  double latent_prior = -1;
+  double dt_ratio = -1;
+};
+
 // `options` with the section's settings: its sampling, and each other value the section gives;
 // a field source only where `options` names none (a command line's own choice wins). A section
-// without latent_prior takes the model's calibrated one where it has one (`calibrated` ≥ 0,
-// NeuralFields::calibrated_latent_prior, `nsf calibrate`).
-RomOptions with_rom_section(RomOptions options, const RomSection& section, double calibrated = -1);
+// without latent_prior or dt_ratio takes the model's calibrated one where it has one.
+RomOptions with_rom_section(RomOptions options, const RomSection& section,
+                            const ModelCalibration& calibrated = {});
 
 }  // namespace nsf
