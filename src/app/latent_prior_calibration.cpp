@@ -143,6 +143,22 @@ StepCalibration calibrate_step(const CalibrationOptions& o, const std::string& s
   return s;
 }
 
+// One table row's δ per run: "-" where skipped, `failed` where +inf.
+std::string delta_cells(const std::vector<double>& row, const char* failed) {
+  std::string out;
+  char cell[32];
+  for (double d : row) {
+    if (std::isnan(d))
+      std::snprintf(cell, sizeof cell, " %9s", "-");
+    else if (std::isinf(d))
+      std::snprintf(cell, sizeof cell, " %9s", failed);
+    else
+      std::snprintf(cell, sizeof cell, " %8.3f%%", 100 * d);
+    out += cell;
+  }
+  return out;
+}
+
 std::string millimetres(double eps) {
   if (eps <= 0) return "none";
   char b[32];
@@ -291,15 +307,7 @@ std::string CalibrationResult::table() const {
   for (size_t g = 0; g < grid.size(); ++g) {
     std::snprintf(line, sizeof line, "  epsilon %-8s", millimetres(grid[g]).c_str());
     s << line;
-    for (double d : delta[g]) {
-      if (std::isnan(d))
-        std::snprintf(line, sizeof line, " %9s", "-");
-      else if (std::isinf(d))
-        std::snprintf(line, sizeof line, " %9s", "diverged");
-      else
-        std::snprintf(line, sizeof line, " %8.3f%%", 100 * d);
-      s << line;
-    }
+    s << delta_cells(delta[g], "diverged");
     if (std::isinf(mean[g]))
       std::snprintf(line, sizeof line, "   mean -");
     else if (stopped[g])
@@ -320,15 +328,7 @@ std::string CalibrationResult::table() const {
     for (size_t i = 0; i < step->mean.size(); ++i) {
       std::snprintf(line, sizeof line, "  dt ratio %-6g", step->ratios[i]);
       s << line;
-      for (double d : step->delta[i]) {
-        if (std::isnan(d))
-          std::snprintf(line, sizeof line, " %9s", "-");
-        else if (std::isinf(d))
-          std::snprintf(line, sizeof line, " %9s", "failed");
-        else
-          std::snprintf(line, sizeof line, " %8.3f%%", 100 * d);
-        s << line;
-      }
+      s << delta_cells(step->delta[i], "failed");
       if (std::isinf(step->mean[i]))
         std::snprintf(line, sizeof line, "   mean -");
       else if (step->stopped[i])
