@@ -74,7 +74,7 @@ TEST(RomResults, TablePrintsMeasuredAndPaperFiguresPerScene) {
 
 // `nsf report --check`: a rerun must give every figure but the machine's bit for bit; timings,
 // memory, speed-ups and the thread count may differ, and keys recorded since the row was made
-// are not differences.
+// are not differences, nor is where a setting came from (the setting is compared).
 TEST(RomResults, ARerunDiffersOnlyWhereAFigureDoes) {
   nsf::RomReport r;
   r.scene = "metal_small";
@@ -86,13 +86,15 @@ TEST(RomResults, ARerunDiffersOnlyWhereAFigureDoes) {
   r.threads = 1;
   r.cpu = "AMD EPYC 7B13";
   r.baselines.lookup_delta = 0.0044, r.baselines.lookup_mu = 0.018;
+  r.latent_prior = 0.0003, r.latent_prior_source = "model";
   const auto stored = nsf::result_json(r, "scenes/paper/metal_small.json", "models/metal_small.nsf",
                                        "results/metal_small.png", "");
   nsf::RomReport again = r;
   again.rom_seconds = 1.3, again.fom_seconds = 2.7, again.rom_peak_mib = 290, again.threads = 2;
   again.cpu = "Intel(R) Xeon(R) Processor @ 2.50GHz";  // another machine: a timing, not a figure
   EXPECT_EQ(stored.at("cpu"), "AMD EPYC 7B13");
-  again.model_checksum = "1a2b3c4d";  // recorded only by the rerun
+  again.model_checksum = "1a2b3c4d";           // recorded only by the rerun
+  again.latent_prior_source = "command line";  // --check hands it the stored prior; it was "model"
   EXPECT_TRUE(
       nsf::row_differences(stored, nsf::result_json(again, "scenes/paper/metal_small.json",
                                                     "models/metal_small.nsf", "results/x.png", ""))

@@ -69,6 +69,12 @@ bool machine_key(const std::string& k) {
          k == "threads" || k == "cpu" || k == "picture";
 }
 
+// Where a setting came from, not a figure: the setting itself is compared. `--check` hands the
+// rerun the stored row's prior on its command line, so the source differs by construction.
+bool provenance_key(const std::string& k) {
+  return k == "latent_prior_source" || k == "dt_ratio_source";
+}
+
 }  // namespace
 
 std::vector<std::string> row_differences(const nlohmann::json& stored,
@@ -77,7 +83,7 @@ std::vector<std::string> row_differences(const nlohmann::json& stored,
   std::vector<std::string> out;
   for (auto it = stored.begin(); it != stored.end(); ++it) {
     const std::string& k = it.key();
-    if (machine_key(k)) continue;
+    if (machine_key(k) || provenance_key(k)) continue;
     if (!fresh.contains(k))
       out.push_back(k + ": stored " + it->dump() + ", not in the rerun");
     else if (*it != fresh.at(k))
