@@ -6,6 +6,7 @@
 // basis`): the snapshot SVD, the coefficient networks' Jacobians, training, the model file, and
 // fields at points that are not particles (nn/point_interpolation.h).
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <cstring>
@@ -390,4 +391,45 @@ TEST_F(BasisModel, ModesEncoderIsTheProjectionOnTheLeadingModes) {
   nsf::testing::expect_contains(
       nsf::testing::error_of([&] { nsf::train_model(data(), (root_ / "no.nsf").string(), mlp); }),
       "the modes encoder needs the basis decoders");
+}
+
+// The modes encoder's latent has the same bits at every thread count. At a paper-size scene's
+// 3|P| (sand_paper: 213,588 entries) a float product splits its sum across threads, and the ROM's
+// first latent, and all that follows, moved in the fourth digit of δ between -j 1 and -j 2.
+TEST(ModesEncoder, LatentHasTheSameBitsAtEveryThreadCount) {
+  const int64_t P = 71196, r = 6, K = 12;  // sand_paper's model
+  nsf::NetConfig c;
+  c.decoder = "basis";
+  c.encoder = "modes";
+  c.latent_dim = int(r);
+  c.modes = {int(K), 1, 1};
+  nsf::NeuralModel m(c, nsf::SceneFingerprint{"big", P, 1}, false);
+  torch::manual_seed(3);
+  m.rest = torch::rand({P, 3});
+  m.basis[0].mean = 1e-3 * torch::randn({P, 3});
+  m.basis[0].modes = torch::randn({P, 3, K}) / std::sqrt(3.0 * double(P));
+  m.basis[0].scale = torch::linspace(1, 0.1, K);
+  const torch::Tensor x = m.rest.unsqueeze(0) + 0.05 * torch::randn({1, P, 3});
+  const int saved = omp_get_max_threads();
+  std::vector<torch::Tensor> z;
+  for (int threads : {1, 2, 3}) {
+    omp_set_num_threads(threads);  // as nsf rom -j sets them
+    nsf::set_nn_threads(threads);
+    z.push_back(m.encode(x));
+  }
+  omp_set_num_threads(saved);
+  nsf::set_nn_threads(2);
+  for (size_t t = 1; t < z.size(); ++t) {
+    ASSERT_EQ(z[t].sizes(), z[0].sizes());
+    EXPECT_EQ(std::memcmp(z[t].data_ptr<float>(), z[0].data_ptr<float>(), r * sizeof(float)), 0)
+        << t + 1 << " threads against 1: " << (z[t] - z[0]).abs().max().item<double>();
+  }
+  // Still the projection: Σ_p B_p,i · (x_p − X_p − mean_p) / spread_i.
+  const torch::Tensor u =
+      (x - m.rest.unsqueeze(0) - m.basis[0].mean.unsqueeze(0)).reshape({1, -1}).to(torch::kFloat64);
+  const torch::Tensor B = m.basis[0].modes.narrow(2, 0, r).reshape({-1, r}).to(torch::kFloat64);
+  const torch::Tensor want =
+      torch::matmul(u, B) / m.basis[0].scale.narrow(0, 0, r).to(torch::kFloat64);
+  EXPECT_LT((z[0].to(torch::kFloat64) - want).abs().max().item<double>(),
+            1e-5 * want.abs().max().item<double>());
 }
