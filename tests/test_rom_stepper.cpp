@@ -1353,7 +1353,9 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
   EXPECT_EQ(used.latent_prior_source, "scene");
   o = options();  // an uncalibrated model and a scene without one: none
   o.model_path = basis_model();
-  EXPECT_EQ(nsf::run_rom(o).latent_prior, 0.0);
+  used = nsf::run_rom(o);
+  EXPECT_EQ(used.latent_prior, 0.0);
+  EXPECT_EQ(used.latent_prior_source, "default");
 
   // h and l trained again on the calibrated model's latents: another ROM, so no calibration (and
   // the bases take the base model's shapes, not the defaults: K 16, coefficient width 64).

@@ -185,19 +185,15 @@ RomReport run_rom(const RomRunOptions& o) {
 
   // The scene's rom section (ε and the step: else the model's calibration), then what the
   // command line gave.
-  RomOptions ro = with_rom_section(
-      o.rom, file.sections.rom, {fields.calibrated_latent_prior(), fields.calibrated_dt_ratio()});
+  const ModelCalibration calibrated = calibration_of(fields);
+  RomOptions ro = with_rom_section(o.rom, file.sections.rom, calibrated);
   if (o.dt_ratio) ro.dt_ratio = *o.dt_ratio;
-  rep.dt_ratio = ro.dt_ratio;
-  rep.dt_ratio_source = o.dt_ratio                         ? "command line"
-                        : file.sections.rom.dt_ratio       ? "scene"
-                        : fields.calibrated_dt_ratio() > 0 ? "model"
-                                                           : "default";
   if (o.latent_prior) ro.latent_prior = *o.latent_prior;
-  rep.latent_prior_source = o.latent_prior                          ? "command line"
-                            : file.sections.rom.latent_prior        ? "scene"
-                            : fields.calibrated_latent_prior() >= 0 ? "model"
-                                                                    : "scene";
+  const RomSettingSources sources = rom_setting_sources(
+      file.sections.rom, calibrated, o.latent_prior.has_value(), o.dt_ratio.has_value());
+  rep.dt_ratio = ro.dt_ratio;
+  rep.dt_ratio_source = sources.dt_ratio;
+  rep.latent_prior_source = sources.latent_prior;
   if (o.quadrature) ro.quadrature_per_cell = *o.quadrature;
   if (o.gn_iterations) ro.inversion.max_iterations = *o.gn_iterations;
   if (o.samples) ro.sampling.count = *o.samples;

@@ -61,6 +61,10 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
   return s;
 }
 
+ModelCalibration calibration_of(const NeuralFields& fields) {
+  return {fields.calibrated_latent_prior(), fields.calibrated_dt_ratio()};
+}
+
 RomOptions with_rom_section(RomOptions o, const RomSection& s, const ModelCalibration& calibrated) {
   o.sampling = s.sampling;
   o.dt_ratio = s.dt_ratio.value_or(calibrated.dt_ratio > 0 ? calibrated.dt_ratio : o.dt_ratio);
@@ -74,6 +78,15 @@ RomOptions with_rom_section(RomOptions o, const RomSection& s, const ModelCalibr
                               std::pair{&o.fields.velocity, &s.fields.velocity}})
     if (mine->empty()) *mine = *scenes;
   return o;
+}
+
+RomSettingSources rom_setting_sources(const RomSection& s, const ModelCalibration& calibrated,
+                                      bool prior_given, bool dt_ratio_given) {
+  const auto source = [](bool given, bool scene, bool model) {
+    return given ? "command line" : scene ? "scene" : model ? "model" : "default";
+  };
+  return {source(prior_given, bool(s.latent_prior), calibrated.latent_prior >= 0),
+          source(dt_ratio_given, bool(s.dt_ratio), calibrated.dt_ratio > 0)};
 }
 
 }  // namespace nsf

@@ -4,7 +4,9 @@
 // settings measured best for the scene (docs/ROM.md). The command line overrides each of them.
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <string>
 
+#include "nn/neural_fields.h"
 #include "rom/rom_options.h"
 #include "rom/sampling.h"
 
@@ -29,11 +31,21 @@ struct ModelCalibration {
   double latent_prior = -1;
   double dt_ratio = -1;
 };
+ModelCalibration calibration_of(const NeuralFields& fields);
 
 // `options` with the section's settings: its sampling, and each other value the section gives;
 // a field source only where `options` names none (a command line's own choice wins). A section
 // without latent_prior or dt_ratio takes the model's calibrated one where it has one.
 RomOptions with_rom_section(RomOptions options, const RomSection& section,
                             const ModelCalibration& calibrated = {});
+
+// Where ε and the step of with_rom_section's options came from, for a run whose command line
+// gave (or did not give) its own: "command line", "scene", "model" (its calibration) or
+// "default". A run's report and its results row record them.
+struct RomSettingSources {
+  std::string latent_prior, dt_ratio;
+};
+RomSettingSources rom_setting_sources(const RomSection& section, const ModelCalibration& calibrated,
+                                      bool prior_given, bool dt_ratio_given);
 
 }  // namespace nsf

@@ -34,8 +34,7 @@ RomSetup rom_setup(const NeuralFields& fields, const std::string& scene_path,
   }
   fields.check_scene(s.scene.name, s.scene.particles.X, "scene " + scene_path);
 
-  s.options = with_rom_section(RomOptions(), section,
-                               {fields.calibrated_latent_prior(), fields.calibrated_dt_ratio()});
+  s.options = with_rom_section(RomOptions(), section, calibration_of(fields));
   if (samples > 0) s.options.sampling.count = samples;
   return s;
 }
