@@ -104,5 +104,41 @@ TEST(RomSection, AStepOfItsOwnWinsOverTheModelsCalibration) {
   EXPECT_EQ(with_rom_section(o, own, {-1, 3}).dt_ratio, 2);
 }
 
+// A family's object ("mlp", "basis") holds the settings a model of that decoder family reads,
+// over the common ones; a null in it removes a common setting, so that the model's calibration
+// speaks. The other family, and a section without one, read the common settings.
+TEST(RomSection, EachDecoderFamilyReadsItsOwnSettingsOverTheCommonOnes) {
+  const RomSection s = parse_rom_section(json::parse(R"({
+    "samples": 200, "dt_ratio": 4, "latent_prior": 0.002, "fields": {"stress": "tracked"},
+    "basis": {"samples": 500, "dt_ratio": null, "latent_prior": null, "fields": {"affine": "basis"}}
+  })"));
+  const RomSection& mlp = s.for_family("mlp");
+  EXPECT_EQ(&mlp, &s);
+  EXPECT_EQ(mlp.sampling.count, 200);
+  EXPECT_EQ(mlp.dt_ratio, 4.0);
+  const RomSection& basis = s.for_family("basis");
+  EXPECT_EQ(basis.sampling.count, 500);
+  EXPECT_FALSE(basis.dt_ratio);
+  EXPECT_FALSE(basis.latent_prior);
+  EXPECT_EQ(basis.fields.stress, "tracked");
+  EXPECT_EQ(basis.fields.affine, "basis");
+  EXPECT_EQ(with_rom_section(RomOptions(), basis, {0.01, 10}).dt_ratio, 10);
+  EXPECT_EQ(with_rom_section(RomOptions(), basis, {0.01, 10}).latent_prior, 0.01);
+  EXPECT_EQ(with_rom_section(RomOptions(), mlp, {0.01, 10}).dt_ratio, 4);
+  const RomSettingSources basis_sources = rom_setting_sources(basis, {0.01, 10}, false, false);
+  EXPECT_EQ(basis_sources.dt_ratio, "model");
+  EXPECT_EQ(basis_sources.latent_prior, "model");
+  const RomSettingSources mlp_sources = rom_setting_sources(mlp, {0.01, 10}, false, true);
+  EXPECT_EQ(mlp_sources.dt_ratio, "command line");
+  EXPECT_EQ(mlp_sources.latent_prior, "scene");
+  const RomSection plain = parse_rom_section(json::parse(R"({"samples": 9})"));
+  EXPECT_EQ(&plain.for_family("basis"), &plain);
+
+  expect_rejected(json::parse(R"({"basis": 3})"), {"rom.basis", "must be an object"});
+  expect_rejected(json::parse(R"({"mlp": {"basis": {}}})"), {"rom.mlp.basis", "hold no family"});
+  expect_rejected(json::parse(R"({"basis": {"dt_ratio": -1}})"), {"rom.basis", "rom.dt_ratio"});
+  expect_rejected(json::parse(R"({"mlp": {"frobnicate": 1}})"), {"rom.mlp", "frobnicate"});
+}
+
 }  // namespace
 }  // namespace nsf

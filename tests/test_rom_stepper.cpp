@@ -1351,6 +1351,18 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
   used = nsf::run_rom(o);
   EXPECT_EQ(used.latent_prior, 0.03);
   EXPECT_EQ(used.latent_prior_source, "scene");
+  // A setting for the other decoder family is not this (basis) model's; a null in its own
+  // family's object hands ε back to the model's calibration. The runtime reads them alike.
+  o.overrides = {"rom.latent_prior=0.03", R"(rom.mlp={"latent_prior": 0.05})"};
+  EXPECT_EQ(nsf::run_rom(o).latent_prior, 0.03);
+  o.overrides = {"rom.latent_prior=0.03", R"(rom.basis={"latent_prior": null})"};
+  used = nsf::run_rom(o);
+  EXPECT_EQ(used.latent_prior, 0.01);
+  EXPECT_EQ(used.latent_prior_source, "model");
+  EXPECT_EQ(nsf::rom_setup(cf, kTinyScene, 1.0,
+                           {"rom.latent_prior=0.03", R"(rom.basis={"latent_prior": 0.04})"}, 0)
+                .options.latent_prior,
+            0.04);
   o = options();  // an uncalibrated model and a scene without one: none
   o.model_path = basis_model();
   used = nsf::run_rom(o);

@@ -12,6 +12,7 @@
 #include "app/latent_prior_calibration.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "nn/neural_fields.h"
 
 namespace nsf::app {
 
@@ -23,17 +24,19 @@ struct CalibrateArgs {
   bool dry_run = false;
 };
 
-// A scene whose rom section sets latent_prior (or dt_ratio, where the step was calibrated)
-// overrides the model's calibration in `nsf rom`.
-void warn_if_scene_overrides(const std::string& scene, bool step) {
+// A scene whose rom section sets latent_prior (or dt_ratio, where the step was calibrated) for
+// the model's decoder family overrides the model's calibration in `nsf rom`.
+void warn_if_scene_overrides(const std::string& scene, const std::string& family, bool step) {
   const auto warn = [&](const char* key, double value, const char* unit) {
     std::fprintf(stderr,
-                 "nsf: warning: scene %s sets rom.%s = %g%s, which nsf rom uses ahead of the "
-                 "model's calibration; remove it there to use the calibration\n",
-                 scene.c_str(), key, value, unit);
+                 "nsf: warning: scene %s sets rom.%s = %g%s for %s models, which nsf rom uses "
+                 "ahead of the model's calibration; remove it there (or set it to null in its "
+                 "rom.%s object) to use the calibration\n",
+                 scene.c_str(), key, value, unit, family.c_str(), family.c_str());
   };
-  if (const std::optional<double> set = scene_latent_prior(scene)) warn("latent_prior", *set, " m");
-  if (const std::optional<double> set = scene_dt_ratio(scene); set && step)
+  if (const std::optional<double> set = scene_latent_prior(scene, family))
+    warn("latent_prior", *set, " m");
+  if (const std::optional<double> set = scene_dt_ratio(scene, family); set && step)
     warn("dt_ratio", *set, "");
 }
 
@@ -84,7 +87,7 @@ void add_calibrate_command(CLI::App& app) {
     std::printf("%s%s", r.table().c_str(), r.summary().c_str());
     warn_if_scene_overrides(
         a->opt.scene_path.empty() ? dataset_scene_file(a->opt.data_dir) : a->opt.scene_path,
-        !a->opt.dt_ratios.empty());
+        NeuralFields::load(a->opt.model_path).decoder(), !a->opt.dt_ratios.empty());
     if (!a->json.empty()) write_file_atomic(a->json, r.to_json().dump(2) + "\n");
     if (a->dry_run) return;
     store_calibration(a->opt.model_path, r);

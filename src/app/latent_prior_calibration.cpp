@@ -168,12 +168,12 @@ std::string millimetres(double eps) {
 
 }  // namespace
 
-std::optional<double> scene_latent_prior(const std::string& scene_path) {
-  return app::read_scene_file(scene_path).sections.rom.latent_prior;
+std::optional<double> scene_latent_prior(const std::string& scene_path, const std::string& family) {
+  return app::read_scene_file(scene_path).sections.rom.for_family(family).latent_prior;
 }
 
-std::optional<double> scene_dt_ratio(const std::string& scene_path) {
-  return app::read_scene_file(scene_path).sections.rom.dt_ratio;
+std::optional<double> scene_dt_ratio(const std::string& scene_path, const std::string& family) {
+  return app::read_scene_file(scene_path).sections.rom.for_family(family).dt_ratio;
 }
 
 std::string dataset_scene_file(const std::string& data_dir) {
@@ -365,7 +365,7 @@ bool calibrate_trained_model(const std::string& model_path, const std::string& d
   o.quiet = quiet;
   CalibrationResult r;
   try {  // the model is written and whole: a ROM that cannot run here does not undo the training
-    if (const std::optional<double> set = scene_latent_prior(o.scene_path))
+    if (const std::optional<double> set = scene_latent_prior(o.scene_path, "basis"))
       return skip("scene " + o.scene_path + " sets rom.latent_prior = " + millimetres(*set));
     const Dataset data(data_dir, /*allow_incomplete=*/true);
     if (!data.incomplete().empty()) return skip("the dataset is incomplete");

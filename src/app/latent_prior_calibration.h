@@ -70,11 +70,11 @@ struct CalibrationResult {
 // names none or the file is not there.
 std::string dataset_scene_file(const std::string& data_dir);
 
-// The latent prior a scene file's rom section sets, which `nsf rom` takes ahead of a model's
-// calibration (none where it sets none).
-std::optional<double> scene_latent_prior(const std::string& scene_path);
+// The latent prior a scene file's rom section sets for a model of decoder family `family`, which
+// `nsf rom` takes ahead of the model's calibration (none where it sets none).
+std::optional<double> scene_latent_prior(const std::string& scene_path, const std::string& family);
 // The same for the ROM's step (rom.dt_ratio).
-std::optional<double> scene_dt_ratio(const std::string& scene_path);
+std::optional<double> scene_dt_ratio(const std::string& scene_path, const std::string& family);
 
 // Runs the ROM grid × runs times. Throws nsf::Error for a missing scene or dataset, a model of
 // another scene, or any failure of a run other than divergence.

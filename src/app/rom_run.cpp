@@ -186,11 +186,12 @@ RomReport run_rom(const RomRunOptions& o) {
   // The scene's rom section (ε and the step: else the model's calibration), then what the
   // command line gave.
   const ModelCalibration calibrated = calibration_of(fields);
-  RomOptions ro = with_rom_section(o.rom, file.sections.rom, calibrated);
+  const RomSection& section = file.sections.rom.for_family(fields.decoder());
+  RomOptions ro = with_rom_section(o.rom, section, calibrated);
   if (o.dt_ratio) ro.dt_ratio = *o.dt_ratio;
   if (o.latent_prior) ro.latent_prior = *o.latent_prior;
-  const RomSettingSources sources = rom_setting_sources(
-      file.sections.rom, calibrated, o.latent_prior.has_value(), o.dt_ratio.has_value());
+  const RomSettingSources sources =
+      rom_setting_sources(section, calibrated, o.latent_prior.has_value(), o.dt_ratio.has_value());
   rep.dt_ratio = ro.dt_ratio;
   rep.dt_ratio_source = sources.dt_ratio;
   rep.latent_prior_source = sources.latent_prior;

@@ -7,6 +7,10 @@
 
 namespace nsf {
 
+namespace {
+const char* const kFamilies[] = {"mlp", "basis"};
+}  // namespace
+
 RomSection parse_rom_section(const nlohmann::json& rom) {
   RomSection s;
   if (rom.is_null()) return s;
@@ -57,8 +61,34 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
     sampling.erase("fields");
   }
   s.latent_prior = number("latent_prior", true, "the latent prior's length in metres; 0: none");
+  nlohmann::json common = rom;
+  for (const char* family : kFamilies) common.erase(family), sampling.erase(family);
   s.sampling = parse_sampling(sampling);
+  for (const char* family : kFamilies) {
+    if (!rom.contains(family)) continue;
+    const nlohmann::json& own = rom.at(family);
+    if (!own.is_object())
+      fail("scene key 'rom.", family, "' must be an object of rom settings for a model with ",
+           family, " decoders, got ", own.dump());
+    for (const char* nested : kFamilies)
+      if (own.contains(nested))
+        fail("scene key 'rom.", family, ".", nested, "': a family's settings hold no family");
+    nlohmann::json merged = common;
+    merged.merge_patch(own);
+    try {
+      (std::string(family) == "mlp" ? s.mlp : s.basis) =
+          std::make_shared<const RomSection>(parse_rom_section(merged));
+    } catch (const Error& e) {
+      fail("in scene key 'rom.", family, "': ", e.what());
+    }
+  }
   return s;
+}
+
+const RomSection& RomSection::for_family(const std::string& family) const {
+  if (family == "mlp" && mlp) return *mlp;
+  if (family == "basis" && basis) return *basis;
+  return *this;
 }
 
 ModelCalibration calibration_of(const NeuralFields& fields) {

@@ -2,6 +2,7 @@
 // A scene's optional "rom" section: the sample particles (rom/sampling.h), the ROM's own time
 // step, its latent prior, its quadrature, its Gauss–Newton cap and its field sources — the
 // settings measured best for the scene (docs/ROM.md). The command line overrides each of them.
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -19,9 +20,16 @@ struct RomSection {
   std::optional<int> quadrature;       // points per cell (RomOptions::quadrature_per_cell)
   std::optional<int> gn_iterations;    // GaussNewtonOptions::max_iterations
   FieldChoice fields;                  // "fields": {"deformation", "stress", "affine"} by name
+  // "mlp", "basis": settings for a model of that decoder family, over the ones above (a scene
+  // whose two families were measured best at different steps, priors or sample counts).
+  std::shared_ptr<const RomSection> mlp, basis;
+
+  // The section as a model of `family` ("mlp" or "basis": NeuralFields::decoder()) reads it.
+  const RomSection& for_family(const std::string& family) const;
 };
 
 // Reads the whole section; missing keys keep their defaults, a null section gives all defaults.
+// A family's object takes the same keys, but no family of its own.
 // Throws nsf::Error naming the key for a malformed value.
 RomSection parse_rom_section(const nlohmann::json& rom);
 

@@ -34,7 +34,8 @@ RomSetup rom_setup(const NeuralFields& fields, const std::string& scene_path,
   }
   fields.check_scene(s.scene.name, s.scene.particles.X, "scene " + scene_path);
 
-  s.options = with_rom_section(RomOptions(), section, calibration_of(fields));
+  s.options =
+      with_rom_section(RomOptions(), section.for_family(fields.decoder()), calibration_of(fields));
   if (samples > 0) s.options.sampling.count = samples;
   return s;
 }
