@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/latent_prior_calibration.h"
 #include "app/pipeline.h"
 #include "core/error.h"
 #include "error_matchers.h"
@@ -168,6 +169,58 @@ TEST(TrainSection, NamesTheKeyAtFault) {
   expect_rejected({{"decoder", 1}}, {"train.decoder"});
   expect_rejected({{"encoder", "pca"}}, {"train.encoder", "\"network\" or \"modes\"", "pca"});
   expect_rejected(5, {"'train'"});
+}
+
+// "calibrate": how a model of the scene is calibrated where nsf calibrate's command line does not
+// say (and how nsf train, report and demo calibrate what they train).
+TEST(TrainSection, TakesACalibrationRecipe) {
+  const TrainSection t = parse_train_section(json::parse(
+      R"({"calibrate": {"grid": [0, 0.01], "dt_ratios": [4, 10], "set": ["rom.quadrature=1"]}})"));
+  ASSERT_TRUE(t.calibrate);
+  EXPECT_EQ(t.calibrate->grid, (std::vector<double>{0, 0.01}));
+  EXPECT_EQ(t.calibrate->dt_ratios, (std::vector<double>{4, 10}));
+  EXPECT_EQ(t.calibrate->set, (std::vector<std::string>{"rom.quadrature=1"}));
+  EXPECT_FALSE(parse_train_section(json::object()).calibrate);
+
+  const auto app = [](const char* calibrate) {
+    return json::parse(std::string(R"({"calibrate": )") + calibrate + "}");
+  };
+  expect_rejected(app(R"({"dt_ratios": [4, 2]})"), {"train.calibrate.dt_ratios[1]", "ascending"});
+  expect_rejected(app(R"({"dt_ratios": [0]})"), {"train.calibrate.dt_ratios[0]", "positive"});
+  expect_rejected(app(R"({"grid": [-0.1]})"), {"train.calibrate.grid[0]", "non-negative"});
+  expect_rejected(app(R"({"grid": []})"), {"train.calibrate.grid", "non-empty"});
+  expect_rejected(app(R"({"set": ["rom.quadrature"]})"), {"train.calibrate.set[0]", "KEY=VALUE"});
+  expect_rejected(app(R"({"tolerance": 2})"), {"train.calibrate.tolerance"});
+  expect_rejected(app("3"), {"train.calibrate"});
+}
+
+// The recipe fills what nsf calibrate's command line left open, and only that.
+TEST(TrainSection, CalibrationRecipeFillsWhatTheCommandLineLeftOpen) {
+  const json scene = json::parse(R"({
+    "name": "s", "simulation": {"dx": 0.125, "dt": 1e-3, "frames": 2, "substeps": 2},
+    "objects": [{"shape": {"type": "box", "min": [0.375, 0.375, 0.375], "max": [0.625, 0.625, 0.625]},
+                 "material": {"type": "fixed_corotated", "E": 1000, "nu": 0.3}}],
+    "train": {"calibrate": {"grid": [0.001], "dt_ratios": [1, 2], "set": ["rom.quadrature=1"]}}
+  })");
+  const std::filesystem::path p = std::filesystem::path(::testing::TempDir()) / "recipe.json";
+  std::ofstream(p) << scene.dump();
+  CalibrationOptions o;
+  o.scene_path = p.string();
+  o.quiet = true;
+  o.overrides = {"rom.samples=9"};
+  apply_calibration_recipe(o, {});
+  EXPECT_EQ(o.grid, (std::vector<double>{0.001}));
+  EXPECT_EQ(o.dt_ratios, (std::vector<double>{1, 2}));
+  EXPECT_EQ(o.overrides, (std::vector<std::string>{"rom.samples=9", "rom.quadrature=1"}));
+  CalibrationOptions given;
+  given.scene_path = p.string();
+  given.quiet = true;
+  given.grid = {0.5};
+  given.overrides = {"rom.samples=9"};
+  apply_calibration_recipe(given, {true, false, true});
+  EXPECT_EQ(given.grid, (std::vector<double>{0.5}));
+  EXPECT_EQ(given.dt_ratios, (std::vector<double>{1, 2}));
+  EXPECT_EQ(given.overrides, (std::vector<std::string>{"rom.samples=9"}));
 }
 
 // Every "train" snippet in docs/SCENES.md parses (tests/test_scene.cpp checks the other kinds).

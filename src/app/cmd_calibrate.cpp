@@ -54,20 +54,24 @@ void add_calibrate_command(CLI::App& app) {
   cmd->add_option("--scene", a->opt.scene_path,
                   "Scene file whose rom section the ROM runs with (default: the dataset "
                   "manifest's scene_file)");
-  cmd->add_option("--set", a->opt.overrides,
-                  "Override a scene value for the ROM runs, e.g. --set rom.quadrature=1 (the "
-                  "setting the model will run with)");
-  add_list_option(cmd, "--grid", a->opt.grid,
-                  "Latent prior lengths to try, metres, comma-separated (0: none; default "
-                  "0,0.0001,0.0003,0.001,0.002)",
-                  0.0, 1e3);
-  add_list_option(cmd, "--dt-ratios", a->opt.dt_ratios,
-                  "Also choose the ROM's step: ratios to the scene's dt to try, ascending "
-                  "(e.g. 1,1.5,2,3,4); at the chosen prior, the largest whose mean delta is within "
-                  "--dt-tolerance of the first's (or within --dt-budget) wins, and nsf rom takes "
-                  "it where the scene's rom "
-                  "section sets no dt_ratio",
-                  1e-3, 1e3);
+  CLI::Option* set =
+      cmd->add_option("--set", a->opt.overrides,
+                      "Override a scene value for the ROM runs, e.g. --set rom.quadrature=1 (the "
+                      "setting the model will run with; default: the scene's train.calibrate.set)");
+  CLI::Option* grid =
+      add_list_option(cmd, "--grid", a->opt.grid,
+                      "Latent prior lengths to try, metres, comma-separated (0: none; default: the "
+                      "scene's train.calibrate.grid, else 0,0.0001,0.0003,0.001,0.002)",
+                      0.0, 1e3);
+  CLI::Option* dt_ratios = add_list_option(
+      cmd, "--dt-ratios", a->opt.dt_ratios,
+      "Also choose the ROM's step: ratios to the scene's dt to try, ascending "
+      "(e.g. 1,1.5,2,3,4; default: the scene's train.calibrate.dt_ratios); at the chosen prior, "
+      "the largest whose mean delta is within "
+      "--dt-tolerance of the first's (or within --dt-budget) wins, and nsf rom takes "
+      "it where the scene's rom "
+      "section sets no dt_ratio",
+      1e-3, 1e3);
   cmd->add_option("--dt-tolerance", a->opt.dt_tolerance,
                   "How much larger than the first ratio's mean delta a ratio's may be")
       ->capture_default_str()
@@ -82,7 +86,9 @@ void add_calibrate_command(CLI::App& app) {
   cmd->add_flag("--dry-run", a->dry_run, "Measure and print, leave the model file as it is");
   add_threads_option(cmd, a->opt.threads);
   add_quiet_flag(cmd, a->opt.quiet);
-  cmd->callback([a] {
+  cmd->callback([a, grid, dt_ratios, set] {
+    // The scene's train.calibrate recipe where the command line gives none of its own.
+    apply_calibration_recipe(a->opt, {grid->count() > 0, dt_ratios->count() > 0, set->count() > 0});
     const CalibrationResult r = calibrate_latent_prior(a->opt);
     std::printf("%s%s", r.table().c_str(), r.summary().c_str());
     warn_if_scene_overrides(

@@ -168,6 +168,28 @@ std::string millimetres(double eps) {
 
 }  // namespace
 
+void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& given) {
+  const std::string scene = o.scene_path.empty() ? dataset_scene_file(o.data_dir) : o.scene_path;
+  if (scene.empty()) return;
+  const std::optional<TrainSection> train = app::read_scene_file(scene).sections.train;
+  if (!train || !train->calibrate) return;
+  const CalibrationRecipe& c = *train->calibrate;
+  std::ostringstream took;
+  const auto list = [&](const char* name, const auto& v) {
+    took << " " << name;
+    for (size_t i = 0; i < v.size(); ++i) took << (i ? "," : " ") << v[i];
+  };
+  if (!c.grid.empty() && !given.grid) o.grid = c.grid, list("grid", c.grid);
+  if (!c.dt_ratios.empty() && !given.dt_ratios)
+    o.dt_ratios = c.dt_ratios, list("dt_ratios", c.dt_ratios);
+  if (!c.set.empty() && !given.set) {
+    o.overrides.insert(o.overrides.end(), c.set.begin(), c.set.end());
+    list("set", c.set);
+  }
+  if (!o.quiet && !took.str().empty())
+    std::printf("calibration recipe of %s:%s\n", scene.c_str(), took.str().c_str());
+}
+
 std::optional<double> scene_latent_prior(const std::string& scene_path, const std::string& family) {
   return app::read_scene_file(scene_path).sections.rom.for_family(family).latent_prior;
 }
@@ -365,6 +387,7 @@ bool calibrate_trained_model(const std::string& model_path, const std::string& d
   o.quiet = quiet;
   CalibrationResult r;
   try {  // the model is written and whole: a ROM that cannot run here does not undo the training
+    apply_calibration_recipe(o, {});
     if (const std::optional<double> set = scene_latent_prior(o.scene_path, "basis"))
       return skip("scene " + o.scene_path + " sets rom.latent_prior = " + millimetres(*set));
     const Dataset data(data_dir, /*allow_incomplete=*/true);

@@ -70,6 +70,13 @@ struct CalibrationResult {
 // names none or the file is not there.
 std::string dataset_scene_file(const std::string& data_dir);
 
+// The scene's calibration recipe (its train section's "calibrate") in place of what `o` was not
+// given: the ε grid, the ROM steps and the `--set` values. Prints what it took unless quiet.
+struct CalibrationGiven {
+  bool grid = false, dt_ratios = false, set = false;
+};
+void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& given);
+
 // The latent prior a scene file's rom section sets for a model of decoder family `family`, which
 // `nsf rom` takes ahead of the model's calibration (none where it sets none).
 std::optional<double> scene_latent_prior(const std::string& scene_path, const std::string& family);

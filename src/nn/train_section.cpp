@@ -1,5 +1,6 @@
 #include "nn/train_section.h"
 
+#include <cmath>
 #include <sstream>
 
 #include "core/error.h"
@@ -35,13 +36,57 @@ std::array<T, 3> positive_triple(const nlohmann::json& j, const std::string& pat
   return out;
 }
 
+// A non-empty array of numbers, each in (0, hi] (or [0, hi] where zero is allowed), ascending
+// where asked.
+std::vector<double> numbers(const nlohmann::json& j, const std::string& path, bool zero_allowed,
+                            bool ascending, const char* meaning) {
+  if (!j.is_array() || j.empty())
+    fail("scene: '", path, "' must be a non-empty array of numbers (", meaning, "), got ",
+         j.dump());
+  std::vector<double> out;
+  for (size_t i = 0; i < j.size(); ++i) {
+    const double v = j[i].is_number() ? j[i].get<double>() : -1;
+    if (!j[i].is_number() || !std::isfinite(v) || v < 0 || (v == 0 && !zero_allowed) ||
+        (ascending && !out.empty() && v <= out.back()))
+      fail("scene: '", json::child(path, i), "' must be a ",
+           zero_allowed ? "non-negative" : "positive", " number", ascending ? ", ascending" : "",
+           " (", meaning, "), got ", j[i].dump());
+    out.push_back(v);
+  }
+  return out;
+}
+
+CalibrationRecipe parse_calibration_recipe(const nlohmann::json& j, const std::string& path) {
+  json::require_object(j, path);
+  json::check_keys(j, path, {"grid", "dt_ratios", "set"});
+  CalibrationRecipe c;
+  if (j.contains("grid"))
+    c.grid = numbers(j.at("grid"), json::child(path, "grid"), true, false,
+                     "the latent prior lengths tried, metres");
+  if (j.contains("dt_ratios"))
+    c.dt_ratios = numbers(j.at("dt_ratios"), json::child(path, "dt_ratios"), false, true,
+                          "the ROM steps tried over the scene's dt");
+  if (j.contains("set")) {
+    const nlohmann::json& s = j.at("set");
+    if (!s.is_array())
+      fail("scene: '", json::child(path, "set"), "' must be an array of KEY=VALUE");
+    for (size_t i = 0; i < s.size(); ++i) {
+      if (!s[i].is_string() || s[i].get<std::string>().find('=') == std::string::npos)
+        fail("scene: '", json::child(json::child(path, "set"), i),
+             "' must be a string KEY=VALUE (as nsf calibrate --set), got ", s[i].dump());
+      c.set.push_back(s[i].get<std::string>());
+    }
+  }
+  return c;
+}
+
 }  // namespace
 
 TrainSection parse_train_section(const nlohmann::json& train, const std::string& path) {
   json::require_object(train, path);
   json::check_keys(train, path,
                    {"steps", "widths", "encoder_max_length", "latent_dim", "decoder", "encoder",
-                    "frames_per_batch", "particles_per_frame"});
+                    "frames_per_batch", "particles_per_frame", "calibrate"});
   TrainSection t;
   if (train.contains("steps"))
     t.steps = positive_triple<long>(train.at("steps"), json::child(path, "steps"), 100000000);
@@ -59,6 +104,8 @@ TrainSection parse_train_section(const nlohmann::json& train, const std::string&
   t.latent_dim = json::get_int(train, path, "latent_dim", 0, 1, 1024);
   t.decoder = one_of(train, path, "decoder", "mlp", "basis");
   t.encoder = one_of(train, path, "encoder", "network", "modes");
+  if (train.contains("calibrate"))
+    t.calibrate = parse_calibration_recipe(train.at("calibrate"), json::child(path, "calibrate"));
   return t;
 }
 

@@ -8,8 +8,17 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace nsf {
+
+// How `nsf calibrate` measures a model of the scene where its command line does not say, and how
+// `nsf train`, `nsf report` and `nsf demo` calibrate what they train: the ε tried, the ROM steps
+// tried (none: the step is not chosen) and scene values set for those runs (`--set`).
+struct CalibrationRecipe {
+  std::vector<double> grid, dt_ratios;
+  std::vector<std::string> set;
+};
 
 struct TrainSection {
   std::optional<std::array<long, 3>> steps;  // optimiser steps of stages 1, 2, 3
@@ -20,6 +29,7 @@ struct TrainSection {
   std::string encoder;                       // "network" or "modes" (basis); "": the default
   // A stage's batch: frames, then particles within each frame.
   std::optional<std::array<int, 3>> frames_per_batch, particles_per_frame;
+  std::optional<CalibrationRecipe> calibrate;  // "calibrate": {"grid", "dt_ratios", "set"}
 };
 
 TrainSection parse_train_section(const nlohmann::json& train, const std::string& path = "train");
