@@ -134,6 +134,15 @@ TEST(RomSection, EachDecoderFamilyReadsItsOwnSettingsOverTheCommonOnes) {
   const RomSection plain = parse_rom_section(json::parse(R"({"samples": 9})"));
   EXPECT_EQ(&plain.for_family("basis"), &plain);
 
+  // A --set of a common key that the family sets again does not reach the model: named.
+  const json rom = json::parse(R"({"samples": 200, "basis": {"samples": 500, "dt_ratio": null}})");
+  const std::vector<std::string> hidden = overrides_hidden_by_family(
+      rom, "basis", {"rom.samples=1000", "rom.quadrature=2", "rom.dt_ratio=3", "simulation.dt=1"});
+  ASSERT_EQ(hidden.size(), 2u);
+  EXPECT_NE(hidden[0].find("rom.basis.samples = 500 wins"), std::string::npos) << hidden[0];
+  EXPECT_NE(hidden[1].find("rom.basis.dt_ratio = null"), std::string::npos) << hidden[1];
+  EXPECT_TRUE(overrides_hidden_by_family(rom, "mlp", {"rom.samples=1000"}).empty());
+
   expect_rejected(json::parse(R"({"basis": 3})"), {"rom.basis", "must be an object"});
   expect_rejected(json::parse(R"({"mlp": {"basis": {}}})"), {"rom.mlp.basis", "hold no family"});
   expect_rejected(json::parse(R"({"basis": {"dt_ratio": -1}})"), {"rom.basis", "rom.dt_ratio"});

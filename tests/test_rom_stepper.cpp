@@ -1395,7 +1395,7 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
 }
 
 // `nsf calibrate --dt-ratios`: at the chosen ε, each ratio's δ is the ROM's at that step on the
-// same runs; the largest ratio whose mean stays within the tolerance of the first's is stored, and
+// same runs; the largest ratio whose mean stays within the tolerance of the best's is stored, and
 // `nsf rom` (and the runtime) take it where neither the command line nor the scene sets a step.
 TEST_F(RomEndToEnd, CalibrationChoosesTheLargestStepWithinTheToleranceAndStoresIt) {
   const std::string calibrated = (root_ / "step_calibrated.nsf").string();
@@ -1433,7 +1433,8 @@ TEST_F(RomEndToEnd, CalibrationChoosesTheLargestStepWithinTheToleranceAndStoresI
               100 * s.mean[0], 100 * s.mean[1], 100 * s.mean[2]);
 
   // One step a frame is about twice as far off as four (on this machine 3.1 % against 1.5 %), two
-  // within a fifth: at 1.5x the first's mean, the middle ratio is the largest that qualifies.
+  // within a fifth: at 1.5x the best (the first) mean, the middle ratio is the largest that
+  // qualifies.
   co.dt_tolerance = 1.5;
   const nsf::CalibrationResult tight = nsf::calibrate_latent_prior(co);
   EXPECT_EQ(tight.step->mean[0], s.mean[0]) << "the same runs, the same bits";

@@ -68,12 +68,12 @@ void add_calibrate_command(CLI::App& app) {
       "Also choose the ROM's step: ratios to the scene's dt to try, ascending "
       "(e.g. 1,1.5,2,3,4; default: the scene's train.calibrate.dt_ratios); at the chosen prior, "
       "the largest whose mean delta is within "
-      "--dt-tolerance of the first's (or within --dt-budget) wins, and nsf rom takes "
+      "--dt-tolerance of the best's (or within --dt-budget) wins, and nsf rom takes "
       "it where the scene's rom "
       "section sets no dt_ratio",
       1e-3, 1e3);
   cmd->add_option("--dt-tolerance", a->opt.dt_tolerance,
-                  "How much larger than the first ratio's mean delta a ratio's may be")
+                  "How much larger than the best ratio's mean delta a ratio's may be")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 100.0));
   cmd->add_option("--dt-budget", a->opt.dt_budget,

@@ -93,7 +93,31 @@ Measured measure(const CalibrationOptions& o, const std::string& scene,
   return m;
 }
 
-// The step pass: each ratio at ε on the same runs; the largest within tolerance of the first wins.
+// The step pass: each ratio at ε on the same runs; the largest within tolerance of the best wins.
+}  // namespace
+
+size_t best_step(const StepCalibration& s) {
+  size_t best = 0;
+  for (size_t i = 1; i < s.mean.size(); ++i)
+    if (!s.stopped[i] && s.mean[i] < s.mean[best]) best = i;
+  return best;
+}
+
+double step_limit(const StepCalibration& s) {
+  return std::max(s.tolerance * s.mean[best_step(s)], s.budget);
+}
+
+double chosen_step(const StepCalibration& s) {
+  if (s.mean.empty() || std::isinf(s.mean[0])) return -1;
+  const double limit = step_limit(s);
+  double chosen = -1;
+  for (size_t i = 0; i < s.mean.size(); ++i)
+    if (!s.stopped[i] && s.mean[i] <= limit) chosen = s.ratios[i];
+  return chosen;
+}
+
+namespace {
+
 StepCalibration calibrate_step(const CalibrationOptions& o, const std::string& scene,
                                const std::vector<std::string>& overrides,
                                const std::vector<SimulationFile>& runs, double eps) {
@@ -134,12 +158,10 @@ StepCalibration calibrate_step(const CalibrationOptions& o, const std::string& s
     s.steps_per_frame.push_back(per_frame);
     s.rom_ms_per_frame.push_back(frames ? 1e3 * seconds / frames : NAN);
     if (i == 0 && std::isinf(s.mean[0])) break;  // nothing to hold the others to
-    if (i == 0) s.limit = std::max(s.tolerance * s.mean[0], s.budget);
+    s.limit = step_limit(s);  // only falls, so a ratio stopped at it is over the final one too
   }
   if (!o.quiet) bar.finish();
-  if (!std::isinf(s.mean[0]))
-    for (size_t i = 0; i < s.mean.size(); ++i)
-      if (!s.stopped[i] && s.mean[i] <= s.limit) s.chosen = s.ratios[i];
+  s.chosen = chosen_step(s);
   return s;
 }
 
@@ -222,7 +244,7 @@ CalibrationResult calibrate_latent_prior(const CalibrationOptions& o) {
     fail("calibrate: --dt-budget must be a delta of at least 0, got ", o.dt_budget);
   if (!o.dt_ratios.empty() && !(o.dt_tolerance >= 1))
     fail(
-        "calibrate: --dt-tolerance must be at least 1 (a factor on the first ratio's mean delta), "
+        "calibrate: --dt-tolerance must be at least 1 (a factor on the best ratio's mean delta), "
         "got ",
         o.dt_tolerance);
   const Dataset data(o.data_dir);
@@ -344,7 +366,7 @@ std::string CalibrationResult::table() const {
   if (step) {
     s << "ROM step calibration at epsilon " << millimetres(chosen)
       << ": delta on the same runs; a ratio qualifies at a mean within " << step->tolerance
-      << "x the first's";
+      << "x the best's";
     if (step->budget > 0) s << " or within " << 100 * step->budget << "%";
     s << "\n";
     for (size_t i = 0; i < step->mean.size(); ++i) {
@@ -420,11 +442,12 @@ std::string CalibrationResult::summary() const {
   if (step && step->chosen > 0) {
     const size_t i = size_t(std::find(step->ratios.begin(), step->ratios.end(), step->chosen) -
                             step->ratios.begin());
+    const size_t best = best_step(*step);
     std::snprintf(line, sizeof line,
                   "ROM step: %g x dt (%d steps a frame), mean delta %.3f %% against %.3f %% at "
-                  "%g x dt\n",
-                  step->chosen, step->steps_per_frame[i], 100 * step->mean[i], 100 * step->mean[0],
-                  step->ratios[0]);
+                  "%g x dt (the best)\n",
+                  step->chosen, step->steps_per_frame[i], 100 * step->mean[i],
+                  100 * step->mean[best], step->ratios[best]);
     out += line;
   } else if (step) {
     out += "ROM step: not chosen (the first ratio failed on some run)\n";

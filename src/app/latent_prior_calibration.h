@@ -4,7 +4,7 @@
 // the ε with the lowest mean δ wins, a run that diverges ruling its ε out. Training runs, not
 // held-out ones: they are what a user has before any test. `nsf calibrate` and `nsf train`.
 // Optionally also the ROM's time step (`--dt-ratios`): at the chosen ε, the largest ratio of the
-// ROM step to the scene's Δt whose mean δ stays within a tolerance of the first ratio's.
+// ROM step to the scene's Δt whose mean δ stays within a tolerance of the best ratio's.
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,7 +22,7 @@ struct CalibrationOptions {
   // ROM steps over the scene's Δt to try, ascending; the first is the reference, at which ε is
   // chosen. Empty: the step is not calibrated (ε is chosen at the step nsf rom would take).
   std::vector<double> dt_ratios;
-  double dt_tolerance = 1.25;  // a ratio qualifies where its mean δ ≤ this × the first's,
+  double dt_tolerance = 1.25;  // a ratio qualifies where its mean δ ≤ this × the best's,
   double dt_budget = 0;        // or ≤ this (a δ, e.g. 0.01; 0: none)
   int runs = 4;                // training runs, spread over the sweep's interior
   int threads = 0;             // as `nsf rom -j`; 0: all cores
@@ -41,9 +41,16 @@ struct StepCalibration {
   std::vector<bool> stopped;
   std::vector<double> rom_ms_per_frame;  // the latent steps, mean over the runs measured
   double tolerance = 0, budget = 0;
-  double limit = 0;    // the mean δ a ratio may reach: max(tolerance × the first's, budget)
+  double limit = 0;    // the mean δ a ratio may reach: max(tolerance × the best's, budget)
   double chosen = -1;  // the largest ratio within the limit; < 0 where the first one failed
 };
+
+// The ratio with the lowest complete mean δ (the first where none is lower).
+size_t best_step(const StepCalibration& s);
+// The mean δ a ratio may reach: max(tolerance × the best's, budget).
+double step_limit(const StepCalibration& s);
+// The largest ratio within step_limit; -1 where the first failed (nothing to hold the others to).
+double chosen_step(const StepCalibration& s);
 
 struct CalibrationResult {
   std::vector<double> grid;

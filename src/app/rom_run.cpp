@@ -187,6 +187,10 @@ RomReport run_rom(const RomRunOptions& o) {
   // command line gave.
   const ModelCalibration calibrated = calibration_of(fields);
   const RomSection& section = file.sections.rom.for_family(fields.decoder());
+  if (file.json.contains("rom"))
+    for (std::string& w :
+         overrides_hidden_by_family(file.json.at("rom"), fields.decoder(), o.overrides))
+      rep.warnings.push_back(std::move(w));
   RomOptions ro = with_rom_section(o.rom, section, calibrated);
   if (o.dt_ratio) ro.dt_ratio = *o.dt_ratio;
   if (o.latent_prior) ro.latent_prior = *o.latent_prior;

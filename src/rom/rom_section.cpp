@@ -110,6 +110,24 @@ RomOptions with_rom_section(RomOptions o, const RomSection& s, const ModelCalibr
   return o;
 }
 
+std::vector<std::string> overrides_hidden_by_family(const nlohmann::json& rom,
+                                                    const std::string& family,
+                                                    const std::vector<std::string>& overrides) {
+  std::vector<std::string> hidden;
+  if (!rom.is_object() || !rom.contains(family) || !rom.at(family).is_object()) return hidden;
+  const nlohmann::json& own = rom.at(family);
+  for (const std::string& o : overrides) {
+    const size_t eq = o.find('=');
+    if (o.rfind("rom.", 0) != 0 || eq == std::string::npos) continue;
+    const std::string key = o.substr(4, eq - 4);
+    if (key.find('.') == std::string::npos && own.contains(key))
+      hidden.push_back("--set " + o + " does not reach this " + family +
+                       " model: the scene's rom." + family + "." + key + " = " +
+                       own.at(key).dump() + " wins (set rom." + family + "." + key + " instead)");
+  }
+  return hidden;
+}
+
 RomSettingSources rom_setting_sources(const RomSection& s, const ModelCalibration& calibrated,
                                       bool prior_given, bool dt_ratio_given) {
   const auto source = [](bool given, bool scene, bool model) {

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "nn/neural_fields.h"
 #include "rom/rom_options.h"
@@ -46,6 +47,12 @@ ModelCalibration calibration_of(const NeuralFields& fields);
 // without latent_prior or dt_ratio takes the model's calibrated one where it has one.
 RomOptions with_rom_section(RomOptions options, const RomSection& section,
                             const ModelCalibration& calibrated = {});
+
+// The scene overrides (`--set rom.KEY=VALUE`) whose KEY the rom section's `family` object sets
+// again, so that the override does not reach a model of that family: one line each, naming both.
+std::vector<std::string> overrides_hidden_by_family(const nlohmann::json& rom,
+                                                    const std::string& family,
+                                                    const std::vector<std::string>& overrides);
 
 // Where ε and the step of with_rom_section's options came from, for a run whose command line
 // gave (or did not give) its own: "command line", "scene", "model" (its calibration) or
