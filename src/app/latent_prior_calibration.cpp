@@ -93,7 +93,6 @@ Measured measure(const CalibrationOptions& o, const std::string& scene,
   return m;
 }
 
-// The step pass: each ratio at ε on the same runs; the largest within tolerance of the best wins.
 }  // namespace
 
 size_t best_step(const StepCalibration& s) {
@@ -118,6 +117,7 @@ double chosen_step(const StepCalibration& s) {
 
 namespace {
 
+// The step pass: each ratio at ε on the same runs; the largest within tolerance of the best wins.
 StepCalibration calibrate_step(const CalibrationOptions& o, const std::string& scene,
                                const std::vector<std::string>& overrides,
                                const std::vector<SimulationFile>& runs, double eps) {
