@@ -394,6 +394,17 @@ class RomEndToEnd : public ::testing::Test {
     o.quiet = true;
     return o;
   }
+  // `nsf calibrate` on two training runs of a fresh copy `name` of the (uncalibrated) basis model.
+  static nsf::CalibrationOptions calibration_options(const std::string& name) {
+    nsf::CalibrationOptions co;
+    co.model_path = (root_ / name).string();
+    fs::copy_file(basis_model(), co.model_path, fs::copy_options::overwrite_existing);
+    co.data_dir = (root_ / "data").string();
+    co.scene_path = kTinyScene;
+    co.runs = 2;
+    co.quiet = true;
+    return co;
+  }
   static fs::path root_;
 };
 fs::path RomEndToEnd::root_;
@@ -1274,16 +1285,10 @@ TEST_F(RomEndToEnd, HAndLRetrainedOnTheRomsOwnLatentsKeepGAndFitThem) {
 // the lowest mean wins, the model file keeps it, and `nsf rom` takes it only where neither its
 // command line nor the scene's rom section gives one. Training the model again forgets it.
 TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrainingRuns) {
-  const std::string calibrated = (root_ / "calibrated.nsf").string();
-  fs::copy_file(basis_model(), calibrated, fs::copy_options::overwrite_existing);
+  nsf::CalibrationOptions co = calibration_options("calibrated.nsf");
+  const std::string calibrated = co.model_path;
   EXPECT_LT(nsf::NeuralFields::load(calibrated).calibrated_latent_prior(), 0);
-  nsf::CalibrationOptions co;
-  co.model_path = calibrated;
-  co.data_dir = (root_ / "data").string();
-  co.scene_path = kTinyScene;
   co.grid = {0.0, 0.01, 0.3};  // none, a weak pull, one that pins the latent to the training runs
-  co.runs = 2;
-  co.quiet = true;
   const nsf::CalibrationResult r = nsf::calibrate_latent_prior(co);
   ASSERT_EQ(r.runs.size(), 2u);
   ASSERT_EQ(r.delta.size(), 3u);
@@ -1398,18 +1403,12 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
 // same runs; the largest ratio whose mean stays within the tolerance of the best's is stored, and
 // `nsf rom` (and the runtime) take it where neither the command line nor the scene sets a step.
 TEST_F(RomEndToEnd, CalibrationChoosesTheLargestStepWithinTheToleranceAndStoresIt) {
-  const std::string calibrated = (root_ / "step_calibrated.nsf").string();
-  fs::copy_file(basis_model(), calibrated, fs::copy_options::overwrite_existing);
+  nsf::CalibrationOptions co = calibration_options("step_calibrated.nsf");
+  const std::string calibrated = co.model_path;
   EXPECT_LT(nsf::NeuralFields::load(calibrated).calibrated_dt_ratio(), 0);
-  nsf::CalibrationOptions co;
-  co.model_path = calibrated;
-  co.data_dir = (root_ / "data").string();
-  co.scene_path = kTinyScene;
   co.grid = {0.0};
-  co.runs = 2;
   co.dt_ratios = {4, 7.5, 15};  // 4, 2 and 1 ROM steps a frame of 15 substeps
   co.dt_tolerance = 100;        // every ratio that runs qualifies: the largest is chosen
-  co.quiet = true;
   const nsf::CalibrationResult loose = nsf::calibrate_latent_prior(co);
   ASSERT_TRUE(loose.step.has_value());
   const nsf::StepCalibration& s = *loose.step;
