@@ -36,8 +36,8 @@ std::array<T, 3> positive_triple(const nlohmann::json& j, const std::string& pat
   return out;
 }
 
-// A non-empty array of numbers, each in (0, hi] (or [0, hi] where zero is allowed), ascending
-// where asked.
+// A non-empty array of finite numbers, each positive (or non-negative where zero is allowed),
+// ascending where asked.
 std::vector<double> numbers(const nlohmann::json& j, const std::string& path, bool zero_allowed,
                             bool ascending, const char* meaning) {
   if (!j.is_array() || j.empty())
