@@ -176,11 +176,17 @@ TEST(TrainSection, NamesTheKeyAtFault) {
 TEST(TrainSection, TakesACalibrationRecipe) {
   const TrainSection t = parse_train_section(json::parse(
       R"({"calibrate": {"grid": [0, 0.01], "dt_ratios": [4, 10], "set": ["rom.quadrature=1"]}})"));
-  ASSERT_TRUE(t.calibrate);
-  EXPECT_EQ(t.calibrate->grid, (std::vector<double>{0, 0.01}));
-  EXPECT_EQ(t.calibrate->dt_ratios, (std::vector<double>{4, 10}));
-  EXPECT_EQ(t.calibrate->set, (std::vector<std::string>{"rom.quadrature=1"}));
-  EXPECT_FALSE(parse_train_section(json::object()).calibrate);
+  ASSERT_EQ(t.calibrate.size(), 1u);
+  EXPECT_EQ(t.calibrate[0].grid, (std::vector<double>{0, 0.01}));
+  EXPECT_EQ(t.calibrate[0].dt_ratios, (std::vector<double>{4, 10}));
+  EXPECT_EQ(t.calibrate[0].set, (std::vector<std::string>{"rom.quadrature=1"}));
+  EXPECT_TRUE(parse_train_section(json::object()).calibrate.empty());
+  // A list: one recipe per kind of run the model keeps a calibration of, made in turn.
+  const TrainSection two = parse_train_section(json::parse(
+      R"({"calibrate": [{"grid": [0]}, {"dt_ratios": [1, 1.4], "set": ["rom.fields.stress=tracked"]}]})"));
+  ASSERT_EQ(two.calibrate.size(), 2u);
+  EXPECT_EQ(two.calibrate[0].grid, (std::vector<double>{0}));
+  EXPECT_EQ(two.calibrate[1].set, (std::vector<std::string>{"rom.fields.stress=tracked"}));
 
   const auto app = [](const char* calibrate) {
     return json::parse(std::string(R"({"calibrate": )") + calibrate + "}");
@@ -192,6 +198,8 @@ TEST(TrainSection, TakesACalibrationRecipe) {
   expect_rejected(app(R"({"set": ["rom.quadrature"]})"), {"train.calibrate.set[0]", "KEY=VALUE"});
   expect_rejected(app(R"({"tolerance": 2})"), {"train.calibrate.tolerance"});
   expect_rejected(app("3"), {"train.calibrate"});
+  expect_rejected(app("[]"), {"train.calibrate", "non-empty list"});
+  expect_rejected(app(R"([{"grid": [0]}, {"grid": [-1]}])"), {"train.calibrate[1].grid[0]"});
 }
 
 // The recipe fills what nsf calibrate's command line left open, and only that.
@@ -221,6 +229,40 @@ TEST(TrainSection, CalibrationRecipeFillsWhatTheCommandLineLeftOpen) {
   EXPECT_EQ(given.grid, (std::vector<double>{0.5}));
   EXPECT_EQ(given.dt_ratios, (std::vector<double>{1, 2}));
   EXPECT_EQ(given.overrides, (std::vector<std::string>{"rom.samples=9"}));
+}
+
+// A list of recipes: nsf calibrate --recipe N takes the Nth; each kind of run reads the scene's
+// own rom settings for it (the tracked state its "tracked" object), which the recipe's --set
+// decides.
+TEST(TrainSection, EachRecipeOfAListCalibratesTheKindOfRunItsSetMakes) {
+  json scene = json::parse(R"({
+    "name": "s", "simulation": {"dx": 0.125, "dt": 1e-3, "frames": 2, "substeps": 2},
+    "objects": [{"shape": {"type": "box", "min": [0.375, 0.375, 0.375], "max": [0.625, 0.625, 0.625]},
+                 "material": {"type": "fixed_corotated", "E": 1000, "nu": 0.3}}],
+    "rom": {"latent_prior": 0, "fields": {}, "tracked": {"latent_prior": 0.002, "dt_ratio": 1.5}},
+    "train": {"calibrate": [{"grid": [0.001]},
+                            {"grid": [0.003], "set": ["rom.fields.stress=tracked"]}]}
+  })");
+  const std::filesystem::path p = std::filesystem::path(::testing::TempDir()) / "recipes.json";
+  std::ofstream(p) << scene.dump();
+  EXPECT_EQ(calibration_recipes(p.string()), 2u);
+  CalibrationOptions first, second, none;
+  first.scene_path = second.scene_path = none.scene_path = p.string();
+  first.quiet = second.quiet = none.quiet = true;
+  apply_calibration_recipe(first, {}, 0);
+  apply_calibration_recipe(second, {}, 1);
+  EXPECT_EQ(first.grid, (std::vector<double>{0.001}));
+  EXPECT_EQ(second.grid, (std::vector<double>{0.003}));
+  const SceneRomSettings plain = scene_rom_settings(first, "basis");
+  EXPECT_FALSE(plain.tracked);
+  EXPECT_EQ(plain.latent_prior, 0.0);
+  EXPECT_FALSE(plain.dt_ratio);
+  const SceneRomSettings tracked = scene_rom_settings(second, "basis");
+  EXPECT_TRUE(tracked.tracked);
+  EXPECT_EQ(tracked.latent_prior, 0.002);
+  EXPECT_EQ(tracked.dt_ratio, 1.5);
+  nsf::testing::expect_error([&] { apply_calibration_recipe(none, {}, 2); },
+                             {"gives 2 calibration recipes", "no recipe 3"});
 }
 
 // Every "train" snippet in docs/SCENES.md parses (tests/test_scene.cpp checks the other kinds).

@@ -149,5 +149,45 @@ TEST(RomSection, EachDecoderFamilyReadsItsOwnSettingsOverTheCommonOnes) {
   expect_rejected(json::parse(R"({"mlp": {"frobnicate": 1}})"), {"rom.mlp", "frobnicate"});
 }
 
+// The "tracked" object holds what a run with the tracked state reads (its stress the points' own,
+// chosen on the command line or by the section), over the family's settings; a run with the
+// decoders' stress never sees it, and a null in it hands a setting to the model's calibration.
+TEST(RomSection, ARunWithTheTrackedStateReadsTheTrackedSettings) {
+  const RomSection s = parse_rom_section(json::parse(R"({
+    "samples": 200, "latent_prior": 0, "quadrature": 1,
+    "tracked": {"latent_prior": null, "dt_ratio": 1.4, "fields": {"affine": "tracked"}},
+    "basis": {"samples": 500, "tracked": {"samples": 300}}
+  })"));
+  EXPECT_FALSE(s.tracks_stress("mlp"));
+  EXPECT_TRUE(s.tracks_stress("mlp", "tracked"));
+  EXPECT_EQ(&s.for_run("mlp"), &s);
+  EXPECT_EQ(&s.for_run("mlp", "basis"), &s);
+  const RomSection& mlp = s.for_run("mlp", "tracked");
+  EXPECT_EQ(mlp.sampling.count, 200);
+  EXPECT_EQ(mlp.quadrature, 1);
+  EXPECT_FALSE(mlp.latent_prior);  // the model's calibration (of the tracked state) speaks
+  EXPECT_EQ(mlp.dt_ratio, 1.4);
+  EXPECT_EQ(mlp.fields.affine, "tracked");
+  EXPECT_EQ(s.for_run("basis").sampling.count, 500);
+  EXPECT_EQ(s.for_run("basis").latent_prior, 0.0);
+  const RomSection& basis = s.for_run("basis", "tracked");
+  EXPECT_EQ(basis.sampling.count, 300);  // the family's tracked object over the common one
+  EXPECT_EQ(basis.dt_ratio, 1.4);
+  EXPECT_FALSE(basis.latent_prior);
+  // The section's own stress source decides where the command line names none.
+  const RomSection own = parse_rom_section(
+      json::parse(R"({"fields": {"stress": "tracked"}, "tracked": {"samples": 40}})"));
+  EXPECT_TRUE(own.tracks_stress("basis"));
+  EXPECT_EQ(own.for_run("basis").sampling.count, 40);
+  EXPECT_FALSE(own.tracks_stress("basis", "network"));
+
+  expect_rejected(json::parse(R"({"tracked": 1})"), {"rom.tracked", "must be an object"});
+  expect_rejected(json::parse(R"({"tracked": {"basis": {}}})"), {"rom.tracked.basis"});
+  expect_rejected(json::parse(R"({"tracked": {"tracked": {}}})"), {"rom.tracked.tracked"});
+  expect_rejected(json::parse(R"({"tracked": {"fields": {"stress": "basis"}}})"),
+                  {"rom.tracked.fields.stress"});
+  expect_rejected(json::parse(R"({"tracked": {"dt_ratio": 0}})"), {"rom.tracked", "rom.dt_ratio"});
+}
+
 }  // namespace
 }  // namespace nsf

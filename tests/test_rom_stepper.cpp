@@ -1328,7 +1328,7 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
   o.latent_prior = r.grid[2];
   EXPECT_EQ(nsf::run_rom(o).delta, r.delta[2][0]);
   const nlohmann::json table =
-      nlohmann::json::parse(nsf::NeuralModel::load(calibrated).latent_prior_calibration);
+      nlohmann::json::parse(nsf::NeuralModel::load(calibrated).calibration.table);
   EXPECT_EQ(table.at("chosen").get<double>(), r.chosen);
   EXPECT_EQ(table.at("grid").size(), 3u);
 
@@ -1368,6 +1368,33 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
                            {"rom.latent_prior=0.03", R"(rom.basis={"latent_prior": 0.04})"}, 0)
                 .options.latent_prior,
             0.04);
+  // The tracked state's own calibration: a run whose points carry their stress takes it (the
+  // other where the model has none), a run with the decoders' stress never does; the scene's
+  // rom.tracked object speaks for tracked runs alone. The runtime reads them alike.
+  o.overrides.clear();
+  o.rom.fields.stress = "tracked";
+  EXPECT_EQ(nsf::run_rom(o).latent_prior, 0.01) << "no tracked calibration yet: the other one";
+  nsf::CalibrationResult tracked = r;
+  tracked.tracked = true;
+  tracked.chosen = 0.02;
+  nsf::store_calibration(calibrated, tracked);
+  EXPECT_EQ(nsf::NeuralFields::load(calibrated).calibrated_latent_prior(), 0.01);
+  EXPECT_EQ(nsf::NeuralFields::load(calibrated).calibrated_latent_prior(true), 0.02);
+  used = nsf::run_rom(o);
+  EXPECT_EQ(used.latent_prior, 0.02);
+  EXPECT_EQ(used.latent_prior_source, "model");
+  o.overrides = {R"(rom.tracked={"latent_prior": 0.04})"};
+  used = nsf::run_rom(o);
+  EXPECT_EQ(used.latent_prior, 0.04);
+  EXPECT_EQ(used.latent_prior_source, "scene");
+  o.rom.fields.stress.clear();
+  EXPECT_EQ(nsf::run_rom(o).latent_prior, 0.01);
+  const nsf::NeuralFields tf = nsf::NeuralFields::load(calibrated);
+  EXPECT_EQ(nsf::rom_setup(tf, kTinyScene, 1.0, {R"(rom.fields={"stress": "tracked"})"}, 0)
+                .options.latent_prior,
+            0.02);
+  EXPECT_EQ(nsf::rom_setup(tf, kTinyScene, 1.0, {}, 0).options.latent_prior, 0.01);
+
   o = options();  // an uncalibrated model and a scene without one: none
   o.model_path = basis_model();
   used = nsf::run_rom(o);
@@ -1446,7 +1473,7 @@ TEST_F(RomEndToEnd, CalibrationChoosesTheLargestStepWithinTheToleranceAndStoresI
   nsf::store_calibration(calibrated, tight);
   EXPECT_EQ(nsf::NeuralFields::load(calibrated).calibrated_dt_ratio(), 7.5);
   const nlohmann::json table =
-      nlohmann::json::parse(nsf::NeuralModel::load(calibrated).latent_prior_calibration);
+      nlohmann::json::parse(nsf::NeuralModel::load(calibrated).calibration.table);
   EXPECT_EQ(table.at("step").at("chosen").get<double>(), 7.5);
   EXPECT_EQ(table.at("step").at("ratios").size(), 3u);
   // Where the step comes from: the model; the command line; the scene's rom section.

@@ -22,22 +22,25 @@ struct CalibrateArgs {
   CalibrationOptions opt;
   std::string json;
   bool dry_run = false;
+  int recipe = 1;  // of the scene's train.calibrate list, from 1
 };
 
 // A scene whose rom section sets latent_prior (or dt_ratio, where the step was calibrated) for
-// the model's decoder family overrides the model's calibration in `nsf rom`.
-void warn_if_scene_overrides(const std::string& scene, const std::string& family, bool step) {
+// the model's decoder family, and the kind of run calibrated, overrides the model's calibration
+// in `nsf rom`.
+void warn_if_scene_overrides(const CalibrationOptions& o, const std::string& family, bool step) {
+  const SceneRomSettings scene = scene_rom_settings(o, family);
+  const std::string where = scene.tracked ? "tracked object" : family + " object";
   const auto warn = [&](const char* key, double value, const char* unit) {
     std::fprintf(stderr,
-                 "nsf: warning: scene %s sets rom.%s = %g%s for %s models, which nsf rom uses "
+                 "nsf: warning: the scene sets rom.%s = %g%s for %s models%s, which nsf rom uses "
                  "ahead of the model's calibration; remove it there (or set it to null in its "
-                 "rom.%s object) to use the calibration\n",
-                 scene.c_str(), key, value, unit, family.c_str(), family.c_str());
+                 "rom.%s) to use the calibration\n",
+                 key, value, unit, family.c_str(), scene.tracked ? " with the tracked state" : "",
+                 where.c_str());
   };
-  if (const std::optional<double> set = scene_latent_prior(scene, family))
-    warn("latent_prior", *set, " m");
-  if (const std::optional<double> set = scene_dt_ratio(scene, family); set && step)
-    warn("dt_ratio", *set, "");
+  if (scene.latent_prior) warn("latent_prior", *scene.latent_prior, " m");
+  if (scene.dt_ratio && step) warn("dt_ratio", *scene.dt_ratio, "");
 }
 
 }  // namespace
@@ -82,18 +85,24 @@ void add_calibrate_command(CLI::App& app) {
   cmd->add_option("--runs", a->opt.runs, "Training runs to measure on, spread over the sweep")
       ->capture_default_str()
       ->check(in_range(1, 1000));
+  cmd->add_option("--recipe", a->recipe,
+                  "Which of the scene's train.calibrate recipes fills what the command line does "
+                  "not give, where it has several (one per kind of run: the decoded stress's, the "
+                  "tracked state's)")
+      ->capture_default_str()
+      ->check(in_range(1, 100));
   cmd->add_option("--json", a->json, "Also write the table as JSON");
   cmd->add_flag("--dry-run", a->dry_run, "Measure and print, leave the model file as it is");
   add_threads_option(cmd, a->opt.threads);
   add_quiet_flag(cmd, a->opt.quiet);
   cmd->callback([a, grid, dt_ratios, set] {
     // The scene's train.calibrate recipe where the command line gives none of its own.
-    apply_calibration_recipe(a->opt, {grid->count() > 0, dt_ratios->count() > 0, set->count() > 0});
+    apply_calibration_recipe(a->opt, {grid->count() > 0, dt_ratios->count() > 0, set->count() > 0},
+                             size_t(a->recipe - 1));
     const CalibrationResult r = calibrate_latent_prior(a->opt);
     std::printf("%s%s", r.table().c_str(), r.summary().c_str());
-    warn_if_scene_overrides(
-        a->opt.scene_path.empty() ? dataset_scene_file(a->opt.data_dir) : a->opt.scene_path,
-        NeuralFields::load(a->opt.model_path).decoder(), !a->opt.dt_ratios.empty());
+    warn_if_scene_overrides(a->opt, NeuralFields::load(a->opt.model_path).decoder(),
+                            !a->opt.dt_ratios.empty());
     if (!a->json.empty()) write_file_atomic(a->json, r.to_json().dump(2) + "\n");
     if (a->dry_run) return;
     store_calibration(a->opt.model_path, r);

@@ -41,6 +41,13 @@ std::vector<std::string> manifest_overrides(const nlohmann::json& m) {
   return out;
 }
 
+// The scene values a calibration's ROM runs take: the sweep's own, then its --set.
+std::vector<std::string> calibration_overrides(const CalibrationOptions& o) {
+  std::vector<std::string> overrides = manifest_overrides(read_manifest(o.data_dir));
+  overrides.insert(overrides.end(), o.overrides.begin(), o.overrides.end());
+  return overrides;
+}
+
 // `count` runs spread over the sweep (ordered by μ): the middle run of each of `count` equal
 // shares, so that the ends, where the prior's surface has one side only, do not decide alone.
 std::vector<SimulationFile> spread_runs(std::vector<SimulationFile> runs, int count) {
@@ -190,12 +197,21 @@ std::string millimetres(double eps) {
 
 }  // namespace
 
-void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& given) {
+size_t calibration_recipes(const std::string& scene_path) {
+  if (scene_path.empty()) return 0;
+  const std::optional<TrainSection> train = app::read_scene_file(scene_path).sections.train;
+  return train ? train->calibrate.size() : 0;
+}
+
+void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& given, size_t index) {
   const std::string scene = o.scene_path.empty() ? dataset_scene_file(o.data_dir) : o.scene_path;
   if (scene.empty()) return;
   const std::optional<TrainSection> train = app::read_scene_file(scene).sections.train;
-  if (!train || !train->calibrate) return;
-  const CalibrationRecipe& c = *train->calibrate;
+  if (!train || train->calibrate.empty()) return;
+  if (index >= train->calibrate.size())
+    fail("calibrate: scene ", scene, " gives ", train->calibrate.size(),
+         " calibration recipes (train.calibrate); there is no recipe ", index + 1);
+  const CalibrationRecipe& c = train->calibrate[index];
   std::ostringstream took;
   const auto list = [&](const char* name, const auto& v) {
     took << " " << name;
@@ -208,16 +224,22 @@ void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& giv
     o.overrides.insert(o.overrides.end(), c.set.begin(), c.set.end());
     list("set", c.set);
   }
-  if (!o.quiet && !took.str().empty())
-    std::printf("calibration recipe of %s:%s\n", scene.c_str(), took.str().c_str());
+  if (!o.quiet && !took.str().empty()) {
+    const size_t n = train->calibrate.size();
+    const std::string which =
+        n > 1 ? " " + std::to_string(index + 1) + " of " + std::to_string(n) : std::string();
+    std::printf("calibration recipe%s of %s:%s\n", which.c_str(), scene.c_str(),
+                took.str().c_str());
+  }
 }
 
-std::optional<double> scene_latent_prior(const std::string& scene_path, const std::string& family) {
-  return app::read_scene_file(scene_path).sections.rom.for_family(family).latent_prior;
-}
-
-std::optional<double> scene_dt_ratio(const std::string& scene_path, const std::string& family) {
-  return app::read_scene_file(scene_path).sections.rom.for_family(family).dt_ratio;
+SceneRomSettings scene_rom_settings(const CalibrationOptions& o, const std::string& family) {
+  const std::string scene = o.scene_path.empty() ? dataset_scene_file(o.data_dir) : o.scene_path;
+  if (scene.empty()) return {};
+  const app::SceneFile file = app::read_scene_file(scene, calibration_overrides(o));
+  const RomSection& rom = file.sections.rom;
+  const RomSection& section = rom.for_run(family);
+  return {rom.tracks_stress(family), section.latent_prior, section.dt_ratio};
 }
 
 std::string dataset_scene_file(const std::string& data_dir) {
@@ -253,11 +275,11 @@ CalibrationResult calibrate_latent_prior(const CalibrationOptions& o) {
   if (scene.empty())
     fail("calibrate: dataset ", o.data_dir,
          " names no scene file that exists here (its manifest's scene_file); give --scene");
-  std::vector<std::string> overrides = manifest_overrides(read_manifest(o.data_dir));
-  overrides.insert(overrides.end(), o.overrides.begin(), o.overrides.end());
+  const std::vector<std::string> overrides = calibration_overrides(o);
 
   CalibrationResult r;
   r.grid = o.grid;
+  r.tracked = scene_rom_settings(o, NeuralFields::load(o.model_path).decoder()).tracked;
   const std::vector<SimulationFile> runs = spread_runs(data.train(), o.runs);
   for (const SimulationFile& f : runs) {
     r.runs.push_back(std::filesystem::path(f.path).filename().string());
@@ -309,6 +331,7 @@ nlohmann::json CalibrationResult::to_json() const {
   nlohmann::json j;
   j["chosen"] = chosen;
   j["all_diverged"] = all_diverged;
+  j["tracked"] = tracked;
   j["runs"] = runs;
   j["mu"] = mu;
   j["seconds"] = seconds;
@@ -343,7 +366,8 @@ nlohmann::json CalibrationResult::to_json() const {
 
 std::string CalibrationResult::table() const {
   std::ostringstream s;
-  s << "latent prior calibration: delta on training runs";
+  s << "latent prior calibration" << (tracked ? " of the tracked state" : "")
+    << ": delta on training runs";
   for (size_t k = 0; k < runs.size(); ++k)
     s << (k ? ", " : " ") << runs[k] << " (mu " << mu[k] << ")";
   s << "\n";
@@ -407,23 +431,39 @@ bool calibrate_trained_model(const std::string& model_path, const std::string& d
     return skip("the dataset's scene file is not here: nsf calibrate MODEL DATA --scene FILE");
   o.threads = threads;
   o.quiet = quiet;
-  CalibrationResult r;
-  try {  // the model is written and whole: a ROM that cannot run here does not undo the training
-    apply_calibration_recipe(o, {});
-    if (const std::optional<double> set = scene_latent_prior(o.scene_path, "basis"))
-      return skip("scene " + o.scene_path + " sets rom.latent_prior = " + millimetres(*set));
+  try {
     const Dataset data(data_dir, /*allow_incomplete=*/true);
     if (!data.incomplete().empty()) return skip("the dataset is incomplete");
     if (!data.has_mu()) return skip("the dataset has no mu");
-    r = calibrate_latent_prior(o);
   } catch (const Error& e) {
     return skip(std::string("it failed: ") + e.what());
   }
-  if (!quiet) std::printf("%s", r.table().c_str());
-  store_calibration(model_path, r);
-  std::printf("%s", r.summary().c_str());
-  std::printf("  stored in %s\n", model_path.c_str());
-  return true;
+  bool calibrated = false;
+  const size_t recipes = std::max<size_t>(1, calibration_recipes(o.scene_path));
+  for (size_t i = 0; i < recipes; ++i) {
+    CalibrationOptions one = o;
+    CalibrationResult r;
+    try {  // the model is written and whole: a ROM that cannot run here does not undo the training
+      apply_calibration_recipe(one, {}, i);
+      const SceneRomSettings scene = scene_rom_settings(one, "basis");
+      if (scene.latent_prior) {
+        skip("scene " + o.scene_path +
+             " sets rom.latent_prior = " + millimetres(*scene.latent_prior) +
+             (scene.tracked ? " for runs with the tracked state" : ""));
+        continue;
+      }
+      r = calibrate_latent_prior(one);
+    } catch (const Error& e) {
+      skip(std::string("it failed: ") + e.what());
+      continue;
+    }
+    if (!quiet) std::printf("%s", r.table().c_str());
+    store_calibration(model_path, r);
+    std::printf("%s", r.summary().c_str());
+    std::printf("  stored in %s\n", model_path.c_str());
+    calibrated = true;
+  }
+  return calibrated;
 }
 
 std::string CalibrationResult::summary() const {
@@ -438,7 +478,7 @@ std::string CalibrationResult::summary() const {
     std::snprintf(line, sizeof line,
                   "latent prior: %g mm, mean delta %.3f %% on %zu training runs (%.0f s)\n",
                   1e3 * chosen, 100 * best, runs.size(), seconds);
-  std::string out = line;
+  std::string out = tracked ? "tracked state: " + std::string(line) : std::string(line);
   if (step && step->chosen > 0) {
     const size_t i = size_t(std::find(step->ratios.begin(), step->ratios.end(), step->chosen) -
                             step->ratios.begin());
@@ -457,9 +497,10 @@ std::string CalibrationResult::summary() const {
 
 void store_calibration(const std::string& model_path, const CalibrationResult& r) {
   NeuralFields f = NeuralFields::load(model_path);
-  f.model().latent_prior = r.chosen;
-  f.model().latent_prior_calibration = r.to_json().dump();
-  if (r.step) f.model().dt_ratio = r.step->chosen;
+  RomCalibration& c = r.tracked ? f.model().tracked_calibration : f.model().calibration;
+  c.latent_prior = r.chosen;
+  c.table = r.to_json().dump();
+  if (r.step) c.dt_ratio = r.step->chosen;
   f.model().save(model_path);
 }
 

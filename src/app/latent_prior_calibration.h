@@ -66,6 +66,8 @@ struct CalibrationResult {
   double chosen = 0;  // the ε with the lowest mean (0 where every ε diverged)
   bool all_diverged = false;
   std::optional<StepCalibration> step;  // with CalibrationOptions::dt_ratios
+  // The runs carried the tracked state (their stress "tracked"): the model keeps it apart.
+  bool tracked = false;
   double seconds = 0;
 
   nlohmann::json to_json() const;
@@ -77,18 +79,27 @@ struct CalibrationResult {
 // names none or the file is not there.
 std::string dataset_scene_file(const std::string& data_dir);
 
-// The scene's calibration recipe (its train section's "calibrate") in place of what `o` was not
-// given: the ε grid, the ROM steps and the `--set` values. Prints what it took unless quiet.
+// How many calibration recipes the scene gives (its train section's "calibrate": 0, 1 or a list).
+size_t calibration_recipes(const std::string& scene_path);
+
+// The scene's calibration recipe `index` (from 0) in place of what `o` was not given: the ε grid,
+// the ROM steps and the `--set` values. Prints what it took unless quiet. Throws nsf::Error for an
+// index the scene does not have (where it has any).
 struct CalibrationGiven {
   bool grid = false, dt_ratios = false, set = false;
 };
-void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& given);
+void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& given,
+                              size_t index = 0);
 
-// The latent prior a scene file's rom section sets for a model of decoder family `family`, which
-// `nsf rom` takes ahead of the model's calibration (none where it sets none).
-std::optional<double> scene_latent_prior(const std::string& scene_path, const std::string& family);
-// The same for the ROM's step (rom.dt_ratio).
-std::optional<double> scene_dt_ratio(const std::string& scene_path, const std::string& family);
+// What a scene file's rom section (with the calibration's --set values and its dataset's) gives a
+// model of decoder family `family`, as `nsf rom` reads it: whether the runs carry the tracked
+// state, and the latent prior and step it sets for them, which `nsf rom` takes ahead of the
+// model's calibration (none where it sets none).
+struct SceneRomSettings {
+  bool tracked = false;
+  std::optional<double> latent_prior, dt_ratio;
+};
+SceneRomSettings scene_rom_settings(const CalibrationOptions& o, const std::string& family);
 
 // Runs the ROM grid × runs times. Throws nsf::Error for a missing scene or dataset, a model of
 // another scene, or any failure of a run other than divergence.
@@ -96,15 +107,17 @@ CalibrationResult calibrate_latent_prior(const CalibrationOptions& options);
 
 // What `nsf train`, `nsf demo` and `nsf report` do after training a model: calibrate it (and
 // store the result) where it is a basis model (an MLP model's ROM is ~50x slower: `nsf calibrate`
-// it by hand), the dataset has μ and its scene file is here and sets no latent_prior itself; prints
-// the table unless quiet, or a note saying why it was skipped (also where the ROM runs fail: the
-// trained model stands). Returns whether it calibrated.
+// it by hand), the dataset has μ and its scene file is here, once per recipe of the scene (once
+// where it has none) whose runs the scene gives no latent_prior; prints the table unless quiet,
+// or a note saying why it was skipped (also where the ROM runs fail: the trained model stands).
+// Returns whether it calibrated.
 bool calibrate_trained_model(const std::string& model_path, const std::string& data_dir,
                              int threads, bool quiet);
 
 // Stores the chosen ε (and the step ratio, where calibrated) and the table (to_json) in the
-// model file, atomically; `nsf rom` then uses them where neither its command line nor the
-// scene's rom section gives its own.
+// model file, atomically, as the calibration of the kind of run it measured (result.tracked);
+// `nsf rom` then uses them where neither its command line nor the scene's rom section gives its
+// own.
 void store_calibration(const std::string& model_path, const CalibrationResult& result);
 
 }  // namespace nsf

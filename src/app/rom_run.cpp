@@ -183,10 +183,12 @@ RomReport run_rom(const RomRunOptions& o) {
   if (!baseline_inputs.coarse_skipped.empty())
     rep.warnings.push_back(baseline_inputs.coarse_skipped);
 
-  // The scene's rom section (ε and the step: else the model's calibration), then what the
-  // command line gave.
-  const ModelCalibration calibrated = calibration_of(fields);
-  const RomSection& section = file.sections.rom.for_family(fields.decoder());
+  // The scene's rom section (ε and the step: else the model's calibration), the tracked state's
+  // own settings and calibration where the run carries it, then what the command line gave.
+  const RomSection& scene_rom = file.sections.rom;
+  const bool tracked = scene_rom.tracks_stress(fields.decoder(), o.rom.fields.stress);
+  const ModelCalibration calibrated = calibration_of(fields, tracked);
+  const RomSection& section = scene_rom.for_run(fields.decoder(), o.rom.fields.stress);
   if (file.json.contains("rom"))
     for (std::string& w :
          overrides_hidden_by_family(file.json.at("rom"), fields.decoder(), o.overrides))

@@ -61,6 +61,36 @@ Normalizer read_normalizer(torch::serialize::InputArchive& a, const std::string&
   return n;
 }
 
+// `nsf calibrate`'s choice for one kind of ROM run, its entries named with `prefix` ("" for the
+// decoded stress's, as nsf wrote them before there were two); absent where never calibrated.
+void write_calibration(torch::serialize::OutputArchive& a, const std::string& prefix,
+                       const RomCalibration& c) {
+  if (c.latent_prior >= 0) {
+    a.write(prefix + "latent_prior", c10::IValue(c.latent_prior));
+    a.write(prefix + "latent_prior_calibration", c10::IValue(c.table));
+  }
+  if (c.dt_ratio > 0) a.write(prefix + "calibrated_dt_ratio", c10::IValue(c.dt_ratio));
+}
+
+RomCalibration read_calibration(torch::serialize::InputArchive& a, const std::string& prefix,
+                                const std::string& path) {
+  RomCalibration c;
+  c10::IValue prior, table, ratio;
+  if (a.try_read(prefix + "latent_prior", prior)) {
+    if (!prior.isDouble() || !std::isfinite(prior.toDouble()) || prior.toDouble() < 0 ||
+        !a.try_read(prefix + "latent_prior_calibration", table) || !table.isString())
+      fail("model file ", path, ": damaged entry '", prefix, "latent_prior'");
+    c.latent_prior = prior.toDouble();
+    c.table = table.toStringRef();
+  }
+  if (a.try_read(prefix + "calibrated_dt_ratio", ratio)) {
+    if (!ratio.isDouble() || !std::isfinite(ratio.toDouble()) || ratio.toDouble() <= 0)
+      fail("model file ", path, ": damaged entry '", prefix, "calibrated_dt_ratio'");
+    c.dt_ratio = ratio.toDouble();
+  }
+  return c;
+}
+
 c10::IValue read_value(torch::serialize::InputArchive& a, const std::string& key,
                        const std::string& path) {
   c10::IValue v;
@@ -164,11 +194,8 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   a.write("mu_min", c10::IValue(mu_min));
   a.write("mu_max", c10::IValue(mu_max));
   a.write("train_seconds", c10::IValue(train_seconds));
-  if (latent_prior >= 0) {
-    a.write("latent_prior", c10::IValue(latent_prior));
-    a.write("latent_prior_calibration", c10::IValue(latent_prior_calibration));
-  }
-  if (dt_ratio > 0) a.write("calibrated_dt_ratio", c10::IValue(dt_ratio));
+  write_calibration(a, "", calibration);
+  write_calibration(a, "tracked_", tracked_calibration);
   write_normalizer(a, "X", norm_X);
   write_normalizer(a, "x", norm_x);
   write_normalizer(a, "z", norm_z);
@@ -318,20 +345,8 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   m.mu_max = read_value(a, "mu_max", path).toDouble();
   c10::IValue seconds;  // absent before nsf recorded it
   if (a.try_read("train_seconds", seconds)) m.train_seconds = seconds.toDouble();
-  c10::IValue prior, table;  // absent unless `nsf calibrate` ran (older nsf ignores them)
-  if (a.try_read("latent_prior", prior)) {
-    if (!prior.isDouble() || !std::isfinite(prior.toDouble()) || prior.toDouble() < 0 ||
-        !a.try_read("latent_prior_calibration", table) || !table.isString())
-      fail("model file ", path, ": damaged entry 'latent_prior'");
-    m.latent_prior = prior.toDouble();
-    m.latent_prior_calibration = table.toStringRef();
-  }
-  c10::IValue ratio;  // absent unless `nsf calibrate --dt-ratios` chose one
-  if (a.try_read("calibrated_dt_ratio", ratio)) {
-    if (!ratio.isDouble() || !std::isfinite(ratio.toDouble()) || ratio.toDouble() <= 0)
-      fail("model file ", path, ": damaged entry 'calibrated_dt_ratio'");
-    m.dt_ratio = ratio.toDouble();
-  }
+  m.calibration = read_calibration(a, "", path);
+  m.tracked_calibration = read_calibration(a, "tracked_", path);
   m.norm_X = read_normalizer(a, "X", 3, path);
   m.norm_x = read_normalizer(a, "x", 3, path);
   m.norm_z = read_normalizer(a, "z", c.latent_dim, path);

@@ -55,6 +55,13 @@ struct BasisField {
   int64_t K() const { return scale.defined() ? scale.size(0) : 0; }
 };
 
+// What `nsf calibrate` chose for one kind of ROM run (docs/ROM.md, "Latent prior").
+struct RomCalibration {
+  double latent_prior = -1;  // ε (metres; 0: none chosen); < 0 where never calibrated
+  double dt_ratio = -1;      // the step over the scene's Δt (--dt-ratios); < 0 where never chosen
+  std::string table;         // JSON: the ε and steps tried, the training runs, δ of each
+};
+
 class NeuralModel {
  public:
   NeuralModel(const NetConfig& config, const SceneFingerprint& scene, bool has_mu);
@@ -122,13 +129,10 @@ class NeuralModel {
   // Wall time of the training that made this model, all stages (and resumed runs) together;
   // 0 in files written before nsf recorded it.
   double train_seconds = 0;
-  // ε of the latent prior chosen by `nsf calibrate` (metres, 0: none chosen), and its table
-  // (JSON: the ε tried, the training runs, δ of each); < 0 / "" where never calibrated.
-  double latent_prior = -1;
-  std::string latent_prior_calibration;
-  // The ROM's step over the scene's Δt chosen by `nsf calibrate --dt-ratios` (its table is in
-  // latent_prior_calibration); < 0 where never chosen.
-  double dt_ratio = -1;
+  // What `nsf calibrate` chose for the ROM whose stress the decoders give (h, or what stands in
+  // for it), and for the ROM whose points carry their own (the tracked state): the two integrate
+  // differently, so each has its own.
+  RomCalibration calibration, tracked_calibration;
 };
 
 }  // namespace nsf

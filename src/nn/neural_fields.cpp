@@ -112,11 +112,11 @@ const std::string& NeuralFields::scene_name() const {
 bool NeuralFields::stress_uses_mu() const {
   return model_->stress_has_mu();
 }
-double NeuralFields::calibrated_latent_prior() const {
-  return model_->latent_prior;
+double NeuralFields::calibrated_latent_prior(bool tracked) const {
+  return (tracked ? model_->tracked_calibration : model_->calibration).latent_prior;
 }
-double NeuralFields::calibrated_dt_ratio() const {
-  return model_->dt_ratio;
+double NeuralFields::calibrated_dt_ratio(bool tracked) const {
+  return (tracked ? model_->tracked_calibration : model_->calibration).dt_ratio;
 }
 double NeuralFields::mu_min() const {
   return model_->mu_min;

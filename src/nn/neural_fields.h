@@ -36,10 +36,11 @@ class NeuralFields {
   double mu_max() const;
   double train_seconds() const;  // wall time of the training that made it (0: not recorded)
   // ε of the latent prior `nsf calibrate` chose for it (metres; 0: none), or < 0 where it was
-  // never calibrated.
-  double calibrated_latent_prior() const;
+  // never calibrated: for the ROM whose stress the decoders give, or (`tracked`) for the one
+  // whose points carry their own (rom.fields.stress = "tracked").
+  double calibrated_latent_prior(bool tracked = false) const;
   // The ROM step over the scene's Δt that `nsf calibrate --dt-ratios` chose, or < 0 where none.
-  double calibrated_dt_ratio() const;
+  double calibrated_dt_ratio(bool tracked = false) const;
 
   // Throws nsf::Error unless X (rest positions of `what`, e.g. a run file) is the model's scene.
   void check_scene(const std::string& scene_name, const std::vector<Vec3>& X,

@@ -104,8 +104,18 @@ TrainSection parse_train_section(const nlohmann::json& train, const std::string&
   t.latent_dim = json::get_int(train, path, "latent_dim", 0, 1, 1024);
   t.decoder = one_of(train, path, "decoder", "mlp", "basis");
   t.encoder = one_of(train, path, "encoder", "network", "modes");
-  if (train.contains("calibrate"))
-    t.calibrate = parse_calibration_recipe(train.at("calibrate"), json::child(path, "calibrate"));
+  if (train.contains("calibrate")) {
+    const nlohmann::json& c = train.at("calibrate");
+    const std::string where = json::child(path, "calibrate");
+    if (!c.is_array()) {
+      t.calibrate.push_back(parse_calibration_recipe(c, where));
+    } else {
+      if (c.empty())
+        fail("scene: '", where, "' must be a recipe object or a non-empty list of them");
+      for (size_t i = 0; i < c.size(); ++i)
+        t.calibrate.push_back(parse_calibration_recipe(c[i], json::child(where, i)));
+    }
+  }
   return t;
 }
 

@@ -14,7 +14,9 @@ namespace nsf {
 
 // How `nsf calibrate` measures a model of the scene where its command line does not say, and how
 // `nsf train`, `nsf report` and `nsf demo` calibrate what they train: the ε tried, the ROM steps
-// tried (none: the step is not chosen) and scene values set for those runs (`--set`).
+// tried (none: the step is not chosen) and scene values set for those runs (`--set`). A scene may
+// give several (a list), one for each kind of run a model keeps a calibration of: the decoded
+// stress's and the tracked state's (`"set": ["rom.fields.stress=tracked", ...]`).
 struct CalibrationRecipe {
   std::vector<double> grid, dt_ratios;
   std::vector<std::string> set;
@@ -29,7 +31,8 @@ struct TrainSection {
   std::string encoder;                       // "network" or "modes" (basis); "": the default
   // A stage's batch: frames, then particles within each frame.
   std::optional<std::array<int, 3>> frames_per_batch, particles_per_frame;
-  std::optional<CalibrationRecipe> calibrate;  // "calibrate": {"grid", "dt_ratios", "set"}
+  // "calibrate": {"grid", "dt_ratios", "set"}, or a list of them, made in turn.
+  std::vector<CalibrationRecipe> calibrate;
 };
 
 TrainSection parse_train_section(const nlohmann::json& train, const std::string& path = "train");

@@ -982,9 +982,8 @@ TrainReport Trainer::run() {
     rep.steps = total - first;
     rep.seconds = now_seconds() - start;
     model_.train_seconds += rep.seconds;
-    model_.latent_prior = -1;  // a base model's calibration was of other fields
-    model_.latent_prior_calibration.clear();
-    model_.dt_ratio = -1;
+    // A base model's calibrations were of other fields.
+    model_.calibration = model_.tracked_calibration = RomCalibration();
     rep.points_per_second = rep.steps * double(points_per_step) / std::max(rep.seconds, 1e-9);
     if (stage_ == 0)
       rep.frames_per_second =

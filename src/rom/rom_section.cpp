@@ -9,6 +9,31 @@ namespace nsf {
 
 namespace {
 const char* const kFamilies[] = {"mlp", "basis"};
+
+// The "tracked" object: the section's own settings (`common`) with it merged over them.
+std::shared_ptr<const RomSection> parse_tracked(const nlohmann::json& common,
+                                                const nlohmann::json& own) {
+  if (!own.is_object())
+    fail(
+        "scene key 'rom.tracked' must be an object of rom settings for a run with the tracked "
+        "state, got ",
+        own.dump());
+  for (const char* nested : {"mlp", "basis", "tracked"})
+    if (own.contains(nested))
+      fail("scene key 'rom.tracked.", nested, "': the tracked settings hold no ", nested,
+           " object (put a family's tracked settings in rom.FAMILY.tracked)");
+  if (own.contains("fields") && own.at("fields").is_object() && own.at("fields").contains("stress"))
+    fail(
+        "scene key 'rom.tracked.fields.stress': the tracked settings are for the tracked stress; "
+        "set the stress source in rom.fields");
+  nlohmann::json merged = common;
+  merged.merge_patch(own);
+  try {
+    return std::make_shared<const RomSection>(parse_rom_section(merged));
+  } catch (const Error& e) {
+    fail("in scene key 'rom.tracked': ", e.what());
+  }
+}
 }  // namespace
 
 RomSection parse_rom_section(const nlohmann::json& rom) {
@@ -61,9 +86,14 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
     sampling.erase("fields");
   }
   s.latent_prior = number("latent_prior", true, "the latent prior's length in metres; 0: none");
+  // A family's object merges over the common settings, its tracked object over theirs (so a
+  // tracked setting wins over a family's plain one).
   nlohmann::json common = rom;
   for (const char* family : kFamilies) common.erase(family), sampling.erase(family);
+  nlohmann::json plain = common;
+  plain.erase("tracked"), sampling.erase("tracked");
   s.sampling = parse_sampling(sampling);
+  if (rom.contains("tracked")) s.tracked = parse_tracked(plain, rom.at("tracked"));
   for (const char* family : kFamilies) {
     if (!rom.contains(family)) continue;
     const nlohmann::json& own = rom.at(family);
@@ -91,7 +121,18 @@ const RomSection& RomSection::for_family(const std::string& family) const {
   return *this;
 }
 
-ModelCalibration calibration_of(const NeuralFields& fields) {
+bool RomSection::tracks_stress(const std::string& family, const std::string& stress) const {
+  return (stress.empty() ? for_family(family).fields.stress : stress) == "tracked";
+}
+
+const RomSection& RomSection::for_run(const std::string& family, const std::string& stress) const {
+  const RomSection& f = for_family(family);
+  return f.tracked && tracks_stress(family, stress) ? *f.tracked : f;
+}
+
+ModelCalibration calibration_of(const NeuralFields& fields, bool tracked) {
+  if (tracked && fields.calibrated_latent_prior(true) >= 0)
+    return {fields.calibrated_latent_prior(true), fields.calibrated_dt_ratio(true)};
   return {fields.calibrated_latent_prior(), fields.calibrated_dt_ratio()};
 }
 

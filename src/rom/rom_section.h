@@ -24,9 +24,18 @@ struct RomSection {
   // "mlp", "basis": settings for a model of that decoder family, over the ones above (a scene
   // whose two families were measured best at different steps, priors or sample counts).
   std::shared_ptr<const RomSection> mlp, basis;
+  // "tracked": settings for a run whose points carry their own stress (fields.stress "tracked"),
+  // over the ones above: that state integrates differently (an explicit stress within the CFL
+  // bound, no h to drift from), so its best step and prior are its own. Null where not given.
+  std::shared_ptr<const RomSection> tracked;
 
   // The section as a model of `family` ("mlp" or "basis": NeuralFields::decoder()) reads it.
   const RomSection& for_family(const std::string& family) const;
+  // Whether a run of such a model carries the tracked state: `stress`, a command line's choice of
+  // stress source, else the family's fields.stress, is "tracked".
+  bool tracks_stress(const std::string& family, const std::string& stress = "") const;
+  // What that run reads: the family's settings, with the tracked ones over them where it tracks.
+  const RomSection& for_run(const std::string& family, const std::string& stress = "") const;
 };
 
 // Reads the whole section; missing keys keep their defaults, a null section gives all defaults.
@@ -35,12 +44,13 @@ struct RomSection {
 RomSection parse_rom_section(const nlohmann::json& rom);
 
 // What `nsf calibrate` chose for a model (NeuralFields::calibrated_latent_prior and
-// calibrated_dt_ratio); < 0 where it chose nothing.
+// calibrated_dt_ratio); < 0 where it chose nothing. A run with the tracked state takes the
+// tracked calibration where the model has one, else the other (a model calibrated once).
 struct ModelCalibration {
   double latent_prior = -1;
   double dt_ratio = -1;
 };
-ModelCalibration calibration_of(const NeuralFields& fields);
+ModelCalibration calibration_of(const NeuralFields& fields, bool tracked = false);
 
 // `options` with the section's settings: its sampling, and each other value the section gives;
 // a field source only where `options` names none (a command line's own choice wins). A section

@@ -34,8 +34,9 @@ RomSetup rom_setup(const NeuralFields& fields, const std::string& scene_path,
   }
   fields.check_scene(s.scene.name, s.scene.particles.X, "scene " + scene_path);
 
-  s.options =
-      with_rom_section(RomOptions(), section.for_family(fields.decoder()), calibration_of(fields));
+  const std::string& family = fields.decoder();
+  s.options = with_rom_section(RomOptions(), section.for_run(family),
+                               calibration_of(fields, section.tracks_stress(family)));
   if (samples > 0) s.options.sampling.count = samples;
   return s;
 }
