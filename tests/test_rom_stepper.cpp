@@ -441,6 +441,20 @@ TEST_F(RomEndToEnd, StaysCloseToTheFullOrderRunAndBeatsAFrozenLatent) {
   EXPECT_LE(r.mean_N, double(r.particles));
 }
 
+// Full order run in the same process, with no --fom-out: its scratch truth file and the file's
+// ParaView sidecar are gone when the run ends (they once piled up in the temp directory).
+TEST_F(RomEndToEnd, FullOrderInTheSameRunLeavesNoScratchFilesBehind) {
+  nsf::RomRunOptions o = options();
+  o.full_order = true;
+  o.truth_path.clear();
+  const nsf::RomReport r = nsf::run_rom(o);
+  EXPECT_GT(r.fom_seconds, 0);
+  EXPECT_GE(r.delta, 0);
+  const std::string stem = "nsf_rom_truth_" + std::to_string(::getpid());
+  for (const fs::directory_entry& e : fs::directory_iterator(fs::temp_directory_path()))
+    EXPECT_NE(e.path().filename().string().rfind(stem + ".", 0), 0u) << e.path();
+}
+
 // N checked by brute force every step, with samples clustered at one end of the bar (so that K
 // and N are proper subsets of P) and the tightest halo (the most refreshes would be missed if
 // the rule were wrong).

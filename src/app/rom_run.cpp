@@ -17,6 +17,7 @@
 #include "core/progress.h"
 #include "io/run_reader.h"
 #include "io/run_writer.h"
+#include "io/xdmf_writer.h"
 #include "mpm/simulation.h"
 #include "nn/checked_archive.h"
 #include "nn/dataset.h"
@@ -31,7 +32,10 @@ namespace {
 struct ScratchFile {
   std::string path;
   ~ScratchFile() {
-    if (!path.empty()) std::filesystem::remove(path);
+    if (path.empty()) return;
+    std::error_code ec;  // a destructor does not throw; a file already gone is no matter
+    std::filesystem::remove(path, ec);
+    std::filesystem::remove(xdmf_path_for(path), ec);  // the run file's ParaView sidecar
   }
 };
 
