@@ -144,7 +144,7 @@ TEST(RomSection, EachDecoderFamilyReadsItsOwnSettingsOverTheCommonOnes) {
   EXPECT_TRUE(overrides_hidden_by_family(rom, "mlp", {"rom.samples=1000"}).empty());
 
   expect_rejected(json::parse(R"({"basis": 3})"), {"rom.basis", "must be an object"});
-  expect_rejected(json::parse(R"({"mlp": {"basis": {}}})"), {"rom.mlp.basis", "hold no family"});
+  expect_rejected(json::parse(R"({"mlp": {"basis": {}}})"), {"rom.mlp.basis", "hold no basis"});
   expect_rejected(json::parse(R"({"basis": {"dt_ratio": -1}})"), {"rom.basis", "rom.dt_ratio"});
   expect_rejected(json::parse(R"({"mlp": {"frobnicate": 1}})"), {"rom.mlp", "frobnicate"});
 }

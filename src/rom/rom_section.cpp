@@ -1,6 +1,7 @@
 #include "rom/rom_section.h"
 
 #include <cmath>
+#include <initializer_list>
 #include <utility>
 
 #include "core/error.h"
@@ -10,28 +11,25 @@ namespace nsf {
 namespace {
 const char* const kFamilies[] = {"mlp", "basis"};
 
-// The "tracked" object: the section's own settings (`common`) with it merged over them.
-std::shared_ptr<const RomSection> parse_tracked(const nlohmann::json& common,
-                                                const nlohmann::json& own) {
+// A settings object rom.KEY (a decoder family's, or the tracked state's): `base` with it merged
+// over, parsed as a section of its own. `what` names whose settings it holds; it may hold none of
+// the objects `nested`.
+std::shared_ptr<const RomSection> overlay(const nlohmann::json& base, const nlohmann::json& own,
+                                          const std::string& key, const std::string& what,
+                                          std::initializer_list<const char*> nested) {
   if (!own.is_object())
-    fail(
-        "scene key 'rom.tracked' must be an object of rom settings for a run with the tracked "
-        "state, got ",
-        own.dump());
-  for (const char* nested : {"mlp", "basis", "tracked"})
-    if (own.contains(nested))
-      fail("scene key 'rom.tracked.", nested, "': the tracked settings hold no ", nested,
-           " object (put a family's tracked settings in rom.FAMILY.tracked)");
-  if (own.contains("fields") && own.at("fields").is_object() && own.at("fields").contains("stress"))
-    fail(
-        "scene key 'rom.tracked.fields.stress': the tracked settings are for the tracked stress; "
-        "set the stress source in rom.fields");
-  nlohmann::json merged = common;
+    fail("scene key 'rom.", key, "' must be an object of rom settings for ", what, ", got ",
+         own.dump());
+  for (const char* n : nested)
+    if (own.contains(n))
+      fail("scene key 'rom.", key, ".", n, "': the settings for ", what, " hold no ", n,
+           " object (a family's tracked settings go in rom.FAMILY.tracked)");
+  nlohmann::json merged = base;
   merged.merge_patch(own);
   try {
     return std::make_shared<const RomSection>(parse_rom_section(merged));
   } catch (const Error& e) {
-    fail("in scene key 'rom.tracked': ", e.what());
+    fail("in scene key 'rom.", key, "': ", e.what());
   }
 }
 }  // namespace
@@ -93,25 +91,21 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
   nlohmann::json plain = common;
   plain.erase("tracked"), sampling.erase("tracked");
   s.sampling = parse_sampling(sampling);
-  if (rom.contains("tracked")) s.tracked = parse_tracked(plain, rom.at("tracked"));
-  for (const char* family : kFamilies) {
-    if (!rom.contains(family)) continue;
-    const nlohmann::json& own = rom.at(family);
-    if (!own.is_object())
-      fail("scene key 'rom.", family, "' must be an object of rom settings for a model with ",
-           family, " decoders, got ", own.dump());
-    for (const char* nested : kFamilies)
-      if (own.contains(nested))
-        fail("scene key 'rom.", family, ".", nested, "': a family's settings hold no family");
-    nlohmann::json merged = common;
-    merged.merge_patch(own);
-    try {
-      (std::string(family) == "mlp" ? s.mlp : s.basis) =
-          std::make_shared<const RomSection>(parse_rom_section(merged));
-    } catch (const Error& e) {
-      fail("in scene key 'rom.", family, "': ", e.what());
-    }
+  if (rom.contains("tracked")) {
+    const nlohmann::json& own = rom.at("tracked");
+    if (own.is_object() && own.contains("fields") && own.at("fields").is_object() &&
+        own.at("fields").contains("stress"))
+      fail(
+          "scene key 'rom.tracked.fields.stress': the tracked settings are for the tracked "
+          "stress; set the stress source in rom.fields");
+    s.tracked =
+        overlay(plain, own, "tracked", "a run with the tracked state", {"mlp", "basis", "tracked"});
   }
+  for (const char* family : kFamilies)
+    if (rom.contains(family))
+      (std::string(family) == "mlp" ? s.mlp : s.basis) =
+          overlay(common, rom.at(family), family,
+                  std::string("a model with ") + family + " decoders", {"mlp", "basis"});
   return s;
 }
 
