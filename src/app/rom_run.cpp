@@ -190,8 +190,7 @@ RomReport run_rom(const RomRunOptions& o) {
   // The scene's rom section (ε and the step: else the model's calibration), the tracked state's
   // own settings and calibration where the run carries it, then what the command line gave.
   const RomSection& scene_rom = file.sections.rom;
-  const bool tracked = scene_rom.tracks_stress(fields.decoder(), o.rom.fields.stress);
-  const ModelCalibration calibrated = calibration_of(fields, tracked);
+  const ModelCalibration calibrated = calibration_of(fields, scene_rom, o.rom.fields.stress);
   const RomSection& section = scene_rom.for_run(fields.decoder(), o.rom.fields.stress);
   if (file.json.contains("rom"))
     for (std::string& w :

@@ -124,8 +124,9 @@ const RomSection& RomSection::for_run(const std::string& family, const std::stri
   return f.tracked && tracks_stress(family, stress) ? *f.tracked : f;
 }
 
-ModelCalibration calibration_of(const NeuralFields& fields, bool tracked) {
-  if (tracked && fields.calibrated_latent_prior(true) >= 0)
+ModelCalibration calibration_of(const NeuralFields& fields, const RomSection& rom,
+                                const std::string& stress) {
+  if (rom.tracks_stress(fields.decoder(), stress) && fields.calibrated_latent_prior(true) >= 0)
     return {fields.calibrated_latent_prior(true), fields.calibrated_dt_ratio(true)};
   return {fields.calibrated_latent_prior(), fields.calibrated_dt_ratio()};
 }

@@ -44,13 +44,15 @@ struct RomSection {
 RomSection parse_rom_section(const nlohmann::json& rom);
 
 // What `nsf calibrate` chose for a model (NeuralFields::calibrated_latent_prior and
-// calibrated_dt_ratio); < 0 where it chose nothing. A run with the tracked state takes the
-// tracked calibration where the model has one, else the other (a model calibrated once).
+// calibrated_dt_ratio); < 0 where it chose nothing. A run that carries the tracked state (as
+// rom.tracks_stress says, `stress` a command line's choice of stress source) takes the tracked
+// calibration where the model has one, else the other (a model calibrated once).
 struct ModelCalibration {
   double latent_prior = -1;
   double dt_ratio = -1;
 };
-ModelCalibration calibration_of(const NeuralFields& fields, bool tracked = false);
+ModelCalibration calibration_of(const NeuralFields& fields, const RomSection& rom,
+                                const std::string& stress = "");
 
 // `options` with the section's settings: its sampling, and each other value the section gives;
 // a field source only where `options` names none (a command line's own choice wins). A section

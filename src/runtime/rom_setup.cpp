@@ -34,9 +34,8 @@ RomSetup rom_setup(const NeuralFields& fields, const std::string& scene_path,
   }
   fields.check_scene(s.scene.name, s.scene.particles.X, "scene " + scene_path);
 
-  const std::string& family = fields.decoder();
-  s.options = with_rom_section(RomOptions(), section.for_run(family),
-                               calibration_of(fields, section.tracks_stress(family)));
+  s.options = with_rom_section(RomOptions(), section.for_run(fields.decoder()),
+                               calibration_of(fields, section));
   if (samples > 0) s.options.sampling.count = samples;
   return s;
 }
