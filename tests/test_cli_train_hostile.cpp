@@ -114,6 +114,20 @@ TEST_F(HostileTraining, BatchesLargerThanTheDataOrTheMemoryAreRefused) {
   }
 }
 
+// A map's input where the coefficients are networks (which take the latent alone) is refused
+// before training, naming the flag and what it needs; nothing is written.
+TEST_F(HostileTraining, AVelocityInputWithoutAMapIsRefused) {
+  for (const char* flags : {"--decoder basis --coefficients network --stress-input velocity",
+                            "--decoder basis --coefficients map,network --affine-input velocity"}) {
+    SCOPED_TRACE(flags);
+    const nsf::testing::CliResult r = train_tiny(data(), model(), std::string(flags) + " ");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    expect_contains(r.output, "needs");
+    expect_contains(r.output, "from a map");
+    EXPECT_FALSE(fs::exists(model()));
+  }
+}
+
 // Item 7: a model (or checkpoint) with 64 bytes flipped inside a weight tensor is refused on load
 // by eval, by --base-model and by --resume; it used to load and give errors of 1e30 %.
 TEST_F(HostileTraining, AModelOrCheckpointChangedAfterWritingIsRefused) {

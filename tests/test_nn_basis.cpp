@@ -232,7 +232,7 @@ std::vector<double> outputs(const std::string& model, const std::string& data) {
     std::vector<Vec3> x;
     std::vector<nsf::Mat3> tau, C;
     nf.deform(*pts, z, x);
-    nf.stress(*pts, z, d.test()[0].mu, tau);
+    nf.stress(*pts, z, d.test()[0].mu, tau, &zdot);
     nf.affine(*pts, z, C, d.test()[0].mu, &zdot);
     for (const Vec3& v : x) out.insert(out.end(), v.data(), v.data() + 3);
     for (const auto& m : tau) out.insert(out.end(), m.data(), m.data() + 9);
@@ -391,6 +391,37 @@ TEST_F(BasisModel, ModesEncoderIsTheProjectionOnTheLeadingModes) {
   nsf::testing::expect_contains(
       nsf::testing::error_of([&] { nsf::train_model(data(), (root_ / "no.nsf").string(), mlp); }),
       "the modes encoder needs the basis decoders");
+}
+
+// --stress-input velocity: τ's map reads (ẑ, μ, ż) as C's does; the model says so after saving,
+// gives the same bits, and asking it for τ without ż is an internal error, not a silent zero.
+TEST_F(BasisModel, StressMapThatReadsTheLatentVelocitySurvivesSaving) {
+  nsf::TrainOptions o = basis_options();
+  o.config.net.coefficients = {"map", "map"};
+  o.config.net.stress_uses_velocity = true;
+  const std::string m = (root_ / "stress_velocity.nsf").string();
+  ASSERT_TRUE(nsf::train_model(data(), m, o).completed);
+  NeuralFields nf = NeuralFields::load(m);
+  ASSERT_NE(nf.bases(), nullptr);
+  EXPECT_TRUE(nf.model().config.stress_reads_velocity());
+  EXPECT_TRUE(nf.bases()->stress_uses_velocity);
+  const int64_t r = nf.latent_dim();
+  EXPECT_EQ(nf.bases()->tau.map.inputs(), 2 * r + 1);
+  nsf::EvalOptions e;
+  for (const nsf::EvalRow& row : nsf::evaluate_model(m, data(), e)) {
+    EXPECT_LT(row.stress_error, 0.2) << row.run;
+    std::printf("stress map of the latent velocity, run %s: stress %.2f%%\n", row.run.c_str(),
+                100 * row.stress_error);
+  }
+  const Latent z = Latent::Zero(r);
+  std::vector<nsf::Mat3> tau;
+  nsf::testing::expect_contains(
+      nsf::testing::error_of([&] { nf.stress(nf.prepare(nf.bases()->rest), z, 1.0, tau); }),
+      "need the latent velocity");
+  const std::string copy = (root_ / "stress_velocity_copy.nsf").string();
+  nsf::NeuralModel::load(m).save(copy);
+  EXPECT_TRUE(nsf::NeuralModel::load(copy).config.stress_uses_velocity);
+  EXPECT_TRUE(bit_identical(outputs(m, data()), outputs(copy, data())));
 }
 
 // The modes encoder's latent has the same bits at every thread count. At a paper-size scene's

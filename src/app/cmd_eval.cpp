@@ -53,7 +53,8 @@ void write_json(const EvalArgs& a, const std::vector<EvalRow>& rows) {
   if (const BasisDecoders* b = nf.bases())  // how τ's and C's coefficients are made
     j["coefficients"] = {{"tau", b->tau.map.empty() ? "network" : "map"},
                          {"C", b->C.map.empty() ? "network" : "map"},
-                         {"affine_reads_velocity", b->affine_uses_velocity}};
+                         {"affine_reads_velocity", b->affine_uses_velocity},
+                         {"stress_reads_velocity", b->stress_uses_velocity}};
   j["model"] = a.model;
   j["data"] = a.data;
   j["split"] = a.opt.split;

@@ -45,7 +45,7 @@ struct TrainArgs {
   std::vector<int> modes;
   int coefficient_width = 0, coefficient_depth = 0;
   std::vector<std::string> coefficients;
-  std::string affine_input;
+  std::string affine_input, stress_input;
   std::string encoder;  // --encoder network|modes
   std::string scene;    // --scene: the recipe from this scene file, not the dataset's own
   std::string json;     // --json: the run's row (per stage: steps, seconds, throughput)
@@ -162,7 +162,8 @@ void write_json(const TrainArgs& a, const TrainReport& r, int threads) {
   if (a.opt.config.net.decoder == "basis")
     j["coefficients"] = {{"tau", a.opt.config.net.coefficients[0]},
                          {"C", a.opt.config.net.coefficients[1]},
-                         {"affine_reads_velocity", a.opt.config.net.affine_reads_velocity()}};
+                         {"affine_reads_velocity", a.opt.config.net.affine_reads_velocity()},
+                         {"stress_reads_velocity", a.opt.config.net.stress_reads_velocity()}};
   if (a.opt.config.net.decoder == "basis") j["encoder"] = a.opt.config.net.encoder;
   j["peak_memory_mib"] = peak_rss_mib();
   for (int s = 0; s < kStageCount; ++s) {
@@ -241,17 +242,22 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
     fail("--coefficients takes one kind for tau and C or two (tau,C), got ", a.coefficients.size());
   if (!a.affine_input.empty()) c.net.affine_uses_velocity = a.affine_input == "velocity";
   if (!a.encoder.empty()) c.net.encoder = a.encoder;
+  if (!a.stress_input.empty()) c.net.stress_uses_velocity = a.stress_input == "velocity";
   if (a.affine_input == "velocity" && c.net.coefficients[1] != "map")
     fail(
         "--affine-input velocity needs C's coefficients from a map (--coefficients TAU,map): "
         "the coefficient networks take the latent alone");
+  if (a.stress_input == "velocity" && c.net.coefficients[0] != "map")
+    fail(
+        "--stress-input velocity needs tau's coefficients from a map (--coefficients map,C): "
+        "the coefficient networks take the latent alone");
   const bool basis_flags = !a.modes.empty() || a.coefficient_width > 0 || a.coefficient_depth > 0 ||
                            !a.coefficients.empty() || !a.affine_input.empty() ||
-                           a.encoder == "modes";
+                           !a.stress_input.empty() || a.encoder == "modes";
   if (basis_flags && c.net.decoder != "basis")
     fail(
-        "--modes, --coefficient-*, --coefficients, --affine-input and --encoder modes shape the "
-        "per-point bases: give --decoder basis");
+        "--modes, --coefficient-*, --coefficients, --affine-input, --stress-input and --encoder "
+        "modes shape the per-point bases: give --decoder basis");
   set_per_stage(a.size.steps, c.steps, "--steps");
   set_per_stage(a.epochs, a.opt.epochs, "--epochs");
   set_per_stage(a.frames, c.frames_per_batch, "--frames-per-batch");
@@ -273,7 +279,8 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
                    "network %d x %d for x, %s; r = %d (Table 1 row '%s')%s\n",
                    c.net.modes[0], c.net.modes[1], c.net.modes[2], c.net.coefficient_depth,
                    c.net.coefficient_width,
-                   (std::string(c.net.uses_map(1) ? "map" : "network") + " for tau, " +
+                   (std::string(c.net.uses_map(1) ? "map" : "network") + " for tau" +
+                    (c.net.stress_reads_velocity() ? " (of the latent velocity too)" : "") + ", " +
                     (c.net.uses_map(2) ? "map" : "network") + " for C" +
                     (c.net.affine_reads_velocity() ? " (of the latent velocity too)" : ""))
                        .c_str(),
@@ -403,6 +410,10 @@ void add_nn_commands(CLI::App& app) {
   cmd->add_option("--affine-input", a->affine_input,
                   "What C's coefficient map reads: velocity (the default: the latent, mu and the "
                   "latent velocity) or latent (the latent alone)")
+      ->check(CLI::IsMember({"latent", "velocity"}));
+  cmd->add_option("--stress-input", a->stress_input,
+                  "What tau's coefficient map reads: latent (the default: the latent and mu) or "
+                  "velocity (the latent velocity too; needs --coefficients map,C)")
       ->check(CLI::IsMember({"latent", "velocity"}));
   cmd->add_option("--encoder", a->encoder,
                   "The encoder of a basis model: network (the default: App. E's convolutions, "

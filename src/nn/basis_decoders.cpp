@@ -50,21 +50,38 @@ Eigen::VectorXf BasisDecoders::deformation_coefficients(const Eigen::VectorXd& z
   return u.coefficients(z, J).cast<float>();
 }
 
-Eigen::VectorXf BasisDecoders::stress_coefficients(const Eigen::VectorXd& z, double mu) const {
-  if (!stress_uses_mu) return tau.coefficients(z).cast<float>();
-  Eigen::VectorXd x(z.size() + 1);
-  x << z, mu;
-  return tau.coefficients(x).cast<float>();
+namespace {
+
+// (ẑ[, μ][, ż]): a field's coefficient input.
+Eigen::VectorXd coefficient_input(const Eigen::VectorXd& z, bool with_mu, double mu,
+                                  bool with_velocity, const Eigen::VectorXd* zdot,
+                                  const char* field) {
+  if (with_velocity && (!zdot || zdot->size() != z.size()))
+    fail("internal error: ", field, "'s coefficients of this model need the latent velocity");
+  const int64_t r = z.size();
+  Eigen::VectorXd x(r + (with_mu ? 1 : 0) + (with_velocity ? r : 0));
+  x.head(r) = z;
+  if (with_mu) x[r] = mu;
+  if (with_velocity) x.tail(r) = *zdot;
+  return x;
+}
+
+}  // namespace
+
+Eigen::VectorXd BasisDecoders::stress_input(const Eigen::VectorXd& z, double mu,
+                                            const Eigen::VectorXd* zdot) const {
+  return coefficient_input(z, stress_uses_mu, mu, stress_uses_velocity, zdot, "tau");
+}
+
+Eigen::VectorXf BasisDecoders::stress_coefficients(const Eigen::VectorXd& z, double mu,
+                                                   const Eigen::VectorXd* zdot) const {
+  return tau.coefficients(stress_input(z, mu, zdot)).cast<float>();
 }
 
 Eigen::VectorXd BasisDecoders::affine_input(const Eigen::VectorXd& z, double mu,
                                             const Eigen::VectorXd* zdot) const {
-  if (!affine_uses_velocity) return z;
-  if (!zdot || zdot->size() != z.size())
-    fail("internal error: C's coefficients of this model need the latent velocity");
-  Eigen::VectorXd x(2 * z.size() + 1);
-  x << z, mu, *zdot;
-  return x;
+  // C's map reads μ with the velocity (the model files' layout since format version 5)
+  return coefficient_input(z, affine_uses_velocity, mu, affine_uses_velocity, zdot, "C");
 }
 
 Eigen::VectorXf BasisDecoders::affine_coefficients(const Eigen::VectorXd& z, double mu,

@@ -82,18 +82,25 @@ struct BasisDecoders {
   // C's coefficients of (ẑ, μ, ż): the affine matrices are velocity gradients, which the latent
   // velocity ż carries and ẑ alone does not (docs/TRAINING.md, "Coefficient maps").
   bool affine_uses_velocity = false;
+  // τ's coefficients of (ẑ[, μ], ż): where r leaves a vibration's phase out of ẑ, ż holds it.
+  bool stress_uses_velocity = false;
+  bool reads_velocity() const { return affine_uses_velocity || stress_uses_velocity; }
 
   // c_u(ẑ) (the encoder's raw latent, as g sees it) with ∂c_u/∂ẑ when J is given.
   Eigen::VectorXf deformation_coefficients(const Eigen::VectorXd& z,
                                            Eigen::MatrixXd* J = nullptr) const;
-  Eigen::VectorXf stress_coefficients(const Eigen::VectorXd& z, double mu) const;
-  // ż is read only when affine_uses_velocity (then it must be given: an internal error if not).
+  // ż is read only when the field's coefficients use it (then it must be given: an internal
+  // error if not).
+  Eigen::VectorXf stress_coefficients(const Eigen::VectorXd& z, double mu,
+                                      const Eigen::VectorXd* zdot = nullptr) const;
   Eigen::VectorXf affine_coefficients(const Eigen::VectorXd& z, double mu = 0,
                                       const Eigen::VectorXd* zdot = nullptr) const;
   // The latent velocity that best explains particle velocities v (|P| × 3) at ẑ: the least-squares
   // ż of B_u (∂c_u/∂ẑ) ż = v (B_u's modes are orthonormal over the particles).
   Eigen::VectorXd latent_velocity(const Eigen::VectorXd& z, const float* v) const;
-  // The input of C's coefficients: (ẑ) or, with velocity, (ẑ, μ, ż).
+  // The input of τ's coefficients: (ẑ[, μ][, ż]); of C's: (ẑ) or, with velocity, (ẑ, μ, ż).
+  Eigen::VectorXd stress_input(const Eigen::VectorXd& z, double mu,
+                               const Eigen::VectorXd* zdot) const;
   Eigen::VectorXd affine_input(const Eigen::VectorXd& z, double mu,
                                const Eigen::VectorXd* zdot) const;
   size_t bytes() const { return u.bytes() + tau.bytes() + C.bytes(); }

@@ -92,6 +92,7 @@ BasisDecoders basis_decoders(const NeuralModel& m) {
   for (size_t p = 0; p < d.rest.size(); ++p) d.rest[p] = Vec3(x[3 * p], x[3 * p + 1], x[3 * p + 2]);
   d.stress_uses_mu = m.stress_has_mu();
   d.affine_uses_velocity = m.config.affine_reads_velocity();
+  d.stress_uses_velocity = m.config.stress_reads_velocity();
   return d;
 }
 

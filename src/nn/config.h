@@ -37,11 +37,15 @@ struct NetConfig {
   // with it). The defaults are what measured best (docs/TRAINING.md, "Coefficient maps").
   std::array<std::string, 2> coefficients = {"network", "map"};  // τ, C
   bool affine_uses_velocity = true;                              // C's map reads (ẑ, μ, ż)
+  // τ's map reads (ẑ[, μ], ż) too: where r leaves the phase of a vibration out of ẑ (the jelly),
+  // ż carries it (docs/TRAINING.md, "Coefficient maps").
+  bool stress_uses_velocity = false;
   bool uses_map(int field) const {
     return decoder == "basis" && field > 0 && coefficients[size_t(field - 1)] == "map";
   }
   bool uses_maps() const { return uses_map(1) || uses_map(2); }
   bool affine_reads_velocity() const { return uses_map(2) && affine_uses_velocity; }
+  bool stress_reads_velocity() const { return uses_map(1) && stress_uses_velocity; }
 };
 
 // Table 1, keyed by the scene name stored in the run files; unknown scenes get the bread row.

@@ -104,12 +104,12 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
         for (size_t i = 0; i < n; ++i) ex_encoded += (x[i] - full[subset[i]]).squaredNorm();
         z = refiner->refine(f.x.data(), z);
       }
-      // C of a model that reads the latent velocity: ż of the frame's own particle velocities.
+      // τ or C of a model that reads the latent velocity: ż of the frame's own particle velocities.
       Latent zdot;
-      if (bases && bases->affine_uses_velocity)
+      if (bases && bases->reads_velocity())
         zdot = bases->latent_velocity(z, data.read_field(run, k, "v").data());
       nf.deform(pts, z, x);
-      nf.stress(pts, z, run.mu, tau);
+      nf.stress(pts, z, run.mu, tau, &zdot);
       nf.affine(pts, z, C, run.mu, &zdot);
       for (size_t i = 0; i < n; ++i) {
         const size_t p = subset[i];

@@ -27,7 +27,10 @@ constexpr int64_t kMapFormatVersion = 5;
 // 6: a basis model whose encoder is the projection on its leading modes (`encoder_kind` = modes),
 // which an older nsf would take for its untrained convolutions: it refuses the file.
 constexpr int64_t kModesEncoderFormatVersion = 6;
-constexpr int64_t kNewestFormatVersion = kModesEncoderFormatVersion;
+// 7: a basis model whose τ map reads the latent velocity (`stress_uses_velocity`), which an older
+// nsf would call with too few inputs: it refuses the file.
+constexpr int64_t kStressVelocityFormatVersion = 7;
+constexpr int64_t kNewestFormatVersion = kStressVelocityFormatVersion;
 constexpr const char* kMapParts[5] = {"centers", "weights", "poly", "shift", "scale"};
 constexpr const char* kBasisNames[3] = {"u", "tau", "C"};
 constexpr int64_t kBasisDims[3] = {3, 6, 9};
@@ -173,10 +176,12 @@ NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
 
 void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   a.write("format", c10::IValue(std::string(kFormat)));
-  a.write("format_version", c10::IValue(config.encoder == "modes" ? kModesEncoderFormatVersion
-                                        : config.uses_maps()      ? kMapFormatVersion
-                                        : is_basis()              ? kBasisFormatVersion
-                                                                  : kFormatVersion));
+  a.write("format_version",
+          c10::IValue(config.stress_reads_velocity() ? kStressVelocityFormatVersion
+                      : config.encoder == "modes"    ? kModesEncoderFormatVersion
+                      : config.uses_maps()           ? kMapFormatVersion
+                      : is_basis()                   ? kBasisFormatVersion
+                                                     : kFormatVersion));
   a.write("nsf_version", c10::IValue(std::string(NSF_VERSION)));
   a.write("scene_name", c10::IValue(scene.scene_name));
   a.write("scene_particles", c10::IValue(scene.particles));
@@ -214,12 +219,14 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
     a.write("decoder", c10::IValue(config.decoder));
     a.write("coefficient_width", c10::IValue(int64_t(config.coefficient_width)));
     a.write("coefficient_depth", c10::IValue(int64_t(config.coefficient_depth)));
-    if (config.encoder == "modes") a.write("encoder_kind", c10::IValue(config.encoder));
+    if (config.encoder == "modes" || config.stress_reads_velocity())
+      a.write("encoder_kind", c10::IValue(config.encoder));
     if (config.uses_maps()) {
       a.write("coefficients_tau", c10::IValue(config.coefficients[0]));
       a.write("coefficients_C", c10::IValue(config.coefficients[1]));
       a.write("affine_uses_velocity", c10::IValue(config.affine_uses_velocity));
     }
+    if (config.stress_reads_velocity()) a.write("stress_uses_velocity", c10::IValue(true));
     for (int f = 0; f < 3; ++f) {
       const std::string n = kBasisNames[f];
       a.write("modes_" + n, c10::IValue(int64_t(config.modes[f])));
@@ -328,6 +335,11 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
         fail("model file ", path, ": damaged entry 'encoder_kind' ('", c.encoder,
              "'; known: modes, network)");
     }
+    c.stress_uses_velocity = version >= kStressVelocityFormatVersion &&
+                             read_value(a, "stress_uses_velocity", path).toBool();
+    if (c.stress_uses_velocity && !c.stress_reads_velocity())
+      fail("model file ", path,
+           ": damaged entry 'stress_uses_velocity' (set, but tau's coefficients are no map)");
   } else {
     c.decoder = "mlp";  // the only family before format version 4
   }

@@ -204,12 +204,12 @@ void NeuralFields::deform(const Points& X, const Latent& z, std::vector<Vec3>& x
   if (!x.empty()) std::copy_n(out.data_ptr<double>(), 3 * x.size(), x[0].data());
 }
 
-void NeuralFields::stress(const Points& X, const Latent& z, double mu,
-                          std::vector<Mat3>& tau) const {
+void NeuralFields::stress(const Points& X, const Latent& z, double mu, std::vector<Mat3>& tau,
+                          const Latent* zdot) const {
   tau.resize(X.size());
   if (bases_) {
     basis_values(bases_->tau, X.impl_->particles, X.impl_->weights, X.size(),
-                 bases_->stress_coefficients(z, mu),
+                 bases_->stress_coefficients(z, mu, zdot),
                  [&](size_t i, const float* s) {  // xx yy zz xy yz xz
                    tau[i] << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
                  });

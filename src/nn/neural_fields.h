@@ -71,8 +71,10 @@ class NeuralFields {
 
   // The fields at every prepared point for one latent, in one batched call each.
   void deform(const Points& X, const Latent& z, std::vector<Vec3>& x) const;  // g → x
-  void stress(const Points& X, const Latent& z, double mu,
-              std::vector<Mat3>& tau) const;  // h → τ (symmetric); mu ignored unless used
+  // h → τ (symmetric); mu ignored unless used. A basis model whose τ reads the latent velocity
+  // (bases()->stress_uses_velocity) needs ż: an internal error without it.
+  void stress(const Points& X, const Latent& z, double mu, std::vector<Mat3>& tau,
+              const Latent* zdot = nullptr) const;
   // l → C. A basis model whose C reads the latent velocity (bases()->affine_uses_velocity) needs
   // ż and μ: an internal error without them.
   void affine(const Points& X, const Latent& z, std::vector<Mat3>& C, double mu = 0,

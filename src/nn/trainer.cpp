@@ -387,6 +387,7 @@ void Trainer::start_from_base_model() {
   // the kinds this run asks for (--coefficients), whatever the base model's were.
   base.config.coefficients = cfg_.net.coefficients;
   base.config.affine_uses_velocity = cfg_.net.affine_uses_velocity;
+  base.config.stress_uses_velocity = cfg_.net.stress_uses_velocity;
   const NeuralModel fresh(base.config, base.scene, base.has_mu);
   base.h = fresh.h;
   base.l = fresh.l;
@@ -531,7 +532,8 @@ void Trainer::fit_bases(int first_field) {
 double Trainer::fit_coefficient_map() {
   const int f = stage_;
   const int64_t rows = latents_.size(0), r = model_.latent_dim();
-  const bool with_velocity = f == 2 && model_.config.affine_reads_velocity();
+  const bool with_velocity =
+      f == 1 ? model_.config.stress_reads_velocity() : model_.config.affine_reads_velocity();
   const bool with_mu = f == 1 ? model_.stress_has_mu() : with_velocity;
   const int64_t d = r + (with_mu ? 1 : 0) + (with_velocity ? r : 0);
   const torch::Tensor z = latents_.to(torch::kFloat64).contiguous();
@@ -545,7 +547,7 @@ double Trainer::fit_coefficient_map() {
     const SimulationFile& run = data_.train()[store_.sim_of(frame)];
     const Eigen::Map<const Eigen::VectorXd> zi(z[i].data_ptr<double>(), r);
     inputs.row(i).head(r) = zi.transpose();
-    if (with_mu) inputs(i, r) = run.mu;
+    if (with_mu) inputs(i, r) = run.mu;  // (ẑ[, μ][, ż]), as BasisDecoders reads them
     if (with_velocity) {
       const std::vector<float> v = data_.read_field(run, store_.frame_of(frame), "v");
       inputs.row(i).tail(r) = velocity.latent_velocity(zi, v.data()).transpose();
@@ -569,12 +571,13 @@ double Trainer::fit_coefficient_map() {
   b.map_centers = tensor(m.centers), b.map_weights = tensor(m.weights);
   b.map_poly = tensor(m.poly), b.map_shift = vector(m.shift), b.map_scale = vector(m.scale);
   char line[200];
-  std::snprintf(line, sizeof line,
-                "coefficient map of %s: %lld training latents of %lld inputs%s, smoothing %.0e, "
-                "error %.2f%% of the coefficients on the median run left out (%d folds)",
-                kStageNames[f], static_cast<long long>(rows), static_cast<long long>(d),
-                with_velocity ? " (z, mu, latent velocity)" : "", m.smoothing,
-                100 * std::sqrt(report.cv_error), report.folds);
+  std::snprintf(
+      line, sizeof line,
+      "coefficient map of %s: %lld training latents of %lld inputs%s, smoothing %.0e, "
+      "error %.2f%% of the coefficients on the median run left out (%d folds)",
+      kStageNames[f], static_cast<long long>(rows), static_cast<long long>(d),
+      with_velocity ? (with_mu ? " (z, mu, latent velocity)" : " (z, latent velocity)") : "",
+      m.smoothing, 100 * std::sqrt(report.cv_error), report.folds);
   say(line);
   return report.cv_error;
 }

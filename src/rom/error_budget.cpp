@@ -35,16 +35,16 @@ ErrorBudget::~ErrorBudget() = default;
 void ErrorBudget::add(Sums& sums, const Latent& z, const std::vector<Vec3>& x,
                       const std::vector<Vec3>& v, const std::vector<Mat3>& tau,
                       const std::vector<Mat3>& C) {
-  Latent zdot;  // the truth's latent velocity, for a C that reads it
+  Latent zdot;  // the truth's latent velocity, for a τ or C that reads it
   const BasisDecoders* bases = fields_.bases();
-  if (bases && bases->affine_uses_velocity) {
+  if (bases && bases->reads_velocity()) {
     std::vector<float> vf(3 * v.size());
     for (size_t p = 0; p < v.size(); ++p)
       for (int k = 0; k < 3; ++k) vf[3 * p + size_t(k)] = float(v[p][k]);
     zdot = bases->latent_velocity(z, vf.data());
   }
   fields_.deform(points_, z, gx_);
-  fields_.stress(points_, z, mu_, tau_);
+  fields_.stress(points_, z, mu_, tau_, &zdot);
   fields_.affine(points_, z, C_, mu_, &zdot);
   for (size_t p = 0; p < x.size(); ++p) {
     sums.x.add(gx_[p], x[p]);

@@ -88,10 +88,11 @@ class BasisField final : public PointFieldSource {
   void set_points() override { rows_.set_points(); }
   void evaluate(const std::vector<uint32_t>& ids, const LatentPair& s, bool,
                 std::vector<Mat3>& out) override {
-    // C of a model that reads the latent velocity: ż as the step's backward difference.
+    // τ or C of a model that reads the latent velocity: ż as the step's backward difference.
     Eigen::VectorXd zdot;
-    if (!stress_ && bases_.affine_uses_velocity) zdot = (s.z - s.z_prev) / c_.dt;
-    const Eigen::VectorXf c = stress_ ? bases_.stress_coefficients(s.z, c_.mu)
+    if (stress_ ? bases_.stress_uses_velocity : bases_.affine_uses_velocity)
+      zdot = (s.z - s.z_prev) / c_.dt;
+    const Eigen::VectorXf c = stress_ ? bases_.stress_coefficients(s.z, c_.mu, &zdot)
                                       : bases_.affine_coefficients(s.z, c_.mu, &zdot);
     out.resize(ids.size());
     const int64_t n = int64_t(ids.size());
