@@ -3,9 +3,9 @@
 # Training frames dense in time): for SCENE and a factor F, the scene's sweep again with F times
 # the frames and 1/F the substeps per frame (the same simulations, bit for bit, written F times as
 # often) into data/SCENE_denseF, a basis model with the modes encoder and τ and C maps of the
-# latent velocity trained on it (models/SCENE_basis_dense.nsf, unless it exists), and `nsf eval`
+# latent velocity trained on it (models/SCENE_basis_denseF.nsf, unless it exists), and `nsf eval`
 # of that model on the held-out runs of the scene's own dataset data/SCENE (the frames every other
-# row of the table is measured on), written to docs/results/eval/SCENE_basis_dense.json. With
+# row of the table is measured on), written to docs/results/eval/SCENE_basis_denseF.json. With
 # RUNS, the dense sweep has RUNS training runs instead of the scene's (names end in _trainRUNS;
 # the held-out runs are still the scene's own, in data/SCENE).
 # Uses build/nsf (scripts/build.sh) and python3 (to read the scene's frames and substeps).
@@ -34,7 +34,7 @@ if [ -n "$runs" ] && ! [[ $runs =~ ^[1-9][0-9]*$ ]]; then
 fi
 tag=${runs:+_train$runs} sweep_runs=()
 [ -z "$runs" ] || sweep_runs=(--set "sweep.train=$runs")
-dense=data/${scene}${tag}_dense$factor model=models/${scene}_basis_dense$tag.nsf
+dense=data/${scene}_dense$factor$tag model=models/${scene}_basis_dense$factor$tag.nsf
 mkdir -p docs/results/eval models data
 export OMP_WAIT_POLICY=passive
 "$nsf" sweep "$json" --out "data/$scene" -q # the held-out runs (resumable)
@@ -44,4 +44,4 @@ export OMP_WAIT_POLICY=passive
 [ -f "$model" ] ||
   "$nsf" train "$dense" --out "$model" --decoder basis --encoder modes --coefficients map,map \
     --stress-input velocity --no-calibrate -j 2
-"$nsf" eval "$model" "data/$scene" --refine 10 -j 2 --json "docs/results/eval/${scene}_basis_dense$tag.json"
+"$nsf" eval "$model" "data/$scene" --refine 10 -j 2 --json "docs/results/eval/${scene}_basis_dense$factor$tag.json"
