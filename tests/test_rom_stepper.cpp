@@ -13,6 +13,7 @@
 #include <random>
 
 #include "app/latent_prior_calibration.h"
+#include "app/results_table.h"
 #include "app/rom_run.h"
 #include "cli_runner.h"
 #include "core/error.h"
@@ -429,6 +430,16 @@ TEST_F(RomEndToEnd, StaysCloseToTheFullOrderRunAndBeatsAFrozenLatent) {
   const double frozen = std::sqrt(num / den);
   EXPECT_LT(r.delta, 0.5 * frozen) << "ROM " << r.delta << " vs frozen latent " << frozen;
   std::printf("tiny scene: frozen-latent delta %.3f%%\n", 100 * frozen);
+  // δ frame by frame (frames 1…N, the JSON row's delta_per_frame): eq. (11) pools them, so the
+  // run's δ lies between the best and the worst frame's.
+  ASSERT_EQ(r.delta_per_frame.size(), gt.frame_count() - 1);
+  const auto [best, worst] =
+      std::minmax_element(r.delta_per_frame.begin(), r.delta_per_frame.end());
+  EXPECT_GE(*best, 0.0);
+  EXPECT_LE(*best, r.delta);
+  EXPECT_GE(*worst, r.delta);
+  EXPECT_EQ(nsf::result_json(r, "s.json", "m.nsf", "", "").at("delta_per_frame"),
+            nlohmann::json(r.delta_per_frame));
   // The inversion projects the samples' displacements after the MPM step onto g's tangent: a
   // least-squares projection (equal masses here) cannot add kinetic energy; it may only drop
   // the part g cannot represent.

@@ -159,6 +159,7 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
     j["coarse_scene"] = b.coarse_scene;
   }
   j["energy_kept"] = r.energy_kept;
+  if (!r.delta_per_frame.empty()) j["delta_per_frame"] = r.delta_per_frame;  // frames 1…N
   j["rom_setup_seconds"] = r.rom_setup_seconds;
   j["warnings"] = r.warnings;
   return j;

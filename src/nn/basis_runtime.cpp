@@ -83,16 +83,21 @@ PointBasis point_basis(const NeuralModel& m, int field, const std::vector<uint32
   return out;
 }
 
-BasisDecoders basis_decoders(const NeuralModel& m) {
+BasisDecoders coefficient_inputs(const NeuralModel& m) {
   BasisDecoders d;
+  d.stress_uses_mu = m.stress_has_mu();
+  d.affine_uses_velocity = m.config.affine_reads_velocity();
+  d.stress_uses_velocity = m.config.stress_reads_velocity();
+  return d;
+}
+
+BasisDecoders basis_decoders(const NeuralModel& m) {
+  BasisDecoders d = coefficient_inputs(m);
   d.u = point_basis(m, 0), d.tau = point_basis(m, 1), d.C = point_basis(m, 2);
   const torch::Tensor rest = m.rest.to(torch::kFloat64).contiguous();
   const double* x = rest.data_ptr<double>();
   d.rest.resize(size_t(rest.size(0)));
   for (size_t p = 0; p < d.rest.size(); ++p) d.rest[p] = Vec3(x[3 * p], x[3 * p + 1], x[3 * p + 2]);
-  d.stress_uses_mu = m.stress_has_mu();
-  d.affine_uses_velocity = m.config.affine_reads_velocity();
-  d.stress_uses_velocity = m.config.stress_reads_velocity();
   return d;
 }
 

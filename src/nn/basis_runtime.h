@@ -15,5 +15,7 @@ class NeuralModel;
 PointBasis point_basis(const NeuralModel& model, int field,
                        const std::vector<uint32_t>* ids = nullptr);
 BasisDecoders basis_decoders(const NeuralModel& model);
+// No bases, only which inputs the coefficients read (BasisDecoders::stress_input, affine_input).
+BasisDecoders coefficient_inputs(const NeuralModel& model);
 
 }  // namespace nsf

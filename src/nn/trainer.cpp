@@ -532,26 +532,29 @@ void Trainer::fit_bases(int first_field) {
 double Trainer::fit_coefficient_map() {
   const int f = stage_;
   const int64_t rows = latents_.size(0), r = model_.latent_dim();
+  // The inputs' layout is the runtime's own: BasisDecoders::stress_input / affine_input.
+  BasisDecoders inputs_of = coefficient_inputs(model_);
   const bool with_velocity =
-      f == 1 ? model_.config.stress_reads_velocity() : model_.config.affine_reads_velocity();
-  const bool with_mu = f == 1 ? model_.stress_has_mu() : with_velocity;
+      f == 1 ? inputs_of.stress_uses_velocity : inputs_of.affine_uses_velocity;
+  const bool with_mu = f == 1 ? inputs_of.stress_uses_mu : with_velocity;
   const int64_t d = r + (with_mu ? 1 : 0) + (with_velocity ? r : 0);
+  if (with_velocity) inputs_of.u = point_basis(model_, 0);  // c_u and B_u: the latent velocities
   const torch::Tensor z = latents_.to(torch::kFloat64).contiguous();
   const torch::Tensor c = targets_[f].to(torch::kFloat64).contiguous();
   Eigen::MatrixXd inputs(rows, d), goal(rows, c.size(1));
   std::vector<int> group(static_cast<size_t>(rows));
-  BasisDecoders velocity;  // c_u and B_u alone, for the latent velocities
-  if (with_velocity) velocity.u = point_basis(model_, 0);
   for (int64_t i = 0; i < rows; ++i) {
     const size_t frame = size_t(latent_frame_[size_t(i)]);
     const SimulationFile& run = data_.train()[store_.sim_of(frame)];
     const Eigen::Map<const Eigen::VectorXd> zi(z[i].data_ptr<double>(), r);
-    inputs.row(i).head(r) = zi.transpose();
-    if (with_mu) inputs(i, r) = run.mu;  // (ẑ[, μ][, ż]), as BasisDecoders reads them
+    Eigen::VectorXd zdot;
     if (with_velocity) {
       const std::vector<float> v = data_.read_field(run, store_.frame_of(frame), "v");
-      inputs.row(i).tail(r) = velocity.latent_velocity(zi, v.data()).transpose();
+      zdot = inputs_of.latent_velocity(zi, v.data());
     }
+    inputs.row(i) = (f == 1 ? inputs_of.stress_input(zi, run.mu, &zdot)
+                            : inputs_of.affine_input(zi, run.mu, &zdot))
+                        .transpose();
     goal.row(i) =
         Eigen::Map<const Eigen::VectorXd>(c[int64_t(frame)].data_ptr<double>(), c.size(1));
     group[size_t(i)] = int(store_.sim_of(frame));
