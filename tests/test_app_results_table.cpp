@@ -70,6 +70,27 @@ TEST(RomResults, TablePrintsMeasuredAndPaperFiguresPerScene) {
   const std::string md_old = nsf::results_markdown({old}, "nsf report");
   EXPECT_NE(md_old.find("| 3456 | — | 1.23% | — | 2.50× |"), std::string::npos) << md_old;
   EXPECT_NE(md_old.find("| 6 | MLP | 6e+03 |"), std::string::npos) << md_old;
+  // A quadrature thinned by the scene's rom section, not by `nsf report --quadrature`, is named.
+  r.quadrature_points = 1500;
+  r.quadrature_per_cell = 1;
+  nlohmann::json scenes = nsf::result_json(r, "s.json", "m.nsf", "p.png", "");
+  EXPECT_NE(nsf::results_markdown({scenes}, "nsf")
+                .find("| sand_small (quadrature 1/cell, the "
+                      "scene's) | 31.25 |"),
+            std::string::npos);
+  scenes.erase("quadrature_per_cell");  // rows stored before it was
+  EXPECT_NE(nsf::results_markdown({scenes}, "nsf")
+                .find("**sand_small (thinned quadrature, the "
+                      "scene's)**"),
+            std::string::npos);
+  const std::string labelled = nsf::results_markdown(
+      {nsf::result_json(r, "s.json", "m.nsf", "p.png", "quadrature 1/cell")}, "nsf");
+  EXPECT_NE(labelled.find("| sand_small (quadrature 1/cell) | 31.25 |"), std::string::npos)
+      << labelled;
+  r.quadrature_points = r.particles;  // every particle
+  EXPECT_NE(nsf::results_markdown({nsf::result_json(r, "s.json", "m.nsf", "p.png", "")}, "nsf")
+                .find("| sand_small | 31.25 |"),
+            std::string::npos);
 }
 
 // `nsf report --check`: a rerun must give every figure but the machine's bit for bit; timings,

@@ -64,12 +64,21 @@ void check_row(const ReportArgs& a, const std::string& tag, const nlohmann::json
   fail(path, " does not reproduce:", all);
 }
 
-// --check reruns a row with the latent prior it was made with (the scene's then, or its model's
-// calibration), whatever the scene or the model says now; a row that names none had none.
-double stored_latent_prior(const ReportArgs& a, const std::string& tag) {
+// --check reruns a row with the latent prior and the ROM step it was made with (the scene's then,
+// or its model's calibration), whatever the scene or the model says now; a row that names no
+// prior had none, a row that names no step (stored before it was recorded) takes today's.
+struct StoredSettings {
+  double latent_prior = 0;
+  std::optional<double> dt_ratio;
+};
+StoredSettings stored_settings(const ReportArgs& a, const std::string& tag) {
   std::ifstream in(a.docs + "/results/" + tag + ".json");
   const nlohmann::json stored = nlohmann::json::parse(in, nullptr, false);
-  return stored.is_object() ? stored.value("latent_prior", 0.0) : 0.0;
+  StoredSettings s;
+  if (!stored.is_object()) return s;
+  s.latent_prior = stored.value("latent_prior", 0.0);
+  if (stored.contains("dt_ratio")) s.dt_ratio = stored["dt_ratio"].get<double>();
+  return s;
 }
 
 // One reduced-order run, its picture and its stored row.
@@ -118,7 +127,11 @@ void report_run(const ReportArgs& a, const std::string& scene, const DecoderRows
   else
     ro.coarse_factor = 1.5;
   ro.coarse_optional = true;  // a row without it (a body in the coarser wall band) still counts
-  if (a.check) ro.latent_prior = stored_latent_prior(a, tag);
+  if (a.check) {
+    const StoredSettings stored = stored_settings(a, tag);
+    ro.latent_prior = stored.latent_prior;
+    ro.dt_ratio = stored.dt_ratio;
+  }
   const RomReport r = run_rom(ro);
   std::printf("%s", format_rom_report(r).c_str());
   const std::string picture = "results/" + tag + ".png";

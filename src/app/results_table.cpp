@@ -54,6 +54,21 @@ std::string percent_or_dash(const nlohmann::json& j, const char* key, const char
   return fmt(format, 100 * j[key].get<double>());
 }
 
+// The row's name: its scene and label. A row whose quadrature was thinned by the scene's rom
+// section, not by `nsf report --quadrature` (whose label names it), says so.
+std::string row_name(const nlohmann::json& j) {
+  std::string label = j["label"].get<std::string>();
+  const size_t points = j.value("quadrature_points", size_t(0));  // 0: not recorded
+  const bool thinned = points > 0 && points < j["particles"].get<size_t>();
+  if (thinned && label.find("quadrature") == std::string::npos) {
+    const int k = j.value("quadrature_per_cell", 0);
+    const std::string q = k > 0 ? "quadrature " + std::to_string(k) + "/cell, the scene's"
+                                : "thinned quadrature, the scene's";
+    label = label.empty() ? q : label + ", " + q;
+  }
+  return j["scene"].get<std::string>() + (label.empty() ? "" : " (" + label + ")");
+}
+
 // Which decoder family the row's model holds, as its field sources name it ("x from g's basis").
 // Rows stored before the sources were recorded predate the bases (2026-11-26): MLP fields.
 std::string decoders(const nlohmann::json& j) {
@@ -110,6 +125,7 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   j["samples_end"] = r.samples_end;
   j["mean_N"] = r.mean_N;
   j["quadrature_points"] = r.quadrature_points;
+  j["quadrature_per_cell"] = r.quadrature_per_cell;
   j["threads"] = r.threads;
   if (!r.cpu.empty()) j["cpu"] = r.cpu;
   j["delta"] = r.delta;
@@ -189,7 +205,8 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
        "size (the process baseline, mostly LibTorch and the model, is in both). τ error is the "
        "relative error of the ROM's stress (h at its own latents) against the ground truth's "
        "over all particles and frames (— for rows stored before it was measured). Rows "
-       "labelled *quadrature k/cell* (`nsf report --quadrature k`) integrate the ROM's MPM step "
+       "labelled *quadrature k/cell* (`nsf report --quadrature k`, or *the scene's* where the "
+       "scene's rom section sets it) integrate the ROM's MPM step "
        "with k points per grid cell of the rest shape, each merging a group of particles (their "
        "mass, volume and centre of mass; docs/ROM.md, \"Thinned quadrature\"), and their mean "
        "|N| counts those points; the others use every particle, as the paper does. The latent "
@@ -215,14 +232,12 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
     if (j["samples_end"] != j["samples"])
       samples += " → " + std::to_string(j["samples_end"].get<size_t>());
     const double frames = j["frames"].get<double>();
-    const std::string label = j["label"].get<std::string>();
     const std::string prior = j.contains("latent_prior") && j["latent_prior"].get<double>() > 0
                                   ? fmt("%g mm", 1e3 * j["latent_prior"].get<double>())
                                   : "—";
-    s << "| " << j["scene"].get<std::string>() << (label.empty() ? "" : " (" + label + ")") << " | "
-      << fmt("%g", j["mu"]) << " | " << j["particles"].get<size_t>() << " | " << j["r"].get<int>()
-      << " | " << decoders(j) << " | " << fmt("%.3g", j["gamma"]) << " | " << samples << " | "
-      << fmt("%.0f", j["mean_N"]) << " | " << prior << " | "
+    s << "| " << row_name(j) << " | " << fmt("%g", j["mu"]) << " | " << j["particles"].get<size_t>()
+      << " | " << j["r"].get<int>() << " | " << decoders(j) << " | " << fmt("%.3g", j["gamma"])
+      << " | " << samples << " | " << fmt("%.0f", j["mean_N"]) << " | " << prior << " | "
       << percent_or_dash(j, "delta", "%.2f%%") << " | "
       << percent_or_dash(j, "stress_error", "%.0f%%") << " | " << fmt("%.2f×", j["speedup"])
       << " | " << fmt("%.1f", 1e3 * j["rom_seconds"].get<double>() / frames) << " | "
@@ -243,15 +258,13 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
        "engine δ | coarse engine speed-up | coarse engine |\n"
     << "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& j : rows) {
-    const std::string label = j["label"].get<std::string>();
     std::string lookup = percent_or_dash(j, "lookup_delta", "%.2f%%");
     if (j.contains("lookup_mu")) lookup += fmt(" (%g)", j["lookup_mu"]);
     std::string interp = percent_or_dash(j, "interp_delta", "%.2f%%");
     if (j.value("interp_extrapolated", false)) interp += " (extrapolated)";
-    s << "| " << j["scene"].get<std::string>() << (label.empty() ? "" : " (" + label + ")") << " | "
-      << fmt("%g", j["mu"]) << " | " << percent_or_dash(j, "delta", "%.2f%%") << " | "
-      << fmt("%.2f×", j["speedup"]) << " | " << lookup << " | " << interp << " | "
-      << percent_or_dash(j, "coarse_delta", "%.2f%%") << " | "
+    s << "| " << row_name(j) << " | " << fmt("%g", j["mu"]) << " | "
+      << percent_or_dash(j, "delta", "%.2f%%") << " | " << fmt("%.2f×", j["speedup"]) << " | "
+      << lookup << " | " << interp << " | " << percent_or_dash(j, "coarse_delta", "%.2f%%") << " | "
       << (j.contains("coarse_speedup") && j["coarse_speedup"].get<double>() > 0
               ? fmt("%.2f×", j["coarse_speedup"])
               : std::string("—"))
@@ -271,10 +284,8 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
     auto pct = [&](const char* k) {
       return fmt("%.2f s", j[k].get<double>()) + fmt(" (%.0f%%)", 100 * j[k].get<double>() / t);
     };
-    const std::string label = j["label"].get<std::string>();
-    s << "| " << j["scene"].get<std::string>() << (label.empty() ? "" : " (" + label + ")") << " | "
-      << pct("inference_seconds") << " | " << pct("mpm_seconds") << " | "
-      << pct("inversion_seconds") << " | " << pct("refresh_seconds") << " | "
+    s << "| " << row_name(j) << " | " << pct("inference_seconds") << " | " << pct("mpm_seconds")
+      << " | " << pct("inversion_seconds") << " | " << pct("refresh_seconds") << " | "
       << j["rom_steps_per_frame"].get<int>() << " | " << j["fom_steps_per_frame"].get<int>()
       << " | "
       << (j.contains("threads") ? std::to_string(j["threads"].get<int>()) : std::string("—"))
@@ -285,10 +296,8 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
   }
   s << "\n## Pictures (top: ground truth, bottom: reduced order)\n\n";
   for (const auto& j : rows) {
-    const std::string label = j["label"].get<std::string>();
-    s << "**" << j["scene"].get<std::string>() << (label.empty() ? "" : " (" + label + ")")
-      << "**, μ = " << fmt("%g", j["mu"]) << "\n\n![" << j["scene"].get<std::string>() << "]("
-      << j["picture"].get<std::string>() << ")\n\n";
+    s << "**" << row_name(j) << "**, μ = " << fmt("%g", j["mu"]) << "\n\n!["
+      << j["scene"].get<std::string>() << "](" << j["picture"].get<std::string>() << ")\n\n";
     for (const auto& w : j["warnings"]) s << "> warning: " << w.get<std::string>() << "\n\n";
   }
   return s.str();

@@ -392,6 +392,7 @@ RomReport run_rom(const RomRunOptions& o) {
       !w.empty())
     rep.warnings.push_back(w);
   rep.quadrature_points = d.quadrature_points;
+  rep.quadrature_per_cell = ro.quadrature_per_cell;
   rep.threads = threads;
   rep.cpu = cpu_model();
   rep.refreshes = d.refreshes;

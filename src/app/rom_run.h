@@ -78,6 +78,7 @@ struct RomReport {
   int threads = 0;               // in use, for both engines alike
   std::string cpu;               // the processor they ran on (core/cpu_model.h)
   size_t quadrature_points = 0;  // particles that can join N: |P| unless the quadrature is thinned
+  int quadrature_per_cell = 0;   // the run's thinned quadrature (0: every particle)
   long refreshes = 0;
   long linearization_anchors = 0;  // re-anchorings of g's tangent cache
   double delta = -1;               // eq. (11) against the ground truth; < 0 when there is none
