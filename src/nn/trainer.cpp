@@ -534,10 +534,13 @@ double Trainer::fit_coefficient_map() {
   const int64_t rows = latents_.size(0), r = model_.latent_dim();
   // The inputs' layout is the runtime's own: BasisDecoders::stress_input / affine_input.
   BasisDecoders inputs_of = coefficient_inputs(model_);
+  const auto input = [&](const Eigen::VectorXd& z, double mu, const Eigen::VectorXd& zdot) {
+    return f == 1 ? inputs_of.stress_input(z, mu, &zdot) : inputs_of.affine_input(z, mu, &zdot);
+  };
   const bool with_velocity =
       f == 1 ? inputs_of.stress_uses_velocity : inputs_of.affine_uses_velocity;
-  const bool with_mu = f == 1 ? inputs_of.stress_uses_mu : with_velocity;
-  const int64_t d = r + (with_mu ? 1 : 0) + (with_velocity ? r : 0);
+  const int64_t d = input(Eigen::VectorXd::Zero(r), 0, Eigen::VectorXd::Zero(r)).size();
+  const bool with_mu = d > r * (with_velocity ? 2 : 1);
   if (with_velocity) inputs_of.u = point_basis(model_, 0);  // c_u and B_u: the latent velocities
   const torch::Tensor z = latents_.to(torch::kFloat64).contiguous();
   const torch::Tensor c = targets_[f].to(torch::kFloat64).contiguous();
@@ -552,9 +555,7 @@ double Trainer::fit_coefficient_map() {
       const std::vector<float> v = data_.read_field(run, store_.frame_of(frame), "v");
       zdot = inputs_of.latent_velocity(zi, v.data());
     }
-    inputs.row(i) = (f == 1 ? inputs_of.stress_input(zi, run.mu, &zdot)
-                            : inputs_of.affine_input(zi, run.mu, &zdot))
-                        .transpose();
+    inputs.row(i) = input(zi, run.mu, zdot).transpose();
     goal.row(i) =
         Eigen::Map<const Eigen::VectorXd>(c[int64_t(frame)].data_ptr<double>(), c.size(1));
     group[size_t(i)] = int(store_.sim_of(frame));
