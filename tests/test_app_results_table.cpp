@@ -95,7 +95,8 @@ TEST(RomResults, TablePrintsMeasuredAndPaperFiguresPerScene) {
 
 // `nsf report --check`: a rerun must give every figure but the machine's bit for bit; timings,
 // memory, speed-ups and the thread count may differ, and keys recorded since the row was made
-// are not differences, nor is where a setting came from (the setting is compared).
+// are not differences, nor is where a setting came from (the setting is compared) or the model
+// file's checksum.
 TEST(RomResults, ARerunDiffersOnlyWhereAFigureDoes) {
   nsf::RomReport r;
   r.scene = "metal_small";
@@ -120,6 +121,14 @@ TEST(RomResults, ARerunDiffersOnlyWhereAFigureDoes) {
       nsf::row_differences(stored, nsf::result_json(again, "scenes/paper/metal_small.json",
                                                     "models/metal_small.nsf", "results/x.png", ""))
           .empty());
+  // A recalibrated model file (another checksum) that gives every figure again reproduces.
+  r.model_checksum = "5e6f7a8b";
+  EXPECT_TRUE(nsf::row_differences(
+                  nsf::result_json(r, "scenes/paper/metal_small.json", "models/metal_small.nsf",
+                                   "results/metal_small.png", ""),
+                  nsf::result_json(again, "scenes/paper/metal_small.json", "models/metal_small.nsf",
+                                   "results/x.png", ""))
+                  .empty());
   again.delta = std::nextafter(r.delta, 1.0);  // the last bit
   again.baselines.lookup_delta = -1;           // not measured by the rerun
   const std::vector<std::string> d = nsf::row_differences(

@@ -85,9 +85,11 @@ bool machine_key(const std::string& k) {
 }
 
 // Where a setting came from, not a figure: the setting itself is compared. `--check` hands the
-// rerun the stored row's prior on its command line, so the source differs by construction.
+// rerun the stored row's prior and step on its command line, so the source differs by
+// construction. Nor is the model file's checksum a figure: a recalibration rewrites the file and
+// leaves the decoders as they were (`--check` names a changed file beside its verdict).
 bool provenance_key(const std::string& k) {
-  return k == "latent_prior_source" || k == "dt_ratio_source";
+  return k == "latent_prior_source" || k == "dt_ratio_source" || k == "model_crc32";
 }
 
 }  // namespace
