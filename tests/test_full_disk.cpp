@@ -3,7 +3,9 @@
 // simulate and sweep printed the message and then crashed (SIGSEGV) in HDF5's shutdown at exit,
 // and train aborted with a torch message that never said the disk was full, leaving
 // m.nsf.ckpt.tmp. The full disk is a file-size limit (RLIMIT_FSIZE, with SIGXFSZ ignored so a
-// write past it fails with EFBIG).
+// write past it fails with EFBIG). The children start with SIGXFSZ at its default action, as a
+// shell's `ulimit -f` leaves it: nsf ignores the signal itself (issue #54, item 9), where before it
+// died of it (exit 153) with no message and left its .tmp files.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -45,7 +47,7 @@ TEST(FullDisk, SimulateStopsWithAMessageAndNoCrashNoFile) {
     const pid_t pid = nsf::testing::spawn_cli(
         {"simulate", (dir / "scene.json").string(), "--out", out.string(), "-q", "-j", "1"},
         log.string(), [limit] {
-          ::signal(SIGXFSZ, SIG_IGN);
+          ::signal(SIGXFSZ, SIG_DFL);
           const rlimit r{limit, limit};
           ::setrlimit(RLIMIT_FSIZE, &r);
         });
@@ -64,7 +66,7 @@ TEST(FullDisk, SimulateStopsWithAMessageAndNoCrashNoFile) {
 // Runs nsf with `args` under a file-size limit of `limit` bytes; returns the raw wait status.
 int run_under_limit(const std::vector<std::string>& args, rlim_t limit, const fs::path& log) {
   const pid_t pid = nsf::testing::spawn_cli(args, log.string(), [limit] {
-    ::signal(SIGXFSZ, SIG_IGN);
+    ::signal(SIGXFSZ, SIG_DFL);
     const rlimit r{limit, limit};
     ::setrlimit(RLIMIT_FSIZE, &r);
   });

@@ -2,6 +2,7 @@
 #include <omp.h>
 
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <fstream>
 #include <iostream>
 
@@ -30,6 +31,9 @@ int set_threads(int requested) {
 
 int main(int argc, char** argv) {
   using namespace nsf::app;
+  // A file-size limit (`ulimit -f`) then makes a write fail with EFBIG, which every writer reports
+  // like a full disk and cleans up after, instead of killing the process mid-file (SIGXFSZ).
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"nsf: neural stress fields for reduced-order elastoplasticity and fracture"};
   app.require_subcommand(1);
   app.set_version_flag("--version", NSF_VERSION);

@@ -4,7 +4,7 @@
 #include <fstream>
 
 #include "core/error.h"
-#include "core/temp_files.h"
+#include "io/atomic_file.h"
 
 namespace nsf {
 
@@ -26,18 +26,7 @@ nlohmann::json make_manifest(const std::string& scene_name, const std::string& s
 }
 
 void write_json_atomically(const std::string& path, const nlohmann::json& j) {
-  const std::string tmp = path + ".tmp";
-  const TempFileRegistration registration(tmp);  // a fatal signal deletes it
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) fail("cannot write '", tmp, "'");
-    out << j.dump(2) << "\n";
-    out.close();
-    if (!out) fail("cannot write '", tmp, "' (disk full?)");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) fail("cannot rename '", tmp, "' to '", path, "': ", ec.message());
+  write_file_atomic(path, j.dump(2) + "\n");
 }
 
 }  // namespace nsf

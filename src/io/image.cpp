@@ -3,11 +3,13 @@
 #include <png.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <system_error>
 
 #include "core/error.h"
+#include "core/exclusive_file.h"
 #include "core/temp_files.h"
 
 namespace nsf {
@@ -34,6 +36,8 @@ void write_png(const Image& img, const std::string& path) {
     fail(path, ": image buffer does not match its ", img.width, "x", img.height, " size");
   }
   const std::string tmp = path + ".tmp";
+  FILE* file = ::fdopen(create_exclusive(tmp), "wb");  // never through a link at tmp
+  if (!file) fail(path, ": cannot open ", tmp, " for writing");
   const TempFileRegistration registration(tmp);  // a fatal signal deletes it
   png_image pi;
   std::memset(&pi, 0, sizeof pi);
@@ -41,8 +45,10 @@ void write_png(const Image& img, const std::string& path) {
   pi.width = static_cast<png_uint_32>(img.width);
   pi.height = static_cast<png_uint_32>(img.height);
   pi.format = PNG_FORMAT_RGB;
-  if (!png_image_write_to_file(&pi, tmp.c_str(), 0, img.rgb.data(), 0, nullptr)) {
-    const std::string msg = pi.message;
+  const bool written = png_image_write_to_stdio(&pi, file, 0, img.rgb.data(), 0, nullptr) != 0;
+  const bool closed = std::fclose(file) == 0;  // flushes: a full disk or a size limit shows here
+  if (!written || !closed) {
+    const std::string msg = written ? std::string("write failed (disk full?)") : pi.message;
     png_image_free(&pi);
     std::error_code ignored;
     fs::remove(tmp, ignored);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/exclusive_file.h"
 #include "core/temp_files.h"
 #include "io/atomic_file.h"
 #include "io/h5_util.h"
@@ -218,11 +219,11 @@ struct RunWriter::Impl {
   }
 };
 
-// A stale <path>.tmp from an interrupted run is simply overwritten, but truncating one that another
-// live process is still writing would destroy that run. HDF5 holds an flock() on files it has
-// open for writing, so a lock we cannot take means a live writer.
+// A stale <path>.tmp from an interrupted run is replaced, but replacing one that another live
+// process is still writing would destroy that run. HDF5 holds an flock() on files it has open for
+// writing, so a lock we cannot take means a live writer. (A link at tmp is not opened: O_NOFOLLOW.)
 static void refuse_if_being_written(const std::string& tmp, const std::string& path) {
-  const int fd = ::open(tmp.c_str(), O_RDONLY);
+  const int fd = ::open(tmp.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
   if (fd < 0) return;
   const bool busy = ::flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK;
   ::close(fd);
@@ -257,9 +258,12 @@ RunWriter::RunWriter(const std::string& path, const Particles& p, const SimSetti
     if (ec)
       nsf::fail(path, ": cannot create the directory ", dir.string(), " (", ec.message(), ")");
   }
+  // Created exclusively (O_CREAT | O_EXCL: never through a link planted at tmp), after removing
+  // a stale one (core/exclusive_file.h).
+  clear_stale_temp(w.tmp);
   w.registration = TempFileRegistration(w.tmp);
-  w.file = Handle(h5::check(H5Fcreate(w.tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
-                            w.tmp, "cannot create file"),
+  w.file = Handle(h5::check(H5Fcreate(w.tmp.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT), w.tmp,
+                            "cannot create file"),
                   H5Fclose);
   w.created = true;
   w.write_attributes(s, scene_name, scene_json);

@@ -7,8 +7,10 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/exclusive_file.h"
 #include "core/process.h"
 #include "core/temp_files.h"
+#include "io/atomic_file.h"
 
 namespace nsf {
 
@@ -23,35 +25,31 @@ std::string read_all(const std::string& path) {
   return ss.str();
 }
 
-// Runs one ffmpeg encode into <out>.tmp and renames it; "" on success, else ffmpeg's messages.
-// The file names go to ffmpeg as separate arguments, never through a shell, so any character in
-// them is safe; made absolute, none can be read as an option ("-x") or a protocol ("pipe:").
+// Runs one ffmpeg encode and moves the result to `out`; "" on success, else ffmpeg's messages.
+// ffmpeg writes by name, so it writes into a private directory (core/exclusive_file.h) where no
+// one can plant a link; the bytes then reach `out` through an exclusively created temp file. The
+// file names go to ffmpeg as separate arguments, never through a shell, so any character in them
+// is safe; made absolute, none can be read as an option ("-x") or a protocol ("pipe:").
 std::string run_ffmpeg(const std::string& ffmpeg, const VideoJob& job, const std::string& out,
                        const std::string& format, const std::vector<std::string>& codec_args) {
-  const std::string tmp = fs::absolute(out + ".tmp").string(), log = out + ".log";
-  const TempFileRegistration registration(tmp), log_registration(log);
+  const PrivateDir work("nsf_video");
+  const std::string encoded = work.path("video." + format), log = work.path("ffmpeg.log");
   std::vector<std::string> argv = {ffmpeg, "-nostdin", "-y", "-hide_banner", "-loglevel", "error"};
   argv.insert(argv.end(), {"-framerate", std::to_string(job.fps), "-start_number", "0"});
   argv.insert(argv.end(), {"-i", fs::absolute(job.pattern).string()});
   argv.insert(argv.end(), {"-frames:v", std::to_string(job.frame_count)});
   argv.insert(argv.end(), codec_args.begin(), codec_args.end());
-  argv.insert(argv.end(), {"-f", format, tmp});
+  argv.insert(argv.end(), {"-f", format, encoded});
+  const TempFileRegistration registration(encoded);  // a fatal signal deletes it
   const int status = run_program(argv, log);
-  std::string message = status == 0 ? "" : read_all(log);
-  if (status != 0 && message.empty())
-    message = status < 0 ? "ffmpeg could not be started (" + ffmpeg + ")"
-                         : "ffmpeg exited with status " + std::to_string(status);
-  std::error_code ec;
-  fs::remove(log, ec);
   if (status != 0) {
-    fs::remove(tmp, ec);
+    std::string message = read_all(log);
+    if (message.empty())
+      message = status < 0 ? "ffmpeg could not be started (" + ffmpeg + ")"
+                           : "ffmpeg exited with status " + std::to_string(status);
     return message;
   }
-  fs::rename(tmp, out, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    return "cannot move " + tmp + " into place: " + ec.message();
-  }
+  write_file_atomic(out, read_file_bytes(encoded));
   return "";
 }
 

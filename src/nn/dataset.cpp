@@ -32,11 +32,27 @@ std::vector<std::string> glob_runs(const fs::path& dir, const std::string& split
   return names;
 }
 
+// A run the manifest lists lives in the dataset's directory: a relative path with no ".." part.
+// An absolute path or one that climbs out ("../x.h5", "/etc/passwd") is refused, so a manifest
+// from elsewhere cannot make nsf open files outside the dataset.
+std::string confined(const std::string& name, const std::string& manifest) {
+  const fs::path p(name);
+  bool climbs = false;
+  for (const fs::path& part : p) climbs = climbs || part == "..";
+  if (name.empty() || p.is_absolute() || p.has_root_name() || climbs ||
+      name.find('\0') != std::string::npos)
+    fail(manifest, ": run file \"", name,
+         "\" is outside the dataset directory (a manifest lists files by names relative to its "
+         "own directory, without \"..\")");
+  return name;
+}
+
 std::string entry_file(const nlohmann::json& e, const std::string& manifest) {
-  if (e.is_string()) return e.get<std::string>();
+  if (e.is_string()) return confined(e.get<std::string>(), manifest);
   if (e.is_object()) {
     for (const char* key : {"file", "path"})
-      if (e.contains(key) && e[key].is_string()) return e[key].get<std::string>();
+      if (e.contains(key) && e[key].is_string())
+        return confined(e[key].get<std::string>(), manifest);
   }
   fail(manifest, ": a run entry must be a file name or an object with \"file\", got ", e.dump());
 }
@@ -115,9 +131,7 @@ Dataset::Dataset(const std::string& dir, bool allow_incomplete) : dir_(dir) {
   // What an interrupted or partial sweep left out (nn/dataset_gaps.h): listed runs without a
   // file, runs the plan has and the list lacks, runs killed mid-write, runs short of frames.
   std::vector<std::string> missing, unfinished = interrupted_runs(root);
-  const auto path_of = [&](const std::string& name) {
-    return fs::path(name).is_absolute() ? fs::path(name) : root / name;
-  };
+  const auto path_of = [&](const std::string& name) { return root / name; };
   for (std::vector<std::string>* names : {&train, &test})
     names->erase(std::remove_if(names->begin(), names->end(),
                                 [&](const std::string& n) {

@@ -1,14 +1,15 @@
 #include "nn/loss_plot.h"
 
-#include <stdlib.h>
-
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <system_error>
 #include <vector>
 
+#include "core/error.h"
+#include "core/exclusive_file.h"
 #include "core/process.h"
+#include "io/atomic_file.h"
 
 namespace nsf {
 
@@ -52,62 +53,36 @@ std::string first_line_of(const std::string& path) {
   return line;
 }
 
-// A private directory (mode 0700, fresh name) in the temp directory for the script and gnuplot's
-// messages: their names owe nothing to the data, and no one else can put or link anything there.
-class ScriptDir {
- public:
-  ScriptDir() {
-    std::error_code ec;
-    fs::path tmp = fs::temp_directory_path(ec);
-    if (ec || tmp.empty()) tmp = "/tmp";
-    const std::string pattern = (fs::absolute(tmp, ec) / "nsf_loss_XXXXXX").string();
-    std::vector<char> buf(pattern.begin(), pattern.end());
-    buf.push_back('\0');
-    if (!::mkdtemp(buf.data())) return;
-    dir_ = buf.data();
-    std::ofstream(script()) << kScript;
-  }
-  ~ScriptDir() {
-    std::error_code ec;
-    if (!dir_.empty()) fs::remove_all(dir_, ec);
-  }
-  ScriptDir(const ScriptDir&) = delete;
-  ScriptDir& operator=(const ScriptDir&) = delete;
-  bool ok() const { return !dir_.empty(); }
-  std::string script() const { return (dir_ / "loss.gp").string(); }
-  std::string log() const { return (dir_ / "gnuplot.log").string(); }
-
- private:
-  fs::path dir_;
-};
-
 }  // namespace
 
 std::string plot_loss_curves(const std::string& csv_path, const std::string& png_path,
                              const std::string& title) {
   if (!program_exists("gnuplot")) return "gnuplot not found";
-  const ScriptDir work;
-  if (!work.ok()) return "no temporary directory for the gnuplot script";
-  const std::string csv = plain_file_name(csv_path), png = plain_file_name(png_path);
-  // Written under a temporary name and renamed when complete, like every nsf output.
-  const std::string tmp = png + ".tmp";
-  int status = -1;
-  // pngcairo is missing in some gnuplot builds; the plain png terminal always exists.
-  for (const char* terminal : {"pngcairo", "png"}) {
-    status = run_program({"gnuplot", "-c", work.script(), csv, tmp, title, terminal}, work.log());
-    if (status == 0) break;
+  try {
+    // The script, gnuplot's messages and its picture live in a private directory (mode 0700, a
+    // fresh name): their names owe nothing to the data, and no one else can put or link anything
+    // there. The picture then reaches png_path like every nsf output: an exclusive temp file,
+    // renamed.
+    const PrivateDir work("nsf_loss");
+    const std::string script = work.path("loss.gp"), log = work.path("gnuplot.log"),
+                      plot = work.path("loss.png");
+    write_file_atomic(script, kScript);
+    const std::string csv = plain_file_name(csv_path);
+    int status = -1;
+    // pngcairo is missing in some gnuplot builds; the plain png terminal always exists.
+    for (const char* terminal : {"pngcairo", "png"}) {
+      status = run_program({"gnuplot", "-c", script, csv, plot, title, terminal}, log);
+      if (status == 0) break;
+    }
+    if (status != 0) {
+      const std::string why = first_line_of(log);
+      return "gnuplot failed" + (why.empty() ? "" : " (" + why + ")");
+    }
+    write_file_atomic(png_path, read_file_bytes(plot));
+  } catch (const Error& e) {
+    return e.what();  // a note, like a missing gnuplot: the model is what matters
   }
-  std::error_code ec;
-  if (status == 0) {
-    fs::rename(tmp, png, ec);
-    if (!ec) return "";
-  }
-  fs::remove(tmp, ec);
-  if (status != 0) {
-    const std::string why = first_line_of(work.log());
-    return "gnuplot failed" + (why.empty() ? "" : " (" + why + ")");
-  }
-  return "cannot move " + tmp + " into place";
+  return "";
 }
 
 }  // namespace nsf

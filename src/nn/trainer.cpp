@@ -17,6 +17,7 @@
 #include "core/memory.h"
 #include "core/progress.h"
 #include "core/timer.h"
+#include "io/atomic_file.h"
 #include "io/run_reader.h"
 #include "nn/basis_decoders.h"
 #include "nn/basis_fit.h"
@@ -867,7 +868,7 @@ void Trainer::load_checkpoint() {
 
 void Trainer::write_loss_curves(TrainReport& report) const {
   report.loss_csv = loss_csv_path_for(out_);
-  std::ofstream csv(report.loss_csv);
+  std::ostringstream csv;
   csv << "stage,network,step,loss,loss_smooth,lr\n";
   // A trailing mean over 50 steps: single-batch losses are too noisy to read a trend from.
   double window_sum = 0;
@@ -882,7 +883,7 @@ void Trainer::write_loss_curves(TrainReport& report) const {
     csv << r.stage + 1 << "," << kNetworkNames[r.stage] << "," << r.step << "," << r.loss << ","
         << smooth << "," << r.lr << "\n";
   }
-  csv.close();
+  write_file_atomic(report.loss_csv, csv.str());
   if (history_.empty()) {  // stage 1 from a base model, maps for τ and C: nothing was stepped
     say("note: no optimiser steps in this run (coefficient maps only), so no loss curves");
     return;
