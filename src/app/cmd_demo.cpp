@@ -3,12 +3,15 @@
 // Reuses a dataset and a model that already exist, so a second run is quick.
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "app/commands.h"
 #include "app/common_options.h"
+#include "app/generalize.h"
 #include "app/pipeline.h"
 #include "app/results_table.h"
 #include "app/rom_run.h"
+#include "app/scene_file.h"
 #include "app/train_size_options.h"
 #include "core/error.h"
 #include "core/timer.h"
@@ -32,6 +35,7 @@ struct DemoArgs {
   TrainPlan train = chain_plan();
   TrainSizeArgs train_size;  // --steps, --widths: else the scene's "train" section may set them
   int samples = 0;
+  int draws = 1;    // of the scene's benchmark of unseen interactions, after the held-out μ
   int threads = 0;  // all cores; the callback puts the count in use here
   bool quiet = false;
 };
@@ -48,18 +52,18 @@ void run_demo(const DemoArgs& a) {
   fs::create_directories(a.out);
   set_nn_threads(a.threads);
 
-  std::printf("== 1/3 training data: nsf sweep %s --out %s\n", a.scene.c_str(), data.c_str());
+  std::printf("== 1/4 training data: nsf sweep %s --out %s\n", a.scene.c_str(), data.c_str());
   ensure_dataset(a.scene, data, a.threads, a.quiet);
   const Dataset dataset(data);
   if (dataset.test().empty()) fail("demo: dataset ", data, " has no test run to hold out");
-  std::printf("== 2/3 neural fields: nsf train %s --out %s\n", data.c_str(), model.c_str());
+  std::printf("== 2/4 neural fields: nsf train %s --out %s\n", data.c_str(), model.c_str());
   ensure_model(data, model,
                with_scene_recipe(a.train, a.scene, !a.train_size.steps.empty(),
                                  !a.train_size.widths.empty()),
                a.threads, a.quiet);
 
   const SimulationFile& held_out = dataset.test()[0];
-  std::printf("== 3/3 reduced-order run at the held-out mu = %g (not in the training set)\n",
+  std::printf("== 3/4 reduced-order run at the held-out mu = %g (not in the training set)\n",
               held_out.mu);
   RomRunOptions ro;
   ro.model_path = model;
@@ -75,19 +79,40 @@ void run_demo(const DemoArgs& a) {
       write_comparison(ro.fom_out, ro.out_path, "ground truth (full order)", "reduced order",
                        a.out + "/" + name + "_compare");
 
+  // The product's promise: a case no training run made (the scene's "generalize" section).
+  std::optional<nlohmann::json> unseen;
+  if (a.draws > 0 && read_scene_file(a.scene).sections.generalize) {
+    std::printf("== 4/4 unseen interactions: nsf generalize %s %s --draws %d\n", model.c_str(),
+                data.c_str(), a.draws);
+    GeneralizeOptions go;
+    go.model_path = model;
+    go.data_dir = data;
+    go.scene_path = a.scene;
+    go.draws = a.draws;
+    if (a.samples > 0) go.rom.samples = a.samples;
+    go.rom.threads = a.threads;
+    go.quiet = a.quiet;
+    unseen =
+        generalize_json(run_generalize(go), "nsf generalize " + model + " " + data + " --scene " +
+                                                a.scene + " --draws " + std::to_string(a.draws));
+  }
+
   std::printf("\n== summary\n%s", format_rom_report(r).c_str());
+  if (unseen) std::printf("%s", format_generalize(*unseen).c_str());
   std::printf("  picture:   %s (top: ground truth, bottom: reduced order)\n", pics.still.c_str());
   if (!pics.video.empty()) std::printf("  animation: %s\n", pics.video.c_str());
   if (!pics.note.empty()) std::printf("  note: %s\n", pics.note.c_str());
   const std::string row = a.out + "/demo.json";
-  write_json_atomically(row, result_json(r, a.scene, model, pics.still, "demo"));
+  nlohmann::json row_json = result_json(r, a.scene, model, pics.still, "demo");
+  if (unseen) row_json["generalize"] = *unseen;
+  write_json_atomically(row, row_json);
   std::printf("  summary row: %s\n", row.c_str());
   if (!a.docs.empty()) {
     // As `nsf report` stores its rows: docs/RESULTS.md shows this one too, labelled "demo".
     fs::create_directories(a.docs + "/results");
     fs::copy_file(pics.still, a.docs + "/results/demo.png", fs::copy_options::overwrite_existing);
-    write_json_atomically(a.docs + "/results/demo.json",
-                          result_json(r, a.scene, model, "results/demo.png", "demo"));
+    row_json["picture"] = "results/demo.png";
+    write_json_atomically(a.docs + "/results/demo.json", row_json);
     const size_t rows = write_results_page(a.docs);
     std::printf("  stored in %s/results/demo.json, shown in %s/RESULTS.md (%zu rows)\n",
                 a.docs.c_str(), a.docs.c_str(), rows);
@@ -117,6 +142,11 @@ void add_demo_command(CLI::App& app) {
       ->check(CLI::IsMember({"mlp", "basis"}));
   cmd->add_option("--samples,-k", a->samples, "Sample particles (default: the scene's)")
       ->check(in_range(1, 100000000));
+  cmd->add_option("--draws", a->draws,
+                  "Draws of the scene's benchmark of unseen interactions to run after the "
+                  "held-out mu (nsf generalize; 0: none)")
+      ->capture_default_str()
+      ->check(in_range(0, 1000));
   add_threads_option(cmd, a->threads);
   add_quiet_flag(cmd, a->quiet);
   cmd->callback([a] {

@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
   add_demo_command(app);
   add_report_command(app);
   add_serve_command(app);
+  add_generalize_command(app);
   for (CLI::App* cmd : app.get_subcommands({}))
     cmd->footer("Exit status: 0 success, 1 error, 2 usage error, 3 internal error (nsf --help).");
   try {

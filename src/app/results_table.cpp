@@ -7,7 +7,9 @@
 #include <map>
 #include <sstream>
 
+#include "app/generalize.h"
 #include "core/error.h"
+#include "io/atomic_file.h"
 
 namespace nsf {
 
@@ -183,8 +185,8 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   return j;
 }
 
-std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
-                             const std::string& command) {
+std::string results_markdown(const std::vector<nlohmann::json>& rows_in, const std::string& command,
+                             const std::vector<nlohmann::json>& generalize) {
   std::vector<nlohmann::json> rows = rows_in;
   std::sort(rows.begin(), rows.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
     return std::make_pair(a["scene"].get<std::string>(), a["label"].get<std::string>()) <
@@ -296,6 +298,7 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
                                       : std::string("—"))
       << " |\n";
   }
+  if (!generalize.empty()) s << "\n" << generalize_markdown(generalize);
   s << "\n## Pictures (top: ground truth, bottom: reduced order)\n\n";
   for (const auto& j : rows) {
     s << "**" << row_name(j) << "**, μ = " << fmt("%g", j["mu"]) << "\n\n!["
@@ -305,31 +308,30 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in,
   return s.str();
 }
 
-size_t write_results_page(const std::string& docs) {
+// The rows stored as DIR/*.json, none when DIR does not exist.
+std::vector<nlohmann::json> stored_rows(const std::string& dir) {
   namespace fs = std::filesystem;
   std::vector<nlohmann::json> rows;
-  for (const auto& e : fs::directory_iterator(docs + "/results"))
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return rows;
+  for (const auto& e : fs::directory_iterator(dir))
     if (e.path().extension() == ".json") {
       std::ifstream in(e.path());
       rows.push_back(nlohmann::json::parse(in));
     }
-  const std::string page = docs + "/RESULTS.md";
+  return rows;
+}
+
+size_t write_results_page(const std::string& docs) {
+  const std::vector<nlohmann::json> rows = stored_rows(docs + "/results");
   // The page holds the rows of every size ever made (each kept in results/*.json), so it names
-  // both invocations rather than the last one.
-  {
-    std::ofstream out(page + ".tmp");
-    out << results_markdown(
-        rows,
-        "nsf report --size small|paper [--quadrature k] [--tracked] [--beyond-sweep] "
-        "[--decoder F]`, the `*_paper` rows with `--size paper");
-    out.close();
-    if (!out) {  // the old page stays whole
-      std::error_code ignored;
-      fs::remove(page + ".tmp", ignored);
-      fail("could not write ", page, ".tmp (disk full, or not writable?)");
-    }
-  }
-  fs::rename(page + ".tmp", page);
+  // both invocations rather than the last one. Written whole or not at all: the old page stays.
+  write_file_atomic(docs + "/RESULTS.md",
+                    results_markdown(rows,
+                                     "nsf report --size small|paper [--quadrature k] [--tracked] "
+                                     "[--beyond-sweep] [--decoder F]`, the `*_paper` rows with "
+                                     "`--size paper",
+                                     stored_rows(docs + "/results/generalize")));
   return rows.size();
 }
 

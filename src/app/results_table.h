@@ -23,11 +23,14 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
 // differences.
 std::vector<std::string> row_differences(const nlohmann::json& stored, const nlohmann::json& fresh);
 
-// The markdown page for all rows (sorted by scene), naming `command` as its source.
-std::string results_markdown(const std::vector<nlohmann::json>& rows, const std::string& command);
+// The markdown page for all rows (sorted by scene), naming `command` as its source, with the
+// benchmark of unseen interactions (`nsf generalize`'s summaries, app/generalize.h) where given.
+std::string results_markdown(const std::vector<nlohmann::json>& rows, const std::string& command,
+                             const std::vector<nlohmann::json>& generalize = {});
 
-// DOCS/RESULTS.md rebuilt from every row stored in DOCS/results/*.json (written to a temporary
-// name, then renamed); returns the number of rows. `nsf report` and `nsf demo --docs` call it.
+// DOCS/RESULTS.md rebuilt from every row stored in DOCS/results/*.json and every summary in
+// DOCS/results/generalize/*.json (written to a temporary name, then renamed); returns the number
+// of rows. `nsf report` and `nsf demo --docs` call it.
 size_t write_results_page(const std::string& docs);
 
 }  // namespace nsf

@@ -219,6 +219,7 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.gamma = 3.0 * double(rep.particles) / rep.latent_dim;
   rep.frames = settings.frames;
   rep.fom_steps_per_frame = settings.substeps;
+  rep.frame_dt = frame_dt;
   // Memory a caller freed before (training in `nsf report`, say) goes back to the system first,
   // so that it does not sit in the baseline and hide each phase's own peak.
   malloc_trim(0);
@@ -335,6 +336,11 @@ RomReport run_rom(const RomRunOptions& o) {
         frame.tau[i] = tau[i / size_t(o.upsample)], frame.C[i] = C[i / size_t(o.upsample)];
       writer->write_frame(frame, rom.time());
       latents.insert(latents.end(), rom.latent().data(), rom.latent().data() + rom.latent().size());
+    }
+    if (f > 0) {
+      const double cells = rom.diagnostics().last_residual / settings.dx;
+      rep.residual_cells_max = std::max(rep.residual_cells_max, cells);
+      rep.residual_cells_mean += cells / settings.frames;
     }
     if (const double d = rom.diagnostics().training_distance; d >= 0 && f > 0) {
       rep.training_distance_max = std::max(rep.training_distance_max, d);

@@ -58,6 +58,7 @@ struct RomReport {
   std::string sweep_parameter;  // what μ is (the scene's sweep.parameter)
   size_t particles = 0, output_points = 0;
   int latent_dim = 0, frames = 0, rom_steps_per_frame = 0, fom_steps_per_frame = 0;
+  double frame_dt = 0;         // simulated seconds per frame
   double gamma = 0;            // 3|P|/r
   double train_seconds = 0;    // the model's training wall time (0: not recorded)
   std::string model_checksum;  // the model file's stored CRC-32 ("" for an older file)
@@ -75,6 +76,10 @@ struct RomReport {
   std::string dt_ratio_source;
   // LatentStepper::training_distance over frames 1…N; −1 when the model has no training latents.
   double training_distance_mean = 0, training_distance_max = 0;
+  // The inversion's rms residual ‖g − x‖ on S after each frame's last step (RomDiagnostics::
+  // last_residual), over frames 1…N, in units of the scene's Δx: how far the latent space falls
+  // short of the motion the MPM step gave the samples. Computed online, without a truth.
+  double residual_cells_mean = 0, residual_cells_max = 0;
   int threads = 0;               // in use, for both engines alike
   std::string cpu;               // the processor they ran on (core/cpu_model.h)
   size_t quadrature_points = 0;  // particles that can join N: |P| unless the quadrature is thinned

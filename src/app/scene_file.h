@@ -1,13 +1,15 @@
 #pragma once
 // A scene file as the commands read it. The engine's loader (mpm/scene/scene.h) checks the
 // top-level keys and the sections it reads; the others are parsed here, each once and by its
-// owner: "sweep" by src/data, "rom" by src/rom, "train" by src/nn. Every command that loads a
-// scene goes through this, so a misspelt key anywhere in a scene stops it with the key named.
+// owner: "sweep" and "generalize" by src/data, "rom" by src/rom, "train" by src/nn. Every command
+// that loads a scene goes through this, so a misspelt key anywhere in a scene stops it with the key
+// named.
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "data/perturbation_spec.h"
 #include "data/sweep_spec.h"
 #include "mpm/scene/scene.h"
 #include "nn/train_section.h"
@@ -20,6 +22,8 @@ struct SceneSections {
   std::optional<SweepSpec> sweep;     // none: the scene has no "sweep"
   RomSection rom;                     // the defaults when the scene has no "rom"
   std::optional<TrainSection> train;  // none: the scene has no "train"
+  // The unseen interactions `nsf generalize` draws from; none: the scene has no "generalize".
+  std::optional<GeneralizeSpec> generalize;
 };
 
 // Parses those sections of `scene` (anything but a JSON object has none: the engine's loader

@@ -14,27 +14,28 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Evaluates one template expression (the text between braces): f(mu), then an optional factor
+// Evaluates one template expression (the text between braces): f(var), then an optional factor
 // "*K", then an optional offset "+C" or "-C". The offset places a part relative to a pivot, e.g.
 // the handle of a brush turned by mu about its head: centre x = cos(mu)·L + x0.
-double evaluate(const std::string& expr, double mu, const std::string& tmpl) {
+double evaluate(const std::string& expr, const std::string& var, double value,
+                const std::string& tmpl) {
   auto bad = [&](const char* why) {
-    fail("sweep template '", tmpl, "': '{", expr, "}' ", why,
-         " (allowed: f(mu), f(mu)*K, f(mu)+C, f(mu)*K+C with f = mu, sin_deg, cos_deg, tan_deg "
-         "and numbers K, C; C may also be subtracted)");
+    fail("template '", tmpl, "': '{", expr, "}' ", why, " (allowed: f(", var, "), f(", var,
+         ")*K, f(", var, ")+C, f(", var, ")*K+C with f = ", var,
+         ", sin_deg, cos_deg, tan_deg and numbers K, C; C may also be subtracted)");
   };
-  const double rad = mu * kPi / 180.0;
-  // Longest names first: "mu" is a prefix of none of the others, but keep the order explicit.
-  const std::pair<const char*, double> heads[] = {{"sin_deg(mu)", std::sin(rad)},
-                                                  {"cos_deg(mu)", std::cos(rad)},
-                                                  {"tan_deg(mu)", std::tan(rad)},
-                                                  {"mu", mu}};
+  const double rad = value * kPi / 180.0;
+  // The function heads first: the bare variable is a prefix of none of them.
+  const std::pair<std::string, double> heads[] = {{"sin_deg(" + var + ")", std::sin(rad)},
+                                                  {"cos_deg(" + var + ")", std::cos(rad)},
+                                                  {"tan_deg(" + var + ")", std::tan(rad)},
+                                                  {var, value}};
   double v = 0;
   size_t pos = std::string::npos;
-  for (const auto& [name, value] : heads) {
-    if (expr.compare(0, std::strlen(name), name) == 0) {
-      v = value;
-      pos = std::strlen(name);
+  for (const auto& [name, head] : heads) {
+    if (expr.compare(0, name.size(), name) == 0) {
+      v = head;
+      pos = name.size();
       break;
     }
   }
@@ -59,7 +60,7 @@ double evaluate(const std::string& expr, double mu, const std::string& tmpl) {
   return v;
 }
 
-std::string expand(const std::string& tmpl, double mu) {
+std::string expand(const std::string& tmpl, const std::string& var, double value) {
   std::string out;
   size_t i = 0;
   while (i < tmpl.size()) {
@@ -69,10 +70,11 @@ std::string expand(const std::string& tmpl, double mu) {
       break;
     }
     const size_t close = tmpl.find('}', open);
-    if (close == std::string::npos) fail("sweep template '", tmpl, "': '{' without '}'");
+    if (close == std::string::npos) fail("template '", tmpl, "': '{' without '}'");
     out += tmpl.substr(i, open - i);
     // nlohmann prints the shortest text that reads back as the same double.
-    out += nlohmann::json(evaluate(tmpl.substr(open + 1, close - open - 1), mu, tmpl)).dump();
+    out +=
+        nlohmann::json(evaluate(tmpl.substr(open + 1, close - open - 1), var, value, tmpl)).dump();
     i = close + 1;
   }
   return out;
@@ -143,10 +145,15 @@ std::vector<SweepRun> plan_sweep(const SweepSpec& s) {
   return runs;
 }
 
-std::vector<std::string> sweep_overrides(const SweepSpec& spec, double mu) {
+std::vector<std::string> expand_templates(const std::vector<std::string>& templates,
+                                          const std::string& variable, double value) {
   std::vector<std::string> out;
-  for (const std::string& t : spec.set) out.push_back(expand(t, mu));
+  for (const std::string& t : templates) out.push_back(expand(t, variable, value));
   return out;
+}
+
+std::vector<std::string> sweep_overrides(const SweepSpec& spec, double mu) {
+  return expand_templates(spec.set, "mu", mu);
 }
 
 }  // namespace nsf

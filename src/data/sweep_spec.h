@@ -37,4 +37,8 @@ std::vector<SweepRun> plan_sweep(const SweepSpec& spec);
 // (argument in degrees).
 std::vector<std::string> sweep_overrides(const SweepSpec& spec, double mu);
 
+// The same expansion for templates in another variable (`nsf generalize`'s perturbations use v).
+std::vector<std::string> expand_templates(const std::vector<std::string>& templates,
+                                          const std::string& variable, double value);
+
 }  // namespace nsf

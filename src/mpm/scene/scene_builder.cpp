@@ -13,7 +13,7 @@ namespace nsf {
 Scene build_scene(const nlohmann::json& j, const std::string& base_dir) {
   namespace js = nsf::json;
   // Every top-level key is known here; the sections the engine does not read ("sweep", "rom",
-  // "train") are their owners' to parse (scene.h).
+  // "train", "generalize") are their owners' to parse (scene.h).
   js::check_keys(j, "", top_level_keys());
   Scene scene;
   scene.name = js::get_string(j, "", "name", "scene");

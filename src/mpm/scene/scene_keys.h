@@ -7,9 +7,9 @@
 namespace nsf {
 
 inline const std::vector<std::string>& top_level_keys() {
-  static const std::vector<std::string> keys = {"name",    "description", "simulation",
-                                                "objects", "colliders",   "sweep",
-                                                "camera",  "rom",         "train"};
+  static const std::vector<std::string> keys = {"name",      "description", "simulation", "objects",
+                                                "colliders", "sweep",       "camera",     "rom",
+                                                "train",     "generalize"};
   return keys;
 }
 

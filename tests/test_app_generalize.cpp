@@ -1,0 +1,139 @@
+// `nsf generalize` (app/generalize.h): the benchmark of unseen interactions on the tiny scene's
+// "generalize" section, with a tiny per-point basis model trained on its sweep. Each draw is run
+// at full order, by the ROM and by the baselines; a draw reruns alone to the same figures.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "app/generalize.h"
+#include "core/error.h"
+#include "data/sweep.h"
+#include "error_matchers.h"
+#include "nn/runtime.h"
+#include "nn/trainer.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kTinyScene =
+    (fs::path(NSF_SOURCE_DIR) / "scenes" / "examples" / "rom_tiny.json").string();
+
+class Generalize : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    nsf::set_nn_threads(2);
+    root_ = fs::temp_directory_path() / ("nsf_generalize_" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    nsf::SweepOptions so;
+    so.out_dir = data();
+    so.jobs = 2;
+    so.quiet = true;
+    nsf::run_sweep(kTinyScene, so);
+    nsf::TrainOptions o;
+    nsf::TrainConfig& c = o.config;
+    c.net.decoder = "basis";
+    c.net.latent_dim = 4;
+    c.net.depth = 4;
+    c.net.width_g = 64;
+    c.net.modes = {16, 16, 16};
+    c.net.coefficient_width = 64;
+    c.net.coefficient_depth = 2;
+    c.steps = {800, 300, 300};
+    c.frames_per_batch = {4, 32, 32};
+    c.particles_per_frame = {256, 256, 256};
+    c.seed = 2;
+    c.quiet = true;
+    nsf::train_model(data(), model(), o);
+  }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+  static std::string data() { return (root_ / "data").string(); }
+  static std::string model() { return (root_ / "tiny_basis.nsf").string(); }
+  static nsf::GeneralizeOptions options() {
+    nsf::GeneralizeOptions o;
+    o.model_path = model();
+    o.data_dir = data();
+    o.scene_path = kTinyScene;
+    o.draws = 2;
+    o.rom.threads = 2;
+    o.quiet = true;
+    return o;
+  }
+  static fs::path root_;
+};
+fs::path Generalize::root_;
+
+TEST_F(Generalize, EachDrawIsScoredWithItsBaselinesAndTheSummaryHasTheIssuesKeys) {
+  const nsf::GeneralizeResult r = nsf::run_generalize(options());
+  ASSERT_EQ(r.draws.size(), 2u);
+  for (const nsf::GeneralizeDraw& g : r.draws) {
+    SCOPED_TRACE(g.draw.perturbation);
+    ASSERT_TRUE(g.report) << g.error;
+    EXPECT_TRUE(g.report->delta > 0 && g.report->delta < 0.5) << g.report->delta;
+    EXPECT_GT(g.report->baselines.lookup_delta, 0);
+    EXPECT_GT(g.report->baselines.interp_delta, 0);
+    EXPECT_GT(g.report->baselines.coarse_delta, 0);
+    ASSERT_TRUE(g.report->budget);
+    EXPECT_GE(g.report->budget->encoded.delta, 0);
+    EXPECT_GT(g.report->residual_cells_mean, 0);
+    EXPECT_GE(g.draw.mu, 0.5);
+    EXPECT_LE(g.draw.mu, 1.5);
+  }
+  EXPECT_EQ(r.draws[0].draw.perturbation, "spun about z");
+  EXPECT_EQ(r.draws[1].draw.perturbation, "floor tilted");
+  const nlohmann::json j = nsf::generalize_json(r, "nsf generalize test");
+  for (const char* key :
+       {"scene", "draws", "median_delta", "worst_delta", "median_representation_delta",
+        "median_speedup", "median_real_time_factor", "win_rate_lookup", "win_rate_interp",
+        "win_rate_coarse", "bar", "meets_bar", "command"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  for (const auto& d : j["draws"])
+    for (const char* key :
+         {"delta", "speedup", "representation_delta", "lookup_delta", "interp_delta",
+          "coarse_delta", "coarse_speedup", "indicator", "perturbation", "value", "mu", "set"})
+      EXPECT_TRUE(d.contains(key)) << key;
+  // The median of two draws is their mean; the worst is the larger.
+  const double d0 = r.draws[0].report->delta, d1 = r.draws[1].report->delta;
+  EXPECT_DOUBLE_EQ(j["median_delta"].get<double>(), 0.5 * (d0 + d1));
+  EXPECT_DOUBLE_EQ(j["worst_delta"].get<double>(), std::max(d0, d1));
+  const double wins = (d0 < r.draws[0].report->baselines.lookup_delta) +
+                      (d1 < r.draws[1].report->baselines.lookup_delta);
+  EXPECT_DOUBLE_EQ(j["win_rate_lookup"].get<double>(), wins / 2);
+  EXPECT_NE(nsf::format_generalize(j).find("floor tilted"), std::string::npos);
+  EXPECT_NE(nsf::generalize_markdown({j}).find("rom_tiny"), std::string::npos);
+
+  // Draw 1 again, alone: the same case and the same figures (the engine and the ROM are
+  // deterministic for a given seed).
+  nsf::GeneralizeOptions one = options();
+  one.only = {1};
+  const nsf::GeneralizeResult again = nsf::run_generalize(one);
+  ASSERT_EQ(again.draws.size(), 1u);
+  ASSERT_TRUE(again.draws[0].report);
+  EXPECT_EQ(again.draws[0].draw.value, r.draws[1].draw.value);
+  EXPECT_EQ(again.draws[0].draw.overrides, r.draws[1].draw.overrides);
+  EXPECT_EQ(again.draws[0].report->delta, d1);
+  EXPECT_EQ(again.draws[0].report->baselines.coarse_delta,
+            r.draws[1].report->baselines.coarse_delta);
+}
+
+TEST_F(Generalize, ASceneWithoutPerturbationsOrAMissingDrawIsAClearError) {
+  nsf::GeneralizeOptions o = options();
+  o.overrides = {"generalize=null"};
+  try {
+    nsf::run_generalize(o);
+    ADD_FAILURE() << "accepted a scene without perturbations";
+  } catch (const nsf::Error& e) {
+    nsf::testing::expect_contains(e.what(), "has no \"generalize\" section");
+  }
+  o = options();
+  o.only = {5};
+  try {
+    nsf::run_generalize(o);
+    ADD_FAILURE() << "accepted draw 5 of 2";
+  } catch (const nsf::Error& e) {
+    nsf::testing::expect_contains(e.what(), "draw 5 does not exist");
+  }
+}
+
+}  // namespace
