@@ -1,8 +1,11 @@
 // The WebSocket server of `nsf serve` (src/net/ws_server.h) on loopback: the page, broadcasts to
 // several clients, malformed clients dropped while the others keep receiving, a slow client losing
-// messages instead of stalling anyone, and a bounded fuzz of hostile clients (zero crashes).
+// messages instead of stalling anyone, a bounded fuzz of hostile clients (zero crashes), and the
+// attacks of docs/SERVE.md, "Who may connect": other sites' pages.
 #include <gtest/gtest.h>
+#include <poll.h>
 #include <sys/socket.h>
+#include <sys/time.h>
 
 #include <atomic>
 #include <mutex>
@@ -221,7 +224,8 @@ TEST(NetServer, BoundedFuzzOfHostileClientsCrashesNothing) {
   std::mt19937 rng(27);
   auto byte = [&] { return char(rng()); };
   const std::string handshake =
-      "GET / HTTP/1.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+      "GET / HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(r.port()) +
+      "\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
       "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n";
   const uint8_t mask[4] = {1, 2, 3, 4};
   const int rounds = 300;
@@ -265,6 +269,56 @@ TEST(NetServer, BoundedFuzzOfHostileClientsCrashesNothing) {
   WsClient late;
   ASSERT_TRUE(late.connect(r.port()));
   EXPECT_TRUE(receives_in_order(late, 10));
+}
+
+size_t log_lines_with(Running& r, const std::string& text) {
+  size_t n = 0;
+  for (const auto& l : r.log()) n += l.find(text) != std::string::npos;
+  return n;
+}
+
+// Cross-site WebSocket hijacking and DNS rebinding: a handshake from another site's page or to a
+// name that is not this server's gets 403; the server's own page and programs (no Origin) get 101.
+TEST(NetServer, RefusesOtherSitesPagesAndForeignHosts) {
+  Running r(ephemeral());
+  const std::string port = std::to_string(r.port());
+  const auto handshake = [&](const std::string& host, const std::string& origin) {
+    WsClient c;
+    c.host = host;
+    c.origin = origin;
+    if (c.connect(r.port())) return std::string("101");
+    return c.response_head().size() > 12 ? c.response_head().substr(9, 3) : "no answer";
+  };
+  EXPECT_EQ(handshake("", ""), "101");  // a program: Host 127.0.0.1:port, no Origin
+  EXPECT_EQ(handshake("127.0.0.1:" + port, "http://127.0.0.1:" + port), "101");
+  EXPECT_EQ(handshake("localhost:" + port, "http://localhost:" + port), "101");
+  EXPECT_EQ(handshake("", "http://evil.example.com"), "403");
+  EXPECT_EQ(handshake("", "http://localhost:" + port), "403");  // not the name asked for
+  EXPECT_EQ(handshake("", "null"), "403");
+  EXPECT_EQ(handshake("evil.example.com:" + port, ""), "403");
+  EXPECT_EQ(handshake("evil.example.com:" + port, "http://evil.example.com:" + port), "403");
+  EXPECT_EQ(handshake("127.0.0.1:1", ""), "403");
+  WsClient page;
+  page.host = "evil.example.com:" + port;
+  EXPECT_EQ(page.http_get(r.port(), "/").rfind("HTTP/1.1 403", 0), 0u);
+  EXPECT_EQ(log_lines_with(r, "refused client"), 7u);
+  EXPECT_EQ(log_lines_with(r, "Origin 'http://evil.example.com' is not this server's page"), 1u);
+
+  ServerOptions o = ephemeral();
+  o.allow_origins = {"http://example.org"};
+  o.allow_hosts = {"nsf.example.org"};
+  Running wide(o);
+  const std::string wport = std::to_string(wide.port());
+  const auto wide_handshake = [&](const std::string& host, const std::string& origin) {
+    WsClient c;
+    c.host = host;
+    c.origin = origin;
+    return c.connect(wide.port());
+  };
+  EXPECT_TRUE(wide_handshake("", "http://example.org"));
+  EXPECT_FALSE(wide_handshake("", "http://evil.example.com"));
+  EXPECT_TRUE(wide_handshake("nsf.example.org", "http://nsf.example.org"));
+  EXPECT_FALSE(wide_handshake("evil.example.com:" + wport, ""));
 }
 
 }  // namespace

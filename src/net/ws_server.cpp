@@ -9,6 +9,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <iostream>
 #include <vector>
@@ -26,6 +27,26 @@ double now_s() {
 
 constexpr double kCloseGraceS = 2.0;    // a closing socket gets this long to take its last bytes
 constexpr size_t kReadPerPoll = 65536;  // bytes read from one client per poll(), at most
+
+const char* reason_phrase(int status) {
+  switch (status) {
+    case 403:
+      return "Forbidden";
+    case 431:
+      return "Request Header Fields Too Large";
+    case 503:
+      return "Service Unavailable";
+    default:
+      return "Bad Request";
+  }
+}
+
+// Answers a connection not taken (an HTTP error) and closes it.
+void refuse_now(int fd, int status, const std::string& body) {
+  const std::string r = http_response(status, reason_phrase(status), "text/plain", body);
+  [[maybe_unused]] ssize_t w = ::send(fd, r.data(), r.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+  ::close(fd);
+}
 
 }  // namespace
 
@@ -52,6 +73,10 @@ WsServer::WsServer(const ServerOptions& options) : options_(options) {
   socklen_t len = sizeof sa;
   ::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&sa), &len);
   port_ = ntohs(sa.sin_port);
+  policy_.bind = options.bind;
+  policy_.port = port_;
+  policy_.allow_hosts = options.allow_hosts;
+  policy_.allow_origins = options.allow_origins;
 }
 
 WsServer::~WsServer() {
@@ -138,10 +163,7 @@ void WsServer::accept_all() {
     ::inet_ntop(AF_INET, &sa.sin_addr, ip, sizeof ip);
     const std::string peer = std::string(ip) + ":" + std::to_string(ntohs(sa.sin_port));
     if (clients_.size() >= options_.max_clients) {
-      const std::string r =
-          http_response(503, "Service Unavailable", "text/plain", "nsf serve: too many clients\n");
-      [[maybe_unused]] ssize_t w = ::send(fd, r.data(), r.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
-      ::close(fd);
+      refuse_now(fd, 503, "nsf serve: too many clients\n");
       emit("nsf serve: refused " + peer + ": " + std::to_string(options_.max_clients) +
            " clients already (--max-clients)");
       continue;
@@ -191,25 +213,27 @@ void WsServer::handle_http(int id, Client& c) {
   if (p == Parse::error) return drop(id, c, 400, "a malformed HTTP request: " + why);
   c.in.erase(0, used);
   const bool wants_upgrade = !req.header("Upgrade").empty();
+  if (const std::string refusal = origin_refusal(req, policy_, wants_upgrade); !refusal.empty())
+    return drop(id, c, 403, refusal, "refused client");
+  const auto answer = [&](std::string response) {
+    c.out.push_back(std::make_shared<const std::string>(std::move(response)));
+  };
   if (!wants_upgrade) {
     c.state = State::closing;
     c.closing_since = now_s();
     c.in.clear();
     const std::string path = req.target.substr(0, req.target.find('?'));
     if (req.method != "GET" && req.method != "HEAD")
-      c.out.push_back(std::make_shared<const std::string>(
-          http_response(405, "Method Not Allowed", "text/plain", "GET only\n")));
+      answer(http_response(405, "Method Not Allowed", "text/plain", "GET only\n"));
     else if (path == "/" || path == "/index.html")
-      c.out.push_back(std::make_shared<const std::string>(
-          http_response(200, "OK", "text/html; charset=utf-8", page_)));
+      answer(http_response(200, "OK", "text/html; charset=utf-8", page_));
     else
-      c.out.push_back(std::make_shared<const std::string>(
-          http_response(404, "Not Found", "text/plain", "not found\n")));
+      answer(http_response(404, "Not Found", "text/plain", "not found\n"));
     return;
   }
   if (const std::string problem = upgrade_problem(req); !problem.empty())
     return drop(id, c, 400, "a bad WebSocket upgrade: " + problem);
-  c.out.push_back(std::make_shared<const std::string>(upgrade_response(req)));
+  answer(upgrade_response(req));
   c.state = State::websocket;
   if (on_open) on_open(id);
 }
@@ -261,9 +285,9 @@ void WsServer::write_to(Client& c) {
   }
 }
 
-void WsServer::drop(int id, Client& c, uint16_t code, const std::string& why) {
+void WsServer::drop(int id, Client& c, uint16_t code, const std::string& why, const char* verb) {
   ++malformed_;
-  emit("nsf serve: dropped client " + std::to_string(id) + " (" + c.peer + "): " + why);
+  emit("nsf serve: " + std::string(verb) + " " + std::to_string(id) + " (" + c.peer + "): " + why);
   // Whatever was queued for it goes unsent, except the part of a message already on the wire.
   while (c.out.size() > (c.out_offset ? 1u : 0u)) c.out.pop_back();
   if (c.state == State::websocket)
@@ -271,8 +295,7 @@ void WsServer::drop(int id, Client& c, uint16_t code, const std::string& why) {
         std::make_shared<const std::string>(encode_frame(kClose, close_payload(code, why))));
   else
     c.out.push_back(std::make_shared<const std::string>(
-        http_response(code, code == 431 ? "Request Header Fields Too Large" : "Bad Request",
-                      "text/plain", why + "\n")));
+        http_response(code, reason_phrase(code), "text/plain", why + "\n")));
   c.state = State::closing;
   c.closing_since = now_s();
   c.in.clear();

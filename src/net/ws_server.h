@@ -7,7 +7,9 @@
 // client; a client whose queue already holds max_queue messages loses that message (counted), so a
 // slow reader never holds up the others or the host, and its memory stays bounded. A client that
 // sends anything malformed (bad HTTP, a protocol error, an oversized or fragmented message, a
-// message the host's handler rejects) is dropped with one log line.
+// message the host's handler rejects) is dropped with one log line. Requests are checked against an
+// OriginPolicy (net/origin_policy.h: Host and, for a WebSocket, Origin) and refused with 403 when
+// they fail.
 #include <cstddef>
 #include <cstdint>
 #include <deque>
@@ -15,6 +17,9 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
+
+#include "net/origin_policy.h"
 
 namespace nsf::net {
 
@@ -25,6 +30,7 @@ struct ServerOptions {
   size_t max_request = 8192;       // bytes of an HTTP request head
   size_t max_queue = 64;           // messages waiting to be sent to one client
   size_t max_clients = 256;        // open connections; more are refused with 503
+  std::vector<std::string> allow_hosts, allow_origins;  // net/origin_policy.h
 };
 
 using Message = std::shared_ptr<const std::string>;  // an encoded frame, shared by all queues
@@ -79,11 +85,14 @@ class WsServer {
   void handle_frames(int id, Client& c);
   void write_to(Client& c);
   // Queues a close frame (or an HTTP error) and stops reading: the socket closes once it is sent.
-  void drop(int id, Client& c, uint16_t code, const std::string& why);
+  // The log line says `verb` ("dropped client", "refused client") and why.
+  void drop(int id, Client& c, uint16_t code, const std::string& why,
+            const char* verb = "dropped client");
   void close_now(int id, Client& c, const std::string& why);
   void emit(const std::string& line) const;
 
   ServerOptions options_;
+  OriginPolicy policy_;
   int listen_fd_ = -1;
   int port_ = 0;
   std::string page_;
