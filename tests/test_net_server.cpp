@@ -1,7 +1,7 @@
 // The WebSocket server of `nsf serve` (src/net/ws_server.h) on loopback: the page, broadcasts to
 // several clients, malformed clients dropped while the others keep receiving, a slow client losing
 // messages instead of stalling anyone, a bounded fuzz of hostile clients (zero crashes), and the
-// attacks of docs/SERVE.md, "Who may connect": other sites' pages.
+// attacks of docs/SERVE.md, "Who may connect": other sites' pages, forged log lines.
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -35,8 +35,9 @@ class Running {
       std::lock_guard<std::mutex> g(m_);
       log_.push_back(l);
     };
+    // The reason quotes the client, as nsf serve's do ("an unknown command type '...'").
     server_.on_message = [](int, const std::string& p) -> std::string {
-      return p.rfind("ok", 0) == 0 ? "" : "not a command";
+      return p.rfind("ok", 0) == 0 ? "" : "not a command: '" + p + "'";
     };
     thread_ = std::thread([this] {
       while (!stop_) {
@@ -319,6 +320,29 @@ TEST(NetServer, RefusesOtherSitesPagesAndForeignHosts) {
   EXPECT_FALSE(wide_handshake("", "http://evil.example.com"));
   EXPECT_TRUE(wide_handshake("nsf.example.org", "http://nsf.example.org"));
   EXPECT_FALSE(wide_handshake("evil.example.com:" + wport, ""));
+}
+
+// A client's text in a log line (here the handler's reason quotes the message) cannot start a
+// line of its own or reach the terminal as an escape sequence, and is cut short.
+TEST(NetServer, ClientTextInALogLineIsEscapedAndCut) {
+  Running r(ephemeral());
+  WsClient c;
+  ASSERT_TRUE(c.connect(r.port()));
+  ASSERT_TRUE(c.send_text("\n\x1b[31mnsf serve: FAKE\xff\x7f" + std::string(3000, 'A')));
+  EXPECT_TRUE(c.closed_by_server(5.0));
+  std::string line;
+  for (int k = 0; k < 100 && line.empty(); ++k) {
+    for (const auto& l : r.log())
+      if (l.find("dropped client") != std::string::npos) line = l;
+    if (line.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_FALSE(line.empty());
+  for (char ch : line) {
+    const auto b = static_cast<unsigned char>(ch);
+    EXPECT_TRUE(b >= 0x20 && b < 0x7f) << "a raw byte " << int(b) << " in: " << line;
+  }
+  EXPECT_NE(line.find("'\\x0a\\x1b[31mnsf serve: FAKE\\xff\\x7fAAA"), std::string::npos) << line;
+  EXPECT_LT(line.size(), 500u) << "the client's 3000 bytes were not cut";
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "net/log_text.h"
 #include "net/websocket.h"
 
 namespace nsf::net {
@@ -27,6 +28,7 @@ double now_s() {
 
 constexpr double kCloseGraceS = 2.0;    // a closing socket gets this long to take its last bytes
 constexpr size_t kReadPerPoll = 65536;  // bytes read from one client per poll(), at most
+constexpr size_t kLogLine = 400;        // bytes of a log line, at most (client text escaped)
 
 const char* reason_phrase(int status) {
   switch (status) {
@@ -85,10 +87,12 @@ WsServer::~WsServer() {
 }
 
 void WsServer::emit(const std::string& line) const {
+  // The reasons in a line may quote a client (a header, a command): no raw control characters.
+  const std::string safe = log_safe(line, kLogLine);
   if (log)
-    log(line);
+    log(safe);
   else
-    std::cerr << line << "\n";
+    std::cerr << safe << "\n";
 }
 
 Message WsServer::binary_message(const std::string& payload) {
@@ -295,7 +299,7 @@ void WsServer::drop(int id, Client& c, uint16_t code, const std::string& why, co
         std::make_shared<const std::string>(encode_frame(kClose, close_payload(code, why))));
   else
     c.out.push_back(std::make_shared<const std::string>(
-        http_response(code, reason_phrase(code), "text/plain", why + "\n")));
+        http_response(code, reason_phrase(code), "text/plain", log_safe(why) + "\n")));
   c.state = State::closing;
   c.closing_since = now_s();
   c.in.clear();

@@ -9,7 +9,8 @@
 // sends anything malformed (bad HTTP, a protocol error, an oversized or fragmented message, a
 // message the host's handler rejects) is dropped with one log line. Requests are checked against an
 // OriginPolicy (net/origin_policy.h: Host and, for a WebSocket, Origin) and refused with 403 when
-// they fail.
+// they fail. Everything logged passes through log_safe (net/log_text.h): a client cannot forge a
+// log line.
 #include <cstddef>
 #include <cstdint>
 #include <deque>
