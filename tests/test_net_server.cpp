@@ -1,7 +1,8 @@
 // The WebSocket server of `nsf serve` (src/net/ws_server.h) on loopback: the page, broadcasts to
 // several clients, malformed clients dropped while the others keep receiving, a slow client losing
 // messages instead of stalling anyone, a bounded fuzz of hostile clients (zero crashes), and the
-// attacks of docs/SERVE.md, "Who may connect": other sites' pages, forged log lines.
+// attacks of docs/SERVE.md, "Who may connect": a ping flood that never reads, other sites' pages,
+// forged log lines.
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -272,10 +273,48 @@ TEST(NetServer, BoundedFuzzOfHostileClientsCrashesNothing) {
   EXPECT_TRUE(receives_in_order(late, 10));
 }
 
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
 size_t log_lines_with(Running& r, const std::string& text) {
   size_t n = 0;
   for (const auto& l : r.log()) n += l.find(text) != std::string::npos;
   return n;
+}
+
+// A client that sends 125-byte pings as fast as it can and never reads: every pong counts against
+// its queue, so it is dropped once that is full, and what the server holds for it stays under the
+// cap (before, pongs bypassed the cap and the server grew by gigabytes).
+TEST(NetServer, AClientPingingWithoutReadingIsDroppedWithinItsCap) {
+  ServerOptions o = ephemeral();
+  o.max_queue = 16;
+  o.max_queue_bytes = 1024;
+  std::atomic<size_t> peak{0};
+  Running r(o, [&](WsServer& s) { peak = s.peak_queued_bytes(); });
+  WsClient flood;
+  flood.receive_buffer = 4096;
+  ASSERT_TRUE(flood.connect(r.port()));
+  timeval tv{0, 200000};  // a send the server does not take within 0.2 s ends the flood
+  ::setsockopt(flood.fd(), SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
+  const uint8_t mask[4] = {9, 8, 7, 6};
+  std::string burst;
+  for (int k = 0; k < 100; ++k)
+    burst += nsf::net::encode_frame(nsf::net::kPing, std::string(125, 'p'), mask);
+  const auto start = std::chrono::steady_clock::now();
+  for (int k = 0; k < 2000 && seconds_since(start) < 5.0; ++k)  // 200,000 pings, 26 MB at most
+    if (!flood.send_raw(burst)) break;
+  EXPECT_TRUE(flood.closed_by_server(5.0)) << "the flooding client was not dropped";
+  // Its queue never held more than the cap, and the close frame that dropped it.
+  EXPECT_LE(peak.load(), o.max_queue_bytes + 127);
+  EXPECT_EQ(log_lines_with(r, "pings faster than it reads"), 1u);
+  // The server goes on.
+  WsClient other;
+  ASSERT_TRUE(other.connect(r.port()));
+  ASSERT_TRUE(other.send_frame(nsf::net::kPing, "still there"));
+  const auto pong = other.next_frame(5.0);
+  ASSERT_TRUE(pong);
+  EXPECT_EQ(pong->payload, "still there");
 }
 
 // Cross-site WebSocket hijacking and DNS rebinding: a handshake from another site's page or to a

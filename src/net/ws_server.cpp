@@ -108,16 +108,37 @@ size_t WsServer::client_count() const {
   return n;
 }
 
+size_t WsServer::queued_bytes(int id) const {
+  const auto it = clients_.find(id);
+  return it == clients_.end() ? 0 : it->second.out_bytes;
+}
+
+bool WsServer::fits(const Client& c, size_t bytes) const {
+  if (c.out.size() >= options_.max_queue) return false;
+  // An empty queue takes any one message, so one larger than the byte cap is not lost for good.
+  return c.out.empty() || c.out_bytes + bytes <= options_.max_queue_bytes;
+}
+
+bool WsServer::backed_up(const Client& c) const {
+  return c.out.size() >= options_.max_queue || c.out_bytes >= options_.max_queue_bytes;
+}
+
+void WsServer::enqueue(Client& c, Message m) {
+  c.out_bytes += m->size();
+  c.out.push_back(std::move(m));
+  peak_queued_ = std::max(peak_queued_, c.out_bytes);
+}
+
 void WsServer::send(int id, const Message& m, bool bypass_cap) {
   auto it = clients_.find(id);
   if (it == clients_.end() || it->second.state != State::websocket) return;
   Client& c = it->second;
-  if (!bypass_cap && c.out.size() >= options_.max_queue) {
+  if (!bypass_cap && !fits(c, m->size())) {
     ++c.dropped;
     ++dropped_;
     return;
   }
-  c.out.push_back(m);
+  enqueue(c, m);
 }
 
 void WsServer::broadcast(const Message& m) {
@@ -130,7 +151,8 @@ void WsServer::poll(int timeout_ms) {
   fds.push_back({listen_fd_, POLLIN, 0});
   ids.push_back(0);
   for (const auto& [id, c] : clients_) {
-    short ev = c.state == State::closing ? 0 : POLLIN;
+    // A client whose queue is full is not read from: what it sends waits in its own socket.
+    short ev = c.state == State::closing || backed_up(c) ? 0 : POLLIN;
     if (!c.out.empty()) ev |= POLLOUT;
     fds.push_back({c.fd, ev, 0});
     ids.push_back(id);
@@ -184,7 +206,7 @@ void WsServer::accept_all() {
 void WsServer::read_from(int id, Client& c) {
   char buf[16384];
   size_t total = 0;
-  while (total < kReadPerPoll) {
+  while (total < kReadPerPoll && (c.state == State::closing || !backed_up(c))) {
     const ssize_t r = ::recv(c.fd, buf, sizeof buf, MSG_DONTWAIT);
     if (r > 0) {
       if (c.state != State::closing) c.in.append(buf, size_t(r));
@@ -220,7 +242,7 @@ void WsServer::handle_http(int id, Client& c) {
   if (const std::string refusal = origin_refusal(req, policy_, wants_upgrade); !refusal.empty())
     return drop(id, c, 403, refusal, "refused client");
   const auto answer = [&](std::string response) {
-    c.out.push_back(std::make_shared<const std::string>(std::move(response)));
+    enqueue(c, std::make_shared<const std::string>(std::move(response)));
   };
   if (!wants_upgrade) {
     c.state = State::closing;
@@ -252,11 +274,18 @@ void WsServer::handle_frames(int id, Client& c) {
     at += f.consumed;
     const Frame& fr = f.frame;
     if (fr.opcode == kPing) {
-      c.out.push_back(std::make_shared<const std::string>(encode_frame(kPong, fr.payload)));
+      // A pong counts against the caps like any frame: a client that pings faster than it reads
+      // would otherwise make the server buffer without bound.
+      Message pong = std::make_shared<const std::string>(encode_frame(kPong, fr.payload));
+      if (!fits(c, pong->size()))
+        return drop(id, c, kClosePolicy,
+                    "pings faster than it reads (" + std::to_string(c.out.size()) + " messages, " +
+                        std::to_string(c.out_bytes) + " bytes waiting for it: --queue)");
+      enqueue(c, std::move(pong));
     } else if (fr.opcode == kPong) {
     } else if (fr.opcode == kClose) {
-      c.out.push_back(std::make_shared<const std::string>(
-          encode_frame(kClose, close_payload(kCloseNormal, ""))));
+      enqueue(c, std::make_shared<const std::string>(
+                     encode_frame(kClose, close_payload(kCloseNormal, ""))));
       c.state = State::closing;
       c.closing_since = now_s();
       emit("nsf serve: client " + std::to_string(id) + " (" + c.peer + ") closed" +
@@ -279,11 +308,13 @@ void WsServer::write_to(Client& c) {
     if (w < 0) {
       if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return;
       c.out.clear();  // a broken socket: the next read sees it go
+      c.out_bytes = 0;
       c.state = State::closing;
       return;
     }
     c.out_offset += size_t(w);
     if (c.out_offset < m.size()) return;
+    c.out_bytes -= m.size();
     c.out.pop_front();
     c.out_offset = 0;
   }
@@ -293,13 +324,15 @@ void WsServer::drop(int id, Client& c, uint16_t code, const std::string& why, co
   ++malformed_;
   emit("nsf serve: " + std::string(verb) + " " + std::to_string(id) + " (" + c.peer + "): " + why);
   // Whatever was queued for it goes unsent, except the part of a message already on the wire.
-  while (c.out.size() > (c.out_offset ? 1u : 0u)) c.out.pop_back();
+  while (c.out.size() > (c.out_offset ? 1u : 0u)) {
+    c.out_bytes -= c.out.back()->size();
+    c.out.pop_back();
+  }
   if (c.state == State::websocket)
-    c.out.push_back(
-        std::make_shared<const std::string>(encode_frame(kClose, close_payload(code, why))));
+    enqueue(c, std::make_shared<const std::string>(encode_frame(kClose, close_payload(code, why))));
   else
-    c.out.push_back(std::make_shared<const std::string>(
-        http_response(code, reason_phrase(code), "text/plain", log_safe(why) + "\n")));
+    enqueue(c, std::make_shared<const std::string>(
+                   http_response(code, reason_phrase(code), "text/plain", log_safe(why) + "\n")));
   c.state = State::closing;
   c.closing_since = now_s();
   c.in.clear();
