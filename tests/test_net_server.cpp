@@ -1,8 +1,8 @@
 // The WebSocket server of `nsf serve` (src/net/ws_server.h) on loopback: the page, broadcasts to
 // several clients, malformed clients dropped while the others keep receiving, a slow client losing
 // messages instead of stalling anyone, a bounded fuzz of hostile clients (zero crashes), and the
-// attacks of docs/SERVE.md, "Who may connect": a ping flood that never reads, other sites' pages,
-// forged log lines.
+// attacks of docs/SERVE.md, "Who may connect": a ping flood that never reads, slow request heads,
+// other sites' pages, forged log lines.
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -220,6 +220,8 @@ TEST(NetServer, BoundedFuzzOfHostileClientsCrashesNothing) {
   std::atomic<int> n{0};
   ServerOptions o = ephemeral();
   o.max_message = 256;
+  // 300 short clients from one address come faster than the server sees them go.
+  o.max_pending_per_address = o.max_clients;
   Running r(o, counter(n));
   WsClient watcher;
   ASSERT_TRUE(watcher.connect(r.port()));
@@ -315,6 +317,62 @@ TEST(NetServer, AClientPingingWithoutReadingIsDroppedWithinItsCap) {
   const auto pong = other.next_frame(5.0);
   ASSERT_TRUE(pong);
   EXPECT_EQ(pong->payload, "still there");
+}
+
+// Slowloris: a request head sent a byte at a time is cut off at the header timeout, and a
+// connection that sends nothing at the idle timeout, each with a 408 and a log line.
+TEST(NetServer, ASlowRequestHeadIsCutOffAtItsTimeout) {
+  ServerOptions o = ephemeral();
+  o.header_timeout_s = 0.6;
+  o.idle_timeout_s = 0.3;
+  Running r(o);
+  WsClient slow, idle;
+  ASSERT_TRUE(slow.connect_tcp(r.port()));
+  ASSERT_TRUE(idle.connect_tcp(r.port()));
+  const auto start = std::chrono::steady_clock::now();
+  const std::string head = "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ";
+  std::string answer;
+  for (int k = 0; k < 40 && answer.empty(); ++k) {  // a byte every 0.1 s, 4 s at most
+    if (!slow.send_raw(std::string(1, head[size_t(k) % head.size()]))) break;
+    pollfd p{slow.fd(), POLLIN, 0};
+    if (::poll(&p, 1, 100) > 0) answer = slow.read_until_eof(2.0);
+  }
+  const double took = seconds_since(start);
+  EXPECT_EQ(answer.rfind("HTTP/1.1 408", 0), 0u) << answer;
+  EXPECT_GT(took, 0.5);
+  EXPECT_LT(took, 3.0);
+  EXPECT_EQ(idle.read_until_eof(3.0).rfind("HTTP/1.1 408", 0), 0u);
+  EXPECT_EQ(log_lines_with(r, "no complete request head within 0.6 s"), 1u);
+  EXPECT_EQ(log_lines_with(r, "nothing received for 0.3 s"), 1u);
+}
+
+// Slowloris from one address cannot lock everyone out: it may hold max_pending_per_address
+// connections not yet upgraded; more are refused, and a client from elsewhere still connects.
+TEST(NetServer, SlowClientsFromOneAddressLeaveRoomForOthers) {
+  ServerOptions o = ephemeral();
+  o.max_clients = 8;
+  o.max_pending_per_address = 3;
+  Running r(o);
+  std::vector<std::unique_ptr<WsClient>> slow;
+  for (int k = 0; k < 8; ++k) {
+    slow.push_back(std::make_unique<WsClient>());
+    slow.back()->from = "127.0.0.2";  // loopback is 127/8: another client address
+    if (!slow.back()->connect_tcp(r.port()))
+      GTEST_SKIP() << "cannot connect from 127.0.0.2 on this machine";
+    slow.back()->send_raw("GET / HTTP/1.1\r\nHost: 127.");  // and no more
+  }
+  size_t refused = 0;
+  for (int k = 3; k < 8; ++k)
+    refused += slow[size_t(k)]->read_until_eof(3.0).rfind("HTTP/1.1 503", 0) == 0;
+  EXPECT_EQ(refused, 5u);
+  WsClient other;
+  EXPECT_TRUE(other.connect(r.port())) << other.response_head();
+  // The first three are still held (the header timeout is 10 s).
+  for (int k = 0; k < 3; ++k) {
+    pollfd p{slow[size_t(k)]->fd(), POLLIN, 0};
+    EXPECT_EQ(::poll(&p, 1, 0), 0) << "slow client " << k << " was closed";
+  }
+  EXPECT_EQ(log_lines_with(r, "connections from 127.0.0.2 not yet upgraded"), 5u);
 }
 
 // Cross-site WebSocket hijacking and DNS rebinding: a handshake from another site's page or to a

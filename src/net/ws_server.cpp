@@ -9,6 +9,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
@@ -34,6 +35,8 @@ const char* reason_phrase(int status) {
   switch (status) {
     case 403:
       return "Forbidden";
+    case 408:
+      return "Request Timeout";
     case 431:
       return "Request Header Fields Too Large";
     case 503:
@@ -41,6 +44,12 @@ const char* reason_phrase(int status) {
     default:
       return "Bad Request";
   }
+}
+
+std::string seconds(double s) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g s", s);
+  return b;
 }
 
 // Answers a connection not taken (an HTTP error) and closes it.
@@ -160,7 +169,11 @@ void WsServer::poll(int timeout_ms) {
   // A closing socket that cannot take its last bytes is closed after a grace period: wake for it.
   for (const auto& [id, c] : clients_)
     if (c.state == State::closing) timeout_ms = std::min(timeout_ms, 100);
+  // And for a connection not yet upgraded that runs out of time.
+  if (const double left = next_deadline(now_s()); left >= 0)
+    timeout_ms = std::min(timeout_ms, int(std::ceil(left * 1000)));
   const int n = ::poll(fds.data(), nfds_t(fds.size()), timeout_ms);
+  expire_slow(now_s());
   if (n < 0) return;  // EINTR: the host's loop calls again
   if (fds[0].revents & POLLIN) accept_all();
   for (size_t k = 1; k < fds.size(); ++k) {
@@ -194,11 +207,21 @@ void WsServer::accept_all() {
            " clients already (--max-clients)");
       continue;
     }
+    size_t pending = 0;
+    for (const auto& [id, c] : clients_) pending += c.state == State::http && c.ip == ip;
+    if (pending >= options_.max_pending_per_address) {
+      refuse_now(fd, 503, "nsf serve: too many connections from your address\n");
+      emit("nsf serve: refused " + peer + ": " + std::to_string(pending) + " connections from " +
+           ip + " not yet upgraded");
+      continue;
+    }
     const int one = 1;
     ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
     Client c;
     c.fd = fd;
     c.peer = peer;
+    c.ip = ip;
+    c.connected = c.last_read = now_s();
     clients_.emplace(next_id_++, std::move(c));
   }
 }
@@ -211,6 +234,7 @@ void WsServer::read_from(int id, Client& c) {
     if (r > 0) {
       if (c.state != State::closing) c.in.append(buf, size_t(r));
       total += size_t(r);
+      c.last_read = now_s();
       if (c.state == State::http) handle_http(id, c);
       if (clients_.find(id) == clients_.end()) return;
       if (c.state == State::websocket) handle_frames(id, c);
@@ -317,6 +341,32 @@ void WsServer::write_to(Client& c) {
     c.out_bytes -= m.size();
     c.out.pop_front();
     c.out_offset = 0;
+  }
+}
+
+double WsServer::next_deadline(double now) const {
+  double left = -1;
+  for (const auto& [id, c] : clients_) {
+    if (c.state != State::http) continue;
+    const double t = std::max(0.0, std::min(c.connected + options_.header_timeout_s,
+                                            c.last_read + options_.idle_timeout_s) -
+                                       now);
+    left = left < 0 ? t : std::min(left, t);
+  }
+  return left;
+}
+
+void WsServer::expire_slow(double now) {
+  for (auto& [id, c] : clients_) {
+    if (c.state != State::http) continue;
+    if (now >= c.connected + options_.header_timeout_s)
+      drop(id, c, 408,
+           "no complete request head within " + seconds(options_.header_timeout_s) +
+               " of connecting");
+    else if (now >= c.last_read + options_.idle_timeout_s)
+      drop(id, c, 408,
+           "nothing received for " + seconds(options_.idle_timeout_s) +
+               " before its request was complete");
   }
 }
 

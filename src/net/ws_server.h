@@ -10,7 +10,9 @@
 // reads is dropped once its pong would not fit, and a client whose queue is full is not read from
 // until it drains. A client that sends anything malformed (bad HTTP, a protocol error, an
 // oversized or fragmented message, a message the host's handler rejects) is dropped with one log
-// line. Requests are checked against an OriginPolicy
+// line; so is a connection that takes longer than header_timeout_s to send its request head or is
+// silent for idle_timeout_s before it is upgraded (slowloris), and one address may hold at most
+// max_pending_per_address such connections. Requests are checked against an OriginPolicy
 // (net/origin_policy.h: Host and, for a WebSocket, Origin) and refused with 403 when they fail.
 // Everything logged passes through log_safe (net/log_text.h): a client cannot forge a log line.
 #include <cstddef>
@@ -34,6 +36,12 @@ struct ServerOptions {
   size_t max_queue = 64;                     // messages waiting to be sent to one client
   size_t max_queue_bytes = size_t(4) << 20;  // their bytes (a message sent with bypass_cap aside)
   size_t max_clients = 256;                  // open connections; more are refused with 503
+  // Before its upgrade (or its page) a connection must send its whole request head within
+  // header_timeout_s of connecting and may not go idle_timeout_s without a byte: else 408.
+  double header_timeout_s = 10;
+  double idle_timeout_s = 5;
+  // Connections not yet upgraded from one IP address; more from it are refused with 503.
+  size_t max_pending_per_address = 16;
   std::vector<std::string> allow_hosts, allow_origins;  // net/origin_policy.h
 };
 
@@ -86,6 +94,8 @@ class WsServer {
     size_t out_offset = 0;  // bytes of out.front() already sent
     uint64_t dropped = 0;
     double closing_since = 0;
+    std::string ip;
+    double connected = 0, last_read = 0;
   };
   void accept_all();
   void read_from(int id, Client& c);
@@ -97,6 +107,9 @@ class WsServer {
   // is not read from).
   bool fits(const Client& c, size_t bytes) const;
   bool backed_up(const Client& c) const;
+  // The seconds until the first connection not yet upgraded runs out of time (< 0: none).
+  double next_deadline(double now) const;
+  void expire_slow(double now);
   // Queues a close frame (or an HTTP error) and stops reading: the socket closes once it is sent.
   // The log line says `verb` ("dropped client", "refused client") and why.
   void drop(int id, Client& c, uint16_t code, const std::string& why,
