@@ -29,8 +29,11 @@ using nsf::testing::WsClient;
 // The server polled on its own thread; `tick` runs on it between polls (the host's work).
 class Running {
  public:
-  explicit Running(ServerOptions o, std::function<void(WsServer&)> tick = {})
+  // `open`: the server's on_open (what a client gets first).
+  explicit Running(ServerOptions o, std::function<void(WsServer&)> tick = {},
+                   std::function<void(WsServer&, int)> open = {})
       : server_(o), tick_(std::move(tick)) {
+    if (open) server_.on_open = [this, open](int id) { open(server_, id); };
     server_.set_page("<html>the page</html>");
     server_.log = [this](const std::string& l) {
       std::lock_guard<std::mutex> g(m_);
@@ -317,6 +320,29 @@ TEST(NetServer, AClientPingingWithoutReadingIsDroppedWithinItsCap) {
   const auto pong = other.next_frame(5.0);
   ASSERT_TRUE(pong);
   EXPECT_EQ(pong->payload, "still there");
+}
+
+// What every client gets first (nsf serve's model message, megabytes) is shared and outside the
+// byte cap: a client that pings at once, before that message is on its way, is answered, not
+// dropped for it.
+TEST(NetServer, AClientMayPingBeforeItsLargeFirstMessageIsSent) {
+  ServerOptions o = ephemeral();
+  o.max_queue_bytes = 1024;
+  const Message big = WsServer::binary_message(std::string(size_t(1) << 20, 'm'));
+  Running r(o, {}, [&](WsServer& s, int id) { s.send(id, big, true); });
+  WsClient c;
+  c.receive_buffer = 4096;  // the big message stays queued until the client reads it
+  const uint8_t mask[4] = {1, 2, 3, 4};
+  ASSERT_TRUE(
+      c.connect(r.port(), "/stream", nsf::net::encode_frame(nsf::net::kPing, "early", mask)));
+  const auto first = c.next_frame(5.0);
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->payload.size(), size_t(1) << 20);
+  const auto pong = c.next_frame(5.0);
+  ASSERT_TRUE(pong);
+  EXPECT_EQ(pong->opcode, nsf::net::kPong);
+  EXPECT_EQ(pong->payload, "early");
+  EXPECT_EQ(log_lines_with(r, "pings faster than it reads"), 0u);
 }
 
 // Slowloris: a request head sent a byte at a time is cut off at the header timeout, and a

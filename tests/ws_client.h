@@ -52,8 +52,9 @@ class WsClient {
     return ::connect(fd_, reinterpret_cast<sockaddr*>(&sa), sizeof sa) == 0;
   }
   // connect_tcp, then the upgrade handshake; false unless the server answers 101 with the right
-  // Sec-WebSocket-Accept (response_head() says what it answered).
-  bool connect(int port, const std::string& path = "/stream") {
+  // Sec-WebSocket-Accept (response_head() says what it answered). `then`: bytes sent in the same
+  // write as the handshake, before its answer (frames of a client that does not wait).
+  bool connect(int port, const std::string& path = "/stream", const std::string& then = "") {
     if (!connect_tcp(port)) return false;
     std::string key_bytes(16, '\0');
     for (char& c : key_bytes) c = char(rng_());
@@ -61,7 +62,7 @@ class WsClient {
     send_raw("GET " + path + " HTTP/1.1\r\nHost: " + host_header(port) +
              "\r\nUpgrade: websocket\r\n" + (origin.empty() ? "" : "Origin: " + origin + "\r\n") +
              "Connection: Upgrade\r\nSec-WebSocket-Key: " + key +
-             "\r\nSec-WebSocket-Version: 13\r\n\r\n");
+             "\r\nSec-WebSocket-Version: 13\r\n\r\n" + then);
     const std::optional<std::string> head = read_head(5.0);
     if (!head) return false;
     head_ = *head;

@@ -124,17 +124,19 @@ size_t WsServer::queued_bytes(int id) const {
 
 bool WsServer::fits(const Client& c, size_t bytes) const {
   if (c.out.size() >= options_.max_queue) return false;
-  // An empty queue takes any one message, so one larger than the byte cap is not lost for good.
-  return c.out.empty() || c.out_bytes + bytes <= options_.max_queue_bytes;
+  // A queue with no counted bytes takes any one message, so one larger than the byte cap is not
+  // lost for good.
+  return c.out_bytes == 0 || c.out_bytes + bytes <= options_.max_queue_bytes;
 }
 
 bool WsServer::backed_up(const Client& c) const {
   return c.out.size() >= options_.max_queue || c.out_bytes >= options_.max_queue_bytes;
 }
 
-void WsServer::enqueue(Client& c, Message m) {
-  c.out_bytes += m->size();
-  c.out.push_back(std::move(m));
+void WsServer::enqueue(Client& c, Message m, bool counted) {
+  const size_t bytes = counted ? m->size() : 0;
+  c.out_bytes += bytes;
+  c.out.push_back({std::move(m), bytes});
   peak_queued_ = std::max(peak_queued_, c.out_bytes);
 }
 
@@ -147,7 +149,7 @@ void WsServer::send(int id, const Message& m, bool bypass_cap) {
     ++dropped_;
     return;
   }
-  enqueue(c, m);
+  enqueue(c, m, !bypass_cap);
 }
 
 void WsServer::broadcast(const Message& m) {
@@ -326,7 +328,7 @@ void WsServer::handle_frames(int id, Client& c) {
 
 void WsServer::write_to(Client& c) {
   while (!c.out.empty()) {
-    const std::string& m = *c.out.front();
+    const std::string& m = *c.out.front().m;
     const ssize_t w =
         ::send(c.fd, m.data() + c.out_offset, m.size() - c.out_offset, MSG_NOSIGNAL | MSG_DONTWAIT);
     if (w < 0) {
@@ -338,7 +340,7 @@ void WsServer::write_to(Client& c) {
     }
     c.out_offset += size_t(w);
     if (c.out_offset < m.size()) return;
-    c.out_bytes -= m.size();
+    c.out_bytes -= c.out.front().counted;
     c.out.pop_front();
     c.out_offset = 0;
   }
@@ -375,7 +377,7 @@ void WsServer::drop(int id, Client& c, uint16_t code, const std::string& why, co
   emit("nsf serve: " + std::string(verb) + " " + std::to_string(id) + " (" + c.peer + "): " + why);
   // Whatever was queued for it goes unsent, except the part of a message already on the wire.
   while (c.out.size() > (c.out_offset ? 1u : 0u)) {
-    c.out_bytes -= c.out.back()->size();
+    c.out_bytes -= c.out.back().counted;
     c.out.pop_back();
   }
   if (c.state == State::websocket)

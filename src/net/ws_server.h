@@ -34,7 +34,7 @@ struct ServerOptions {
   size_t max_message = 4096;                 // bytes of one incoming message (payload)
   size_t max_request = 8192;                 // bytes of an HTTP request head
   size_t max_queue = 64;                     // messages waiting to be sent to one client
-  size_t max_queue_bytes = size_t(4) << 20;  // their bytes (a message sent with bypass_cap aside)
+  size_t max_queue_bytes = size_t(4) << 20;  // their bytes (messages sent with bypass_cap aside)
   size_t max_clients = 256;                  // open connections; more are refused with 503
   // Before its upgrade (or its page) a connection must send its whole request head within
   // header_timeout_s of connecting and may not go idle_timeout_s without a byte: else 408.
@@ -78,19 +78,24 @@ class WsServer {
   size_t client_count() const;  // open WebSockets
   uint64_t messages_dropped() const { return dropped_; }
   uint64_t clients_dropped() const { return malformed_; }
-  // Bytes queued for one client (0 when it is gone), and the most ever queued for any client.
+  // Bytes queued for one client (0 when it is gone), and the most ever queued for any client;
+  // messages sent with bypass_cap (shared by every client) aside.
   size_t queued_bytes(int client) const;
   size_t peak_queued_bytes() const { return peak_queued_; }
 
  private:
   enum class State { http, websocket, closing };
+  struct Queued {
+    Message m;
+    size_t counted;  // bytes of it that count against max_queue_bytes (0: sent with bypass_cap)
+  };
   struct Client {
     int fd = -1;
     std::string peer;
     State state = State::http;
     std::string in;
-    std::deque<Message> out;
-    size_t out_bytes = 0;   // of every message in out
+    std::deque<Queued> out;
+    size_t out_bytes = 0;   // counted bytes of the messages in out
     size_t out_offset = 0;  // bytes of out.front() already sent
     uint64_t dropped = 0;
     double closing_since = 0;
@@ -102,7 +107,7 @@ class WsServer {
   void handle_http(int id, Client& c);
   void handle_frames(int id, Client& c);
   void write_to(Client& c);
-  void enqueue(Client& c, Message m);
+  void enqueue(Client& c, Message m, bool counted = true);
   // Whether a message of `bytes` fits under the client's caps; whether its queue is full (then it
   // is not read from).
   bool fits(const Client& c, size_t bytes) const;
