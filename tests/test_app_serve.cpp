@@ -236,13 +236,22 @@ TEST_F(ServeEndToEnd, ClientsReconstructTheRuntimesPositionsAndMoveAColliderToge
                                     R"({"type":"move","collider":0,"position":[0,0.2,0]})", mask);
   ASSERT_TRUE(flood.send_raw(burst));
   EXPECT_TRUE(flood.closed_by_server(10.0));
+  // A command that would forge a log line of its own, in red, is dropped with an escaped one.
+  WsClient forger;
+  ASSERT_TRUE(forger.connect(port));
+  ASSERT_TRUE(forger.send_text(R"({"type":"\n\u001b[31mnsf serve: FAKE"})"));
+  EXPECT_TRUE(forger.closed_by_server(10.0));
   ASSERT_TRUE(next_frame(a));
   const std::string log = nsf::testing::read_text(log_);
+  EXPECT_EQ(log.find("\nnsf serve: FAKE"), std::string::npos) << log;
+  EXPECT_EQ(log.find('\x1b'), std::string::npos) << log;
+  EXPECT_NE(log.find("an unknown command type '\\x0a\\x1b[31mnsf serve: FAKE'"), std::string::npos)
+      << log;
   size_t drops = 0;
   for (size_t at = log.find("dropped client"); at != std::string::npos;
        at = log.find("dropped client", at + 1))
     ++drops;
-  EXPECT_EQ(drops, 2u) << log;
+  EXPECT_EQ(drops, 3u) << log;
   EXPECT_NE(log.find("over 64 commands in one frame"), std::string::npos) << log;
   EXPECT_NE(log.find("a command that is not JSON"), std::string::npos) << log;
 
@@ -252,6 +261,42 @@ TEST_F(ServeEndToEnd, ClientsReconstructTheRuntimesPositionsAndMoveAColliderToge
   EXPECT_EQ(page.rfind("HTTP/1.1 200 OK", 0), 0u);
   EXPECT_NE(page.find("new WebSocket("), std::string::npos);
   EXPECT_NE(page.find("NSFF"), std::string::npos);
+}
+
+// Another site's page open in the browser may not drive the server (cross-site WebSocket
+// hijacking), nor may a page that reached it under another name (DNS rebinding): 403 and a log
+// line. The server's own page and programs (no Origin) connect; --allow-origin adds a site.
+TEST_F(ServeEndToEnd, RefusesOtherSitesPagesUnlessAllowed) {
+  const int port = start({"--fps", "30", "--frames", "100000", "--allow-origin",
+                          "http://example.org", "--allow-origin", "http://example.net:8000"});
+  ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
+  const std::string own = "http://127.0.0.1:" + std::to_string(port);
+  const auto opens = [&](const std::string& origin, const std::string& host = "") {
+    WsClient c;
+    c.origin = origin;
+    c.host = host;
+    const bool ok = c.connect(port);
+    EXPECT_EQ(c.response_head().rfind(ok ? "HTTP/1.1 101" : "HTTP/1.1 403", 0), 0u)
+        << c.response_head();
+    return ok;
+  };
+  EXPECT_TRUE(opens(""));
+  EXPECT_TRUE(opens(own));
+  EXPECT_TRUE(opens("http://example.org"));
+  EXPECT_TRUE(opens("http://example.net:8000"));
+  EXPECT_FALSE(opens("http://evil.example.com"));
+  EXPECT_FALSE(opens("http://example.net"));
+  EXPECT_FALSE(opens("", "evil.example.com:" + std::to_string(port)));
+  std::string log;
+  for (int k = 0; k < 50; ++k) {  // the log is written as the server goes
+    log = nsf::testing::read_text(log_);
+    if (log.find("'http://example.net'") != std::string::npos) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_NE(log.find("refused client"), std::string::npos) << log;
+  EXPECT_NE(log.find("Origin 'http://evil.example.com' is not this server's page"),
+            std::string::npos)
+      << log;
 }
 
 TEST_F(ServeEndToEnd, RefusesABadAddressAndAnMlpModelAndStopsAfterItsFrames) {

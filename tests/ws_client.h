@@ -25,9 +25,26 @@ class WsClient {
   WsClient& operator=(const WsClient&) = delete;
   ~WsClient() { close(); }
 
-  // A TCP connection to 127.0.0.1:port; false when refused.
+  // Set before connecting: the address to connect from (another 127.x.y.z is another client
+  // address on loopback; "": the system's choice), and SO_RCVBUF (0: the system's).
+  std::string from;
+  int receive_buffer = 0;
+  // Set before connect(): the Host header ("": 127.0.0.1:port) and Origin header ("": none, as a
+  // program sends; a browser always sends one).
+  std::string host, origin;
+
+  // A TCP connection to 127.0.0.1:port; false when refused (or `from` cannot be bound).
   bool connect_tcp(int port) {
     fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (receive_buffer > 0)
+      ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof receive_buffer);
+    if (!from.empty()) {
+      sockaddr_in local{};
+      local.sin_family = AF_INET;
+      if (::inet_pton(AF_INET, from.c_str(), &local.sin_addr) != 1 ||
+          ::bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local) != 0)
+        return false;
+    }
     sockaddr_in sa{};
     sa.sin_family = AF_INET;
     sa.sin_port = htons(uint16_t(port));
@@ -35,24 +52,29 @@ class WsClient {
     return ::connect(fd_, reinterpret_cast<sockaddr*>(&sa), sizeof sa) == 0;
   }
   // connect_tcp, then the upgrade handshake; false unless the server answers 101 with the right
-  // Sec-WebSocket-Accept.
-  bool connect(int port, const std::string& path = "/stream") {
+  // Sec-WebSocket-Accept (response_head() says what it answered). `then`: bytes sent in the same
+  // write as the handshake, before its answer (frames of a client that does not wait).
+  bool connect(int port, const std::string& path = "/stream", const std::string& then = "") {
     if (!connect_tcp(port)) return false;
     std::string key_bytes(16, '\0');
     for (char& c : key_bytes) c = char(rng_());
     const std::string key = net::base64_encode(key_bytes.data(), key_bytes.size());
-    send_raw("GET " + path + " HTTP/1.1\r\nHost: localhost\r\nUpgrade: websocket\r\n" +
+    send_raw("GET " + path + " HTTP/1.1\r\nHost: " + host_header(port) +
+             "\r\nUpgrade: websocket\r\n" + (origin.empty() ? "" : "Origin: " + origin + "\r\n") +
              "Connection: Upgrade\r\nSec-WebSocket-Key: " + key +
-             "\r\nSec-WebSocket-Version: 13\r\n\r\n");
+             "\r\nSec-WebSocket-Version: 13\r\n\r\n" + then);
     const std::optional<std::string> head = read_head(5.0);
     if (!head) return false;
+    head_ = *head;
     return head->rfind("HTTP/1.1 101", 0) == 0 &&
            head->find("Sec-WebSocket-Accept: " + net::websocket_accept(key)) != std::string::npos;
   }
+  // The head of the server's answer to connect() ("" before one came).
+  const std::string& response_head() const { return head_; }
   // An HTTP GET; the whole response (the server closes after it), or "" on timeout.
   std::string http_get(int port, const std::string& path, double timeout_s = 5.0) {
     if (!connect_tcp(port)) return "";
-    send_raw("GET " + path + " HTTP/1.1\r\nHost: localhost\r\n\r\n");
+    send_raw("GET " + path + " HTTP/1.1\r\nHost: " + host_header(port) + "\r\n\r\n");
     return read_until_eof(timeout_s);
   }
   bool send_raw(const std::string& bytes) {
@@ -138,6 +160,9 @@ class WsClient {
 
  private:
   using clock = std::chrono::steady_clock;
+  std::string host_header(int port) const {
+    return host.empty() ? "127.0.0.1:" + std::to_string(port) : host;
+  }
   static clock::time_point deadline(double s) {
     return clock::now() +
            std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(s));
@@ -171,7 +196,7 @@ class WsClient {
   }
   int fd_ = -1;
   bool eof_ = false;
-  std::string buf_;
+  std::string buf_, head_;
   std::mt19937 rng_{std::random_device{}()};
 };
 

@@ -257,6 +257,15 @@ void add_serve_command(CLI::App& app) {
   cmd->add_option("--max-clients", a->net.max_clients, "Open connections at most")
       ->capture_default_str()
       ->check(in_range<size_t>(1, 10000));
+  cmd->add_option("--allow-origin", a->net.allow_origins,
+                  "Also open WebSockets for pages from this origin (e.g. http://example.org:8000; "
+                  "'*': any page on any site may drive the server). Default: the server's own page")
+      ->type_name("ORIGIN");
+  cmd->add_option("--allow-host", a->net.allow_hosts,
+                  "Also answer requests to this host name (any port; '*': any), e.g. the "
+                  "machine's DNS name. Default: the bound address (loopback: localhost, 127.0.0.1, "
+                  "[::1]; 0.0.0.0: localhost and any IP address) with the server's port")
+      ->type_name("HOST");
   add_threads_option(cmd, a->threads, "Threads of the model");
   add_quiet_flag(cmd, a->quiet, "No log lines (clients dropped, status every 10 s)");
   cmd->callback([a] {

@@ -9,11 +9,14 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <iostream>
 #include <vector>
 
 #include "core/error.h"
+#include "net/log_text.h"
 #include "net/websocket.h"
 
 namespace nsf::net {
@@ -26,6 +29,35 @@ double now_s() {
 
 constexpr double kCloseGraceS = 2.0;    // a closing socket gets this long to take its last bytes
 constexpr size_t kReadPerPoll = 65536;  // bytes read from one client per poll(), at most
+constexpr size_t kLogLine = 400;        // bytes of a log line, at most (client text escaped)
+
+const char* reason_phrase(int status) {
+  switch (status) {
+    case 403:
+      return "Forbidden";
+    case 408:
+      return "Request Timeout";
+    case 431:
+      return "Request Header Fields Too Large";
+    case 503:
+      return "Service Unavailable";
+    default:
+      return "Bad Request";
+  }
+}
+
+std::string seconds(double s) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g s", s);
+  return b;
+}
+
+// Answers a connection not taken (an HTTP error) and closes it.
+void refuse_now(int fd, int status, const std::string& body) {
+  const std::string r = http_response(status, reason_phrase(status), "text/plain", body);
+  [[maybe_unused]] ssize_t w = ::send(fd, r.data(), r.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+  ::close(fd);
+}
 
 }  // namespace
 
@@ -52,6 +84,10 @@ WsServer::WsServer(const ServerOptions& options) : options_(options) {
   socklen_t len = sizeof sa;
   ::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&sa), &len);
   port_ = ntohs(sa.sin_port);
+  policy_.bind = options.bind;
+  policy_.port = port_;
+  policy_.allow_hosts = options.allow_hosts;
+  policy_.allow_origins = options.allow_origins;
 }
 
 WsServer::~WsServer() {
@@ -60,10 +96,12 @@ WsServer::~WsServer() {
 }
 
 void WsServer::emit(const std::string& line) const {
+  // The reasons in a line may quote a client (a header, a command): no raw control characters.
+  const std::string safe = log_safe(line, kLogLine);
   if (log)
-    log(line);
+    log(safe);
   else
-    std::cerr << line << "\n";
+    std::cerr << safe << "\n";
 }
 
 Message WsServer::binary_message(const std::string& payload) {
@@ -79,16 +117,39 @@ size_t WsServer::client_count() const {
   return n;
 }
 
+size_t WsServer::queued_bytes(int id) const {
+  const auto it = clients_.find(id);
+  return it == clients_.end() ? 0 : it->second.out_bytes;
+}
+
+bool WsServer::fits(const Client& c, size_t bytes) const {
+  if (c.out.size() >= options_.max_queue) return false;
+  // A queue with no counted bytes takes any one message, so one larger than the byte cap is not
+  // lost for good.
+  return c.out_bytes == 0 || c.out_bytes + bytes <= options_.max_queue_bytes;
+}
+
+bool WsServer::backed_up(const Client& c) const {
+  return c.out.size() >= options_.max_queue || c.out_bytes >= options_.max_queue_bytes;
+}
+
+void WsServer::enqueue(Client& c, Message m, bool counted) {
+  const size_t bytes = counted ? m->size() : 0;
+  c.out_bytes += bytes;
+  c.out.push_back({std::move(m), bytes});
+  peak_queued_ = std::max(peak_queued_, c.out_bytes);
+}
+
 void WsServer::send(int id, const Message& m, bool bypass_cap) {
   auto it = clients_.find(id);
   if (it == clients_.end() || it->second.state != State::websocket) return;
   Client& c = it->second;
-  if (!bypass_cap && c.out.size() >= options_.max_queue) {
+  if (!bypass_cap && !fits(c, m->size())) {
     ++c.dropped;
     ++dropped_;
     return;
   }
-  c.out.push_back(m);
+  enqueue(c, m, !bypass_cap);
 }
 
 void WsServer::broadcast(const Message& m) {
@@ -101,7 +162,8 @@ void WsServer::poll(int timeout_ms) {
   fds.push_back({listen_fd_, POLLIN, 0});
   ids.push_back(0);
   for (const auto& [id, c] : clients_) {
-    short ev = c.state == State::closing ? 0 : POLLIN;
+    // A client whose queue is full is not read from: what it sends waits in its own socket.
+    short ev = c.state == State::closing || backed_up(c) ? 0 : POLLIN;
     if (!c.out.empty()) ev |= POLLOUT;
     fds.push_back({c.fd, ev, 0});
     ids.push_back(id);
@@ -109,7 +171,11 @@ void WsServer::poll(int timeout_ms) {
   // A closing socket that cannot take its last bytes is closed after a grace period: wake for it.
   for (const auto& [id, c] : clients_)
     if (c.state == State::closing) timeout_ms = std::min(timeout_ms, 100);
+  // And for a connection not yet upgraded that runs out of time.
+  if (const double left = next_deadline(now_s()); left >= 0)
+    timeout_ms = std::min(timeout_ms, int(std::ceil(left * 1000)));
   const int n = ::poll(fds.data(), nfds_t(fds.size()), timeout_ms);
+  expire_slow(now_s());
   if (n < 0) return;  // EINTR: the host's loop calls again
   if (fds[0].revents & POLLIN) accept_all();
   for (size_t k = 1; k < fds.size(); ++k) {
@@ -138,12 +204,17 @@ void WsServer::accept_all() {
     ::inet_ntop(AF_INET, &sa.sin_addr, ip, sizeof ip);
     const std::string peer = std::string(ip) + ":" + std::to_string(ntohs(sa.sin_port));
     if (clients_.size() >= options_.max_clients) {
-      const std::string r =
-          http_response(503, "Service Unavailable", "text/plain", "nsf serve: too many clients\n");
-      [[maybe_unused]] ssize_t w = ::send(fd, r.data(), r.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
-      ::close(fd);
+      refuse_now(fd, 503, "nsf serve: too many clients\n");
       emit("nsf serve: refused " + peer + ": " + std::to_string(options_.max_clients) +
            " clients already (--max-clients)");
+      continue;
+    }
+    size_t pending = 0;
+    for (const auto& [id, c] : clients_) pending += c.state == State::http && c.ip == ip;
+    if (pending >= options_.max_pending_per_address) {
+      refuse_now(fd, 503, "nsf serve: too many connections from your address\n");
+      emit("nsf serve: refused " + peer + ": " + std::to_string(pending) + " connections from " +
+           ip + " not yet upgraded");
       continue;
     }
     const int one = 1;
@@ -151,6 +222,8 @@ void WsServer::accept_all() {
     Client c;
     c.fd = fd;
     c.peer = peer;
+    c.ip = ip;
+    c.connected = c.last_read = now_s();
     clients_.emplace(next_id_++, std::move(c));
   }
 }
@@ -158,11 +231,12 @@ void WsServer::accept_all() {
 void WsServer::read_from(int id, Client& c) {
   char buf[16384];
   size_t total = 0;
-  while (total < kReadPerPoll) {
+  while (total < kReadPerPoll && (c.state == State::closing || !backed_up(c))) {
     const ssize_t r = ::recv(c.fd, buf, sizeof buf, MSG_DONTWAIT);
     if (r > 0) {
       if (c.state != State::closing) c.in.append(buf, size_t(r));
       total += size_t(r);
+      c.last_read = now_s();
       if (c.state == State::http) handle_http(id, c);
       if (clients_.find(id) == clients_.end()) return;
       if (c.state == State::websocket) handle_frames(id, c);
@@ -191,25 +265,27 @@ void WsServer::handle_http(int id, Client& c) {
   if (p == Parse::error) return drop(id, c, 400, "a malformed HTTP request: " + why);
   c.in.erase(0, used);
   const bool wants_upgrade = !req.header("Upgrade").empty();
+  if (const std::string refusal = origin_refusal(req, policy_, wants_upgrade); !refusal.empty())
+    return drop(id, c, 403, refusal, "refused client");
+  const auto answer = [&](std::string response) {
+    enqueue(c, std::make_shared<const std::string>(std::move(response)));
+  };
   if (!wants_upgrade) {
     c.state = State::closing;
     c.closing_since = now_s();
     c.in.clear();
     const std::string path = req.target.substr(0, req.target.find('?'));
     if (req.method != "GET" && req.method != "HEAD")
-      c.out.push_back(std::make_shared<const std::string>(
-          http_response(405, "Method Not Allowed", "text/plain", "GET only\n")));
+      answer(http_response(405, "Method Not Allowed", "text/plain", "GET only\n"));
     else if (path == "/" || path == "/index.html")
-      c.out.push_back(std::make_shared<const std::string>(
-          http_response(200, "OK", "text/html; charset=utf-8", page_)));
+      answer(http_response(200, "OK", "text/html; charset=utf-8", page_));
     else
-      c.out.push_back(std::make_shared<const std::string>(
-          http_response(404, "Not Found", "text/plain", "not found\n")));
+      answer(http_response(404, "Not Found", "text/plain", "not found\n"));
     return;
   }
   if (const std::string problem = upgrade_problem(req); !problem.empty())
     return drop(id, c, 400, "a bad WebSocket upgrade: " + problem);
-  c.out.push_back(std::make_shared<const std::string>(upgrade_response(req)));
+  answer(upgrade_response(req));
   c.state = State::websocket;
   if (on_open) on_open(id);
 }
@@ -224,11 +300,18 @@ void WsServer::handle_frames(int id, Client& c) {
     at += f.consumed;
     const Frame& fr = f.frame;
     if (fr.opcode == kPing) {
-      c.out.push_back(std::make_shared<const std::string>(encode_frame(kPong, fr.payload)));
+      // A pong counts against the caps like any frame: a client that pings faster than it reads
+      // would otherwise make the server buffer without bound.
+      Message pong = std::make_shared<const std::string>(encode_frame(kPong, fr.payload));
+      if (!fits(c, pong->size()))
+        return drop(id, c, kClosePolicy,
+                    "pings faster than it reads (" + std::to_string(c.out.size()) + " messages, " +
+                        std::to_string(c.out_bytes) + " bytes waiting for it: --queue)");
+      enqueue(c, std::move(pong));
     } else if (fr.opcode == kPong) {
     } else if (fr.opcode == kClose) {
-      c.out.push_back(std::make_shared<const std::string>(
-          encode_frame(kClose, close_payload(kCloseNormal, ""))));
+      enqueue(c, std::make_shared<const std::string>(
+                     encode_frame(kClose, close_payload(kCloseNormal, ""))));
       c.state = State::closing;
       c.closing_since = now_s();
       emit("nsf serve: client " + std::to_string(id) + " (" + c.peer + ") closed" +
@@ -245,34 +328,63 @@ void WsServer::handle_frames(int id, Client& c) {
 
 void WsServer::write_to(Client& c) {
   while (!c.out.empty()) {
-    const std::string& m = *c.out.front();
+    const std::string& m = *c.out.front().m;
     const ssize_t w =
         ::send(c.fd, m.data() + c.out_offset, m.size() - c.out_offset, MSG_NOSIGNAL | MSG_DONTWAIT);
     if (w < 0) {
       if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return;
       c.out.clear();  // a broken socket: the next read sees it go
+      c.out_bytes = 0;
       c.state = State::closing;
       return;
     }
     c.out_offset += size_t(w);
     if (c.out_offset < m.size()) return;
+    c.out_bytes -= c.out.front().counted;
     c.out.pop_front();
     c.out_offset = 0;
   }
 }
 
-void WsServer::drop(int id, Client& c, uint16_t code, const std::string& why) {
+double WsServer::next_deadline(double now) const {
+  double left = -1;
+  for (const auto& [id, c] : clients_) {
+    if (c.state != State::http) continue;
+    const double t = std::max(0.0, std::min(c.connected + options_.header_timeout_s,
+                                            c.last_read + options_.idle_timeout_s) -
+                                       now);
+    left = left < 0 ? t : std::min(left, t);
+  }
+  return left;
+}
+
+void WsServer::expire_slow(double now) {
+  for (auto& [id, c] : clients_) {
+    if (c.state != State::http) continue;
+    if (now >= c.connected + options_.header_timeout_s)
+      drop(id, c, 408,
+           "no complete request head within " + seconds(options_.header_timeout_s) +
+               " of connecting");
+    else if (now >= c.last_read + options_.idle_timeout_s)
+      drop(id, c, 408,
+           "nothing received for " + seconds(options_.idle_timeout_s) +
+               " before its request was complete");
+  }
+}
+
+void WsServer::drop(int id, Client& c, uint16_t code, const std::string& why, const char* verb) {
   ++malformed_;
-  emit("nsf serve: dropped client " + std::to_string(id) + " (" + c.peer + "): " + why);
+  emit("nsf serve: " + std::string(verb) + " " + std::to_string(id) + " (" + c.peer + "): " + why);
   // Whatever was queued for it goes unsent, except the part of a message already on the wire.
-  while (c.out.size() > (c.out_offset ? 1u : 0u)) c.out.pop_back();
+  while (c.out.size() > (c.out_offset ? 1u : 0u)) {
+    c.out_bytes -= c.out.back().counted;
+    c.out.pop_back();
+  }
   if (c.state == State::websocket)
-    c.out.push_back(
-        std::make_shared<const std::string>(encode_frame(kClose, close_payload(code, why))));
+    enqueue(c, std::make_shared<const std::string>(encode_frame(kClose, close_payload(code, why))));
   else
-    c.out.push_back(std::make_shared<const std::string>(
-        http_response(code, code == 431 ? "Request Header Fields Too Large" : "Bad Request",
-                      "text/plain", why + "\n")));
+    enqueue(c, std::make_shared<const std::string>(
+                   http_response(code, reason_phrase(code), "text/plain", log_safe(why) + "\n")));
   c.state = State::closing;
   c.closing_since = now_s();
   c.in.clear();
