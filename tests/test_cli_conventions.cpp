@@ -195,6 +195,7 @@ TEST_F(CliConventions, ChoicesAreListedByNameAndCheckedBeforeRunning) {
 // the help.
 TEST_F(CliConventions, RetiredOptionsAreUsageErrorsNamingTheirRecord) {
   const std::string rom = "rom " + in_dir("m.nsf") + " " + in_dir("s.json") + " ";
+  const std::string train = "train " + in_dir("data") + " --out " + in_dir("m.nsf") + " ";
   struct Retired {
     std::string command, args, option, record;
   };
@@ -207,6 +208,10 @@ TEST_F(CliConventions, RetiredOptionsAreUsageErrorsNamingTheirRecord) {
       {"rom", rom + "--affine tangent", "--affine", "2026-11-22-tangent-cache.md"},
       {"rom", rom + "--affine velocity", "--affine", "2026-11-22-velocity-affine.md"},
       {"report", "report --flip 0.5 --page-only", "--flip", "2026-11-25-flip-correction.md"},
+      {"train", train + "--mix-frames 0.5", "--mix-frames", "2026-11-23-jelly-encoder-overfits.md"},
+      {"train", train + "--base-model " + in_dir("b.nsf") + " --rom-latents " + in_dir("r"),
+       "--rom-latents", "2026-11-25-rom-latents.md"},
+      {"train", "train --rom-latents " + in_dir("r"), "--rom-latents", "2026-11-25-rom-latents.md"},
   };
   for (const Retired& c : cases) {
     SCOPED_TRACE(c.args);

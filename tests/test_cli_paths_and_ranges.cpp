@@ -116,7 +116,6 @@ TEST_F(PathsAndRanges, NumericOptionsOutOfRangeOrNaNAreRefused) {
       {train + "--particles-per-frame 2e9", "--particles-per-frame"},
       {train + "--frames-per-batch 0", "--frames-per-batch"},
       {train + "--latent-noise nan", "--latent-noise"},
-      {train + "--mix-frames nan", "--mix-frames"},
       {train + "--seed -1", "--seed"},
       {train + "--threads -2", "--threads"},
       {train + "--checkpoint-every -1", "--checkpoint-every"},

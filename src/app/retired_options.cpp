@@ -17,6 +17,8 @@ constexpr RetiredOption kRetired[] = {
     {"rom", "--linearize", "2026-11-22-tangent-cache.md"},
     {"rom", "--flip", "2026-11-25-flip-correction.md"},
     {"report", "--flip", "2026-11-25-flip-correction.md"},
+    {"train", "--mix-frames", "2026-11-23-jelly-encoder-overfits.md"},
+    {"train", "--rom-latents", "2026-11-25-rom-latents.md"},
 };
 
 std::string retired_message(const std::string& what, const std::string& record) {
