@@ -239,50 +239,6 @@ TEST_F(NnTraining, ResumedTrainingEqualsUninterrupted) {
   EXPECT_EQ(read_losses(done.loss_csv).loss[2].size(), 200u);
 }
 
-TEST(NnFrameStore, NeighbourFramesShareTheTimeAndTheNextMu) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("nsf_nn_neighbours_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  const std::vector<double> mu = {1.5, 0.5, 2.0, 1.0};  // out of order on purpose
-  nsf::test::write_synthetic_dataset(dir, 20, 7, 3, mu);
-  const nsf::Dataset d(dir.string());
-  const nsf::FrameStore store(d, 1.0);
-  const auto partners = store.neighbour_frames();
-  ASSERT_EQ(partners.size(), 12u);
-  for (size_t i = 0; i < partners.size(); ++i) {
-    const double m = d.train()[store.sim_of(i)].mu;
-    // 0.5 and 2.0 have one neighbour in μ, 1.0 and 1.5 two, each 0.5 away.
-    EXPECT_EQ(partners[i].size(), m == 0.5 || m == 2.0 ? 1u : 2u) << "mu " << m;
-    for (size_t j : partners[i]) {
-      EXPECT_EQ(store.frame_of(j), store.frame_of(i));
-      EXPECT_DOUBLE_EQ(std::abs(d.train()[store.sim_of(j)].mu - m), 0.5);
-    }
-  }
-  fs::remove_all(dir);
-}
-
-TEST_F(NnTraining, MixedFramesLowerTheLossAndResumeIdentically) {
-  nsf::TrainOptions o = tiny_options();
-  o.config.steps = {300, 20, 20};
-  o.config.mix_frames = 0.5;
-  const std::string whole = file("mixed/whole.nsf"), resumed = file("mixed/resumed.nsf");
-  const nsf::TrainReport done = nsf::train_model(data(), whole, o);
-  ASSERT_TRUE(done.completed);
-  const LossCurve c = read_losses(done.loss_csv);
-  EXPECT_LT(mean(c.loss[0], 280, 300), 0.2 * mean(c.loss[0], 0, 5));
-  // Same seed and stage-1 steps as the shared model, so without blends e and g would be the
-  // same: compare ẑ and x (the leading r + 3|P| outputs).
-  const size_t ex = size_t(tiny_options().config.net.latent_dim + 3 * kParticles);
-  const std::vector<double> plain = outputs(model(), data()), mixed = outputs(whole, data());
-  EXPECT_FALSE(
-      bit_identical({plain.begin(), plain.begin() + ex}, {mixed.begin(), mixed.begin() + ex}));
-  o.stop_after = 120;  // mid stage 1, 20 steps past a checkpoint: replays blends too
-  nsf::train_model(data(), resumed, o);
-  o.stop_after = -1;
-  nsf::train_model(data(), resumed, (o.resume = true, o));
-  EXPECT_TRUE(bit_identical(outputs(whole, data()), outputs(resumed, data())));
-}
-
 TEST_F(NnTraining, CheckpointForOtherSettingsIsRejected) {
   const std::string out = file("other/synthetic.nsf");
   nsf::TrainOptions o = tiny_options();
@@ -424,8 +380,8 @@ TEST_F(NnTraining, TrainCommandFollowsTheScenesRecipe) {
   EXPECT_FALSE(fs::exists(model));
 }
 
-// `--base-model` keeps a model's encoder and g: a model of another scene, a shape flag beside it,
-// or ROM latents without it stop training with a message naming the problem, and write nothing.
+// `--base-model` keeps a model's encoder and g: a model of another scene or a shape flag beside it
+// stops training with a message naming the problem, and writes nothing.
 TEST_F(NnTraining, BaseModelOfAnotherSceneOrWithShapeFlagsIsAClearError) {
   const fs::path other = root_ / "base_other_scene";
   nsf::test::write_synthetic_dataset(other, kParticles, /*seed=*/8, /*frames=*/3);
@@ -439,7 +395,5 @@ TEST_F(NnTraining, BaseModelOfAnotherSceneOrWithShapeFlagsIsAClearError) {
   const std::string cmd = "train '" + data() + "' --out '" + out + "' -j 1 -q ";
   EXPECT_NE(nsf::testing::run_cli(cmd + "--base-model '" + model() + "' --width-h 8", log), 0);
   EXPECT_NE(log.find("fixes the networks' shapes"), std::string::npos) << log;
-  EXPECT_NE(nsf::testing::run_cli(cmd + "--rom-latents '" + root_.string() + "'", log), 0);
-  EXPECT_NE(log.find("--base-model"), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(out));
 }

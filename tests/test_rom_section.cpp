@@ -77,6 +77,12 @@ TEST(RomSection, TakesQuadratureIterationsAndFieldSources) {
   expect_rejected({{"fields", {{"affine", 3}}}}, {"rom.fields.affine", "name"});
   expect_rejected({{"fields", {{"density", "none"}}}},
                   {"rom.fields.density", "deformation, stress, affine, velocity"});
+  // Sources that lost and were removed name their record.
+  expect_rejected(
+      {{"fields", {{"affine", "velocity"}}}},
+      {"rom.fields.affine", "retired", "docs/experiments/2026-11-22-velocity-affine.md"});
+  expect_rejected({{"fields", {{"stress", "tangent"}}}},
+                  {"rom.fields.stress", "retired", "docs/experiments/2026-11-22-tangent-cache.md"});
 }
 
 // ε of the latent prior: the section's, else the model's calibration (≥ 0), else the options'.

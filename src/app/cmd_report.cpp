@@ -11,6 +11,7 @@
 #include "app/common_options.h"
 #include "app/pipeline.h"
 #include "app/results_table.h"
+#include "app/retired_options.h"
 #include "app/train_size_options.h"
 #include "core/error.h"
 #include "data/manifest.h"
@@ -34,7 +35,6 @@ struct ReportArgs {
   bool quiet = false;
   std::string docs = "docs", out = "out/report";
   int quadrature = 0;    // > 0: the ROM's thinned quadrature, rows labelled with it
-  double flip = 0;       // > 0: the ROM's FLIP-style correction, rows labelled with it
   bool tracked = false;  // the tracked state on N in place of h and l, rows labelled with it
   bool check = false;    // rerun the stored rows and compare instead of storing them
   bool page_only = false;
@@ -97,12 +97,6 @@ void report_run(const ReportArgs& a, const std::string& scene, const DecoderRows
     label = label.empty() ? q : label + ", " + q;
     tag += "_q" + std::to_string(a.quadrature);
   }
-  if (a.flip > 0) {
-    char f[32];
-    std::snprintf(f, sizeof f, "%g", a.flip);
-    label = label.empty() ? std::string("FLIP ") + f : label + ", FLIP " + f;
-    tag += std::string("_flip") + f;
-  }
   if (a.tracked) {
     label = label.empty() ? "tracked state" : label + ", tracked state";
     tag += "_tracked";
@@ -113,7 +107,6 @@ void report_run(const ReportArgs& a, const std::string& scene, const DecoderRows
   }
   RomRunOptions ro;
   if (a.quadrature > 0) ro.quadrature = a.quadrature;
-  ro.rom.flip = a.flip;
   if (a.tracked) ro.rom.fields.stress = ro.rom.fields.affine = "tracked";
   ro.model_path = model;
   ro.overrides = set;
@@ -248,11 +241,6 @@ void add_report_command(CLI::App& app) {
                   "others")
       ->capture_default_str()
       ->check(in_range(0, 1000));
-  cmd->add_option("--flip", a->flip,
-                  "ROM with this share of the transfer's smoothing given back (nsf rom --flip); "
-                  "rows are labelled with it and kept beside the others")
-      ->capture_default_str()
-      ->check(in_range(0.0, 1.0));
   cmd->add_flag("--tracked", a->tracked,
                 "ROM with the tracked state in place of h and l: each integration point carries "
                 "its own F^E, plastic state and C (nsf rom --stress tracked --affine tracked); "
@@ -267,6 +255,7 @@ void add_report_command(CLI::App& app) {
                 "beyond-sweep");
   cmd->add_flag("--page-only", a->page_only,
                 "Run nothing: rebuild RESULTS.md from the rows stored in docs/results/");
+  add_retired_options(cmd, "report");
   cmd->callback([a] {
     a->train.steps = per_stage(a->train_size.steps, a->train.steps, "--steps");
     a->train.widths = per_stage(a->train_size.widths, a->train.widths, "--widths");

@@ -6,6 +6,7 @@
 #include "app/commands.h"
 #include "app/common_options.h"
 #include "app/results_table.h"
+#include "app/retired_options.h"
 #include "app/rom_run.h"
 #include "core/path_clash.h"
 #include "data/manifest.h"
@@ -23,7 +24,6 @@ struct RomArgs {
   double dt_ratio = 1;
   double latent_prior = 0;
   uint64_t seed = 1;
-  double linearize = 0;
   bool crom = false;
   bool no_full_order = false;
   std::string json;
@@ -86,11 +86,6 @@ void add_rom_command(CLI::App& app) {
       ->check(in_range(0.0, 1.0));
   cmd->add_flag("--taylor", a->opt.rom.inversion.taylor,
                 "First-order Taylor inversion: one linearised step per time step");
-  cmd->add_option("--flip", a->opt.rom.flip,
-                  "Share of the grid transfer's smoothing given back to the samples each step "
-                  "(FLIP-style, 0-1)")
-      ->capture_default_str()
-      ->check(in_range(0.0, 1.0));
   // Field sources by name (rom/field_registry.cpp); each option lists the registered ones.
   const auto names = [](const std::vector<std::string>& v) {
     std::string out;
@@ -100,6 +95,7 @@ void add_rom_command(CLI::App& app) {
   cmd->add_option("--deformation", a->opt.rom.fields.deformation,
                   "Positions on the candidates from: " + names(deformation_source_names()) +
                       " (default: the scene's rom.fields, else the model's decoder g)")
+      ->check(not_a_retired_source("deformation"))
       ->check(CLI::IsMember(deformation_source_names()));
   cmd->add_option(
          "--stress", a->opt.rom.fields.stress,
@@ -107,13 +103,14 @@ void add_rom_command(CLI::App& app) {
              " (default: the scene's rom.fields, else the model's decoder h; crom: from dg/dX "
              "through the material; tracked: each integration point's own F and plastic state, "
              "carried through the run, as full order carries each particle's)")
+      ->check(not_a_retired_source("stress"))
       ->check(CLI::IsMember(point_field_source_names(FieldRole::stress)));
   cmd->add_option(
          "--affine", a->opt.rom.fields.affine,
          "APIC affine matrices C on N from: " + names(point_field_source_names(FieldRole::affine)) +
              " (default: the scene's rom.fields, else the model's decoder l, or none with --stress "
-             "crom; velocity: the gradient of the ROM's own velocity field; tracked: each "
-             "integration point's own G2P C)")
+             "crom; tracked: each integration point's own G2P C)")
+      ->check(not_a_retired_source("affine"))
       ->check(CLI::IsMember(point_field_source_names(FieldRole::affine)));
   cmd->add_option("--velocity", a->opt.rom.fields.velocity,
                   "Velocities on N from: " + names(velocity_source_names()) +
@@ -123,11 +120,6 @@ void add_rom_command(CLI::App& app) {
       ->check(CLI::IsMember(velocity_source_names()));
   cmd->add_flag("--crom", a->crom,
                 "CROM-style baseline: --stress crom (and --affine none unless given)");
-  cmd->add_option("--linearize", a->linearize,
-                  "Tangent cache: g, h, l by per-particle first-order expansions in z, re-anchored "
-                  "when z moves this far (in latent spreads; 0 = the decoders every step)")
-      ->capture_default_str()
-      ->check(in_range(0.0, 100.0));
   cmd->add_option("--halo", a->opt.rom.halo, "Candidate margin around the grid nodes I, in cells")
       ->capture_default_str()
       ->check(in_range(1.01, 64.0));
@@ -162,13 +154,13 @@ void add_rom_command(CLI::App& app) {
   cmd->add_option("--json", a->json,
                   "Also write the summary as one JSON row, the format of docs/results/*.json "
                   "(delta, speed-up, times, memory)");
+  add_retired_options(cmd, "rom");
   cmd->callback([a, mu, samples, dt_ratio, latent_prior, seed, gn_iterations, quadrature] {
     if (*gn_iterations) a->opt.gn_iterations = a->gn_iterations;
     if (*quadrature) a->opt.quadrature = a->quadrature;
     if (*mu) a->opt.mu = a->mu;
     if (*seed) a->opt.seed = a->seed;
     if (a->crom) a->opt.rom.fields.stress = "crom";
-    if (a->linearize > 0) a->opt.rom.use_tangent_cache(a->linearize);
     if (*samples) a->opt.samples = a->samples;
     if (*dt_ratio) a->opt.dt_ratio = a->dt_ratio;
     if (*latent_prior) a->opt.latent_prior = a->latent_prior;

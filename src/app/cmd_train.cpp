@@ -12,6 +12,7 @@
 #include "app/common_options.h"
 #include "app/latent_prior_calibration.h"
 #include "app/pipeline.h"
+#include "app/retired_options.h"
 #include "app/scene_file.h"
 #include "app/train_size_options.h"
 #include "app/train_team.h"
@@ -359,11 +360,6 @@ void add_nn_commands(CLI::App& app) {
                       "Noise on the latents of stages 2, 3, in units of each component's spread "
                       "(default 0; --decoder mlp: 0.1)")
           ->check(in_range(0.0, 10.0));
-  cmd->add_option("--mix-frames", c.mix_frames,
-                  "Probability that a stage-1 batch frame blends two runs with neighbouring mu at "
-                  "the same time (0 = off)")
-      ->capture_default_str()
-      ->check(in_range(0.0, 1.0));
   cmd->add_option("--latent-dim,-r", a->r, "Latent dimension r (default: Table 1 for the scene)")
       ->check(in_range(1, 1024));
   cmd->add_option("--depth", a->depth, "Hidden layers per decoder (default 5)")
@@ -446,10 +442,6 @@ void add_nn_commands(CLI::App& app) {
       ->check(in_range(0.0, 1e6));
   cmd->add_option("--base-model", a->opt.base_model,
                   "Keep this model's encoder and g (no stage 1); train h and l afresh");
-  cmd->add_option("--rom-latents", a->opt.rom_latents,
-                  "Directory of `nsf rom --out` files named like the training runs: their latents "
-                  "join the training latents of h and l (needs --base-model; repeatable)")
-      ->needs("--base-model");
   auto* resume = cmd->add_flag("--resume", a->opt.resume, "Continue from <out>.ckpt if it exists");
   cmd->add_flag("--fresh", a->opt.fresh,
                 "Delete a checkpoint <out>.ckpt of an interrupted run and start over (without "
@@ -468,6 +460,7 @@ void add_nn_commands(CLI::App& app) {
                   "Also write the run's summary (per stage: steps, seconds, points/s) to this "
                   "JSON file");
   add_quiet_flag(cmd, c.quiet);
+  add_retired_options(cmd, "train");
   cmd->callback([a, noise] {
     a->latent_noise_given = noise->count() > 0;
     check_stage_options(*a);
@@ -475,8 +468,6 @@ void add_nn_commands(CLI::App& app) {
     // Inputs that do not exist are errors of the world, not of the command line (exit status 1).
     if (!a->opt.base_model.empty() && !std::filesystem::is_regular_file(a->opt.base_model))
       fail("--base-model ", a->opt.base_model, ": no such file");
-    for (const std::string& dir : a->opt.rom_latents)
-      if (!std::filesystem::is_directory(dir)) fail("--rom-latents ", dir, ": no such directory");
     SweepRanks ranks;  // MPI, when mpirun started this process (app/train_team.h)
     ranks.run([&] { run_train(*a, ranks); });
   });

@@ -402,7 +402,6 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.threads = threads;
   rep.cpu = cpu_model();
   rep.refreshes = d.refreshes;
-  rep.linearization_anchors = d.anchors;
   rep.rom_times = d.times;
   if (budget) rep.budget = budget->result();
 
@@ -464,9 +463,6 @@ std::string format_rom_report(const RomReport& r) {
   if (r.quadrature_points > 0 && r.quadrature_points < r.particles)
     put("  thinned quadrature: N drawn from %zu points standing for the %zu particles",
         r.quadrature_points, r.particles);
-  if (r.linearization_anchors > 0)
-    put("  tangent cache: %ld anchors over %.0f steps", r.linearization_anchors,
-        double(r.frames) * r.rom_steps_per_frame);
   s << "  " << r.field_sources << "\n";
   if (r.delta >= 0) {
     put("  delta (eq. 11) vs %s: %.3f%%", r.truth_file.c_str(), 100 * r.delta);

@@ -85,8 +85,7 @@ struct RomReport {
   size_t quadrature_points = 0;  // particles that can join N: |P| unless the quadrature is thinned
   int quadrature_per_cell = 0;   // the run's thinned quadrature (0: every particle)
   long refreshes = 0;
-  long linearization_anchors = 0;  // re-anchorings of g's tangent cache
-  double delta = -1;               // eq. (11) against the ground truth; < 0 when there is none
+  double delta = -1;  // eq. (11) against the ground truth; < 0 when there is none
   std::vector<double> delta_per_frame;
   // Relative errors of the run's τ and C against the ground truth's, √(Σ‖·−·*‖²/Σ‖·*‖²) over
   // all particles and frames 1…N; < 0 without a truth (or when the truth's field is zero).

@@ -1,5 +1,4 @@
-// Grid update (§3.3 step 2): momentum → velocity, gravity, then colliders and domain walls
-// (without the last three for Simulation::transfer_velocity).
+// Grid update (§3.3 step 2): momentum → velocity, gravity, then colliders and domain walls.
 // The stress force already arrived with the momentum in P2G.
 #include <cmath>
 
@@ -9,7 +8,7 @@
 
 namespace nsf {
 
-void Simulation::grid_update(double dt, bool external_forces) {
+void Simulation::grid_update(double dt) {
   ScopedTimer timer(times_.grid_update);
   const SimSettings& s = scene_.settings;
   const Vec3i n = grid_.dims();
@@ -25,7 +24,7 @@ void Simulation::grid_update(double dt, bool external_forces) {
   parallel_for(long(active_blocks_.size()), [&](long q) {
     const Collider* reach[kMaxListed];
     size_t listed = 0;
-    if (external_forces && cull) {
+    if (cull) {
       Vec3 lo, hi;
       block_node_bounds(active_blocks_[q], lo, hi);
       const Vec3 centre = 0.5 * (lo + hi);
@@ -38,19 +37,17 @@ void Simulation::grid_update(double dt, bool external_forces) {
       if (node.m <= 0) return;
       const double inv_m = 1.0 / node.m;
       Vec3 v(node.mv[0] * inv_m, node.mv[1] * inv_m, node.mv[2] * inv_m);
-      if (external_forces) {
-        v += gdt;
-        if (cull) {
-          if (listed) {
-            const Vec3 x = grid_.node_position(i, j, k);
-            for (size_t c = 0; c < listed; ++c) reach[c]->apply(x, v);
-          }
-        } else if (!colliders.empty()) {
+      v += gdt;
+      if (cull) {
+        if (listed) {
           const Vec3 x = grid_.node_position(i, j, k);
-          for (const auto& c : colliders) c->apply(x, v);
+          for (size_t c = 0; c < listed; ++c) reach[c]->apply(x, v);
         }
-        apply_domain_walls(s, i, j, k, n, v);
+      } else if (!colliders.empty()) {
+        const Vec3 x = grid_.node_position(i, j, k);
+        for (const auto& c : colliders) c->apply(x, v);
       }
+      apply_domain_walls(s, i, j, k, n, v);
       node.mv[0] = v[0], node.mv[1] = v[1], node.mv[2] = v[2];
     });
   });

@@ -72,23 +72,6 @@ void Simulation::transfer(double dt, double t, const std::vector<uint32_t>* gath
   g2p(dt, gather);
 }
 
-void Simulation::transfer_velocity(const std::vector<uint32_t>& gather, std::vector<Vec3>& v) {
-  Particles& P = scene_.particles;
-  std::vector<Vec3> v_in(gather.size());
-  std::vector<Mat3> C_in(gather.size());
-  for (size_t k = 0; k < gather.size(); ++k) v_in[k] = P.v[gather[k]], C_in[k] = P.C[gather[k]];
-  sort_particles();
-  p2g(0.0);  // Δt = 0: the stress term of the fused momentum vanishes
-  grid_update(0.0, false);
-  g2p(0.0, &gather);  // Δt = 0: x and F stay; v and C are overwritten, so restored below
-  v.resize(gather.size());
-  for (size_t k = 0; k < gather.size(); ++k) {
-    v[k] = P.v[gather[k]];
-    P.v[gather[k]] = v_in[k];
-    P.C[gather[k]] = C_in[k];
-  }
-}
-
 void Simulation::advance_frame() {
   for (int i = 0; i < scene_.settings.substeps; ++i) step();
 }

@@ -35,12 +35,6 @@ class Simulation {
   // sample particles S; time() and step_count() do not change and no guard runs.
   void transfer(double dt, double t, const std::vector<uint32_t>* gather = nullptr);
 
-  // P2G and G2P alone, with no stress, gravity, colliders or walls, and nothing advected: the
-  // velocity the transfer by itself hands back to each `gather` particle. The particles' own
-  // velocity minus it is what the round trip smooths away; the reduced-order step adds it back
-  // (a FLIP-style correction, rom/latent_stepper.cpp). Leaves the particles unchanged.
-  void transfer_velocity(const std::vector<uint32_t>& gather, std::vector<Vec3>& v);
-
   double time() const { return time_; }
   long step_count() const { return steps_; }
   const Scene& scene() const { return scene_; }
@@ -61,7 +55,7 @@ class Simulation {
  private:
   void sort_particles();  // bucket particles by grid block for the race-free coloured scatter
   void p2g(double dt);
-  void grid_update(double dt, bool external_forces = true);
+  void grid_update(double dt);
   void g2p(double dt, const std::vector<uint32_t>* gather);
   void update_stress();
   void check_particles() const;  // guards: NaN, leaving the domain, CFL on particle speed

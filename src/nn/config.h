@@ -89,11 +89,6 @@ struct TrainConfig {
   // Gaussian noise of this standard deviation (in units of each latent component's spread) on
   // the latents of stages 2 and 3, so h and l stay tame near the training latents.
   double latent_noise = 0.1;
-  // Probability that a stage-1 batch frame is a blend (1 − α)·xᵃ + α·xᵇ, α ~ U(0, 1), of a
-  // training frame and the same frame of a run with a neighbouring μ (without μ: the frame before
-  // or after it in its own run). e and g form an autoencoder of positions, so a blend is its own
-  // target; it fills the gaps between the runs' μ, where the test runs lie. docs/TRAINING.md.
-  double mix_frames = 0;
   unsigned long long seed = 1;
   int threads = 0;              // 0 = all cores
   long checkpoint_every = 250;  // steps; also written at the end of every stage

@@ -292,30 +292,4 @@ const FrameData& FrameStore::get(size_t i) const {
   return scratch_;
 }
 
-std::vector<std::vector<size_t>> FrameStore::neighbour_frames() const {
-  const std::vector<SimulationFile>& runs = data_.train();
-  // Runs in order of μ; each run's neighbours in that order share its frames' times.
-  std::vector<size_t> order(runs.size());
-  std::iota(order.begin(), order.end(), size_t(0));
-  std::stable_sort(order.begin(), order.end(),
-                   [&](size_t a, size_t b) { return runs[a].mu < runs[b].mu; });
-  std::vector<std::vector<size_t>> neighbours(runs.size());
-  for (size_t k = 0; k < order.size(); ++k) {
-    if (k > 0) neighbours[order[k]].push_back(order[k - 1]);
-    if (k + 1 < order.size()) neighbours[order[k]].push_back(order[k + 1]);
-  }
-  std::vector<std::vector<size_t>> partners(size());
-  for (size_t i = 0; i < size(); ++i) {
-    const size_t sim = sim_of(i), frame = frame_of(i);
-    std::vector<std::pair<size_t, size_t>> candidates;
-    if (data_.has_mu())
-      for (size_t other : neighbours[sim]) candidates.push_back({other, frame});
-    else
-      candidates = {{sim, frame - 1}, {sim, frame + 1}};  // frame 0 − 1 wraps: not found
-    for (const auto& [other, k] : candidates)
-      if (const size_t j = index_of(other, k); j != kNone) partners[i].push_back(j);
-  }
-  return partners;
-}
-
 }  // namespace nsf

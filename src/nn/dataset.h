@@ -101,9 +101,6 @@ class FrameStore {
   bool positions_only() const { return positions_only_; }
   double budget_gib() const { return budget_gib_; }
   double cached_gib() const { return cached_gib_; }  // 0 when streaming
-  // Per frame, the frames at the same time in the runs next to its run in order of μ (without μ:
-  // the frames before and after it in its own run). `nsf train --mix-frames` blends them.
-  std::vector<std::vector<size_t>> neighbour_frames() const;
 
  private:
   const Dataset& data_;

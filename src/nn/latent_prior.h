@@ -17,8 +17,7 @@ class LatentPrior {
  public:
   // runs[j][i]: the latent of frame i of the run with the j-th smallest μ. Runs of unequal
   // length are cut to the shortest (a sweep's runs all have the scene's frame count). spread:
-  // each latent component's training spread, the unit of distance (the model's norm_z, which the
-  // tangent cache measures in too).
+  // each latent component's training spread, the unit of distance (the model's norm_z).
   LatentPrior(const std::vector<std::vector<Eigen::VectorXd>>& runs, const Eigen::VectorXd& spread);
 
   struct Nearest {

@@ -171,9 +171,7 @@ class Trainer {
   void compute_statistics();
   void compute_latents();
   void refine_latents();
-  void add_rom_latents();
   void store_trajectories();
-  torch::Tensor rom_latents_of(const SimulationFile& run, const std::string& path) const;
   void start_from_base_model();
   torch::Tensor noisy(const torch::Tensor& z);
   void start_stage();
@@ -203,13 +201,11 @@ class Trainer {
   Dataset data_;
   FrameStore store_;
   NeuralModel model_;
-  torch::Tensor Xn_;       // |P| × 3 normalised rest positions
-  torch::Tensor latents_;  // rows × r: ẑ_n = e(xⁿ) per frame once stage 1 is done, then ROM's
+  torch::Tensor Xn_;                   // |P| × 3 normalised rest positions
+  torch::Tensor latents_;              // rows × r: ẑ_n = e(xⁿ) per frame once stage 1 is done
   std::vector<int64_t> latent_frame_;  // the training frame of each row of latents_
   torch::Tensor mu_;                   // frames × 1 (physical μ of each training frame's run)
-  // For --mix-frames: per training frame, the frames it may be blended with.
-  std::vector<std::vector<size_t>> mix_partners_;
-  std::vector<float> field_scratch_;  // frame_field's τ or C read from a file
+  std::vector<float> field_scratch_;   // frame_field's τ or C read from a file
   std::mt19937_64 rng_;
   int stage_ = 0;
   long step_ = 0;
@@ -239,13 +235,11 @@ std::string Trainer::config_key() const {
     os << " encoder_channels=" << n.encoder_channels;
   if (n.encoder_max_length != EncoderImpl::kMaxLength)
     os << " encoder_max_length=" << n.encoder_max_length;
-  if (cfg_.mix_frames > 0) os << " mix_frames=" << cfg_.mix_frames;
   if (n.encoder != "network") os << " encoder=" << n.encoder;
   if (n.decoder != "mlp")
     os << " decoder=" << n.decoder << " modes=" << n.modes[0] << "," << n.modes[1] << ","
        << n.modes[2] << " coefficients=" << n.coefficient_width << "x" << n.coefficient_depth;
   if (!opt_.base_model.empty()) os << " base=" << opt_.base_model;
-  for (const std::string& dir : opt_.rom_latents) os << " rom_latents=" << dir;
   return os.str();
 }
 
@@ -316,28 +310,10 @@ void Trainer::compute_latents() {
   model_.to(dev_);  // the new norm_z (the rest is there already)
   latent_frame_.resize(size_t(n));
   for (int64_t i = 0; i < n; ++i) latent_frame_[size_t(i)] = i;
-  if (!opt_.rom_latents.empty()) add_rom_latents();
-}
-
-void Trainer::add_rom_latents() {
-  std::vector<torch::Tensor> rows{latents_};
-  for (const std::string& dir : opt_.rom_latents) {
-    for (size_t s = 0; s < data_.train().size(); ++s) {
-      const SimulationFile& run = data_.train()[s];
-      rows.push_back(rom_latents_of(run, (fs::path(dir) / fs::path(run.path).filename()).string()));
-      for (int64_t k = 0; k < rows.back().size(0); ++k)
-        latent_frame_.push_back(int64_t(store_.index_of(s, size_t(k))));
-    }
-  }
-  latents_ = torch::cat(rows);
-  say("stages 2, 3 train on " + std::to_string(latents_.size(0)) +
-      " latents: " + std::to_string(store_.size()) + " frames' refined encoder latents and " +
-      std::to_string(opt_.rom_latents.size()) + " ROM run(s) per training run");
 }
 
 void Trainer::store_trajectories() {
-  // The model keeps the latents h and l learnt from, run by run, for the ROM's latent prior; the
-  // ROM runs' latents of --rom-latents are not a training run's trajectory and stay out.
+  // The model keeps the latents h and l learnt from, run by run, for the ROM's latent prior.
   size_t frames = std::numeric_limits<size_t>::max();
   for (size_t s = 0; s < data_.train().size(); ++s) {
     size_t k = 0;
@@ -354,28 +330,6 @@ void Trainer::store_trajectories() {
   model_.trajectory_latents = latents_.index_select(0, torch::tensor(rows))
                                   .reshape({runs, int64_t(frames), model_.latent_dim()});
   model_.trajectory_mu = torch::tensor(mu);
-}
-
-torch::Tensor Trainer::rom_latents_of(const SimulationFile& run, const std::string& path) const {
-  const RunReader rom(path);
-  if (rom.rest_positions() != data_.rest_positions())
-    fail(path, ": another scene than the dataset's run ", run.path);
-  if (run.has_mu && (!rom.has_attribute("mu") ||
-                     std::abs(rom.attribute_double("mu") - run.mu) > 1e-9 * (1 + std::abs(run.mu))))
-    fail(path, ": not a ROM run at the mu of ", run.path, " (", run.mu, ")");
-  size_t count = 0, r = 0;
-  const std::vector<double> z = rom.read_table("/rom/latent", count, r);
-  if (int64_t(r) != model_.latent_dim())
-    fail(path, ": latents of dimension ", r, ", the model has r = ", model_.latent_dim());
-  const RunReader truth(run.path);
-  if (count != truth.frame_count())
-    fail(path, ": ", count, " frames, the run ", run.path, " has ", truth.frame_count());
-  for (size_t k = 0; k < count; ++k)
-    if (std::abs(rom.times()[k] - truth.times()[k]) > 1e-6 * (1 + std::abs(truth.times()[k])))
-      fail(path, ": frame ", k, " is at t = ", rom.times()[k], ", the run's at ", truth.times()[k]);
-  return torch::from_blob(const_cast<double*>(z.data()), {int64_t(count), int64_t(r)},
-                          torch::kFloat64)
-      .to(torch::kFloat32);
 }
 
 void Trainer::start_from_base_model() {
@@ -596,7 +550,6 @@ double Trainer::basis_step() {
   const int64_t B = stage_ == 0 ? cfg_.frames_per_batch[0] : kBasisRows;
   const size_t choices = stage_ == 0 ? store_.size() : latent_frame_.size();
   std::uniform_int_distribution<size_t> pick(0, choices - 1);
-  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
   std::vector<int64_t> rows(B), frames(B);
   for (int64_t b = 0; b < B; ++b) {
     rows[b] = int64_t(pick(rng_));
@@ -617,19 +570,6 @@ double Trainer::basis_step() {
       if (held) {
         const FrameData& f = store_.get(size_t(frames[b]));
         std::copy(f.x.begin(), f.x.end(), full_x[b].data_ptr<float>());
-      }
-      // A blend of two frames is its own target, and so is the blend of their projections.
-      if (cfg_.mix_frames > 0 && uniform(rng_) < cfg_.mix_frames) {
-        const std::vector<size_t>& partners = mix_partners_[size_t(frames[b])];
-        if (partners.empty()) continue;
-        const size_t other =
-            partners[std::uniform_int_distribution<size_t>(0, partners.size() - 1)(rng_)];
-        const float a = uniform(rng_);
-        if (!held) continue;  // the same draws as the process that holds it
-        const FrameData& g = store_.get(other);
-        float* xb = full_x[b].data_ptr<float>();
-        for (int64_t k = 0; k < 3 * P; ++k) xb[k] += a * (g.x[size_t(k)] - xb[k]);
-        goal[b] += a * (targets[int64_t(other)] - goal[b]);
       }
     }
     if (!mine.empty())
@@ -664,7 +604,7 @@ double Trainer::train_step() {
 
   // Frames first, then particles within each frame (App. D's batches of whole frames do not fit
   // a CPU budget; this keeps a step's memory independent of the dataset size).
-  // Stages 2 and 3 draw latent rows (a frame may have several: the encoder's and the ROM's).
+  // Stages 2 and 3 draw latent rows (one per frame: its encoder latent, refined).
   const size_t choices = stage_ == 0 ? store_.size() : latent_frame_.size();
   std::uniform_int_distribution<size_t> pick_frame(0, choices - 1);
   std::vector<int64_t> rows(B);
@@ -673,7 +613,6 @@ double Trainer::train_step() {
   torch::Tensor target = torch::empty({B * n, d});
   torch::Tensor full_x = stage_ == 0 ? torch::empty({B, P, 3}) : torch::Tensor();
   float* t = target.data_ptr<float>();
-  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
   // Over a team every process draws the whole global batch, and fills the entries whose frames
   // it holds (mine, and their points: keep).
   std::vector<int64_t> mine, keep;
@@ -693,23 +632,6 @@ double Trainer::train_step() {
       particles[b * n + j] = p;
       if (!held) continue;
       std::copy(&(*src)[d * p], &(*src)[d * p] + d, t + (b * n + j) * d);
-    }
-    // No draws at all when off, so that runs without the option stay bit-identical.
-    if (stage_ == 0 && cfg_.mix_frames > 0 && uniform(rng_) < cfg_.mix_frames) {
-      const std::vector<size_t>& partners = mix_partners_[size_t(frames[b])];
-      if (partners.empty()) continue;
-      const size_t other =
-          partners[std::uniform_int_distribution<size_t>(0, partners.size() - 1)(rng_)];
-      const float a = uniform(rng_);
-      if (!held) continue;                     // the same draws as the process that holds it
-      const FrameData& g = store_.get(other);  // `f` may be invalid from here on (streaming)
-      float* xb = full_x[b].data_ptr<float>();
-      for (int64_t k = 0; k < 3 * P; ++k) xb[k] += a * (g.x[size_t(k)] - xb[k]);
-      for (int64_t j = 0; j < n; ++j) {
-        const int64_t p = particles[b * n + j];
-        float* tp = t + (b * n + j) * d;
-        for (int c = 0; c < 3; ++c) tp[c] += a * (g.x[size_t(3 * p + c)] - tp[c]);
-      }
     }
   }
   const torch::Tensor pidx = torch::tensor(particles, torch::kInt64);
@@ -939,7 +861,6 @@ TrainReport Trainer::run() {
   for (size_t i = 0; i < store_.size(); ++i)
     mu.push_back(float(data_.train()[store_.sim_of(i)].mu));
   mu_ = torch::tensor(mu).reshape({-1, 1});
-  if (cfg_.mix_frames > 0) mix_partners_ = store_.neighbour_frames();
 
   long steps_this_process = 0;
   for (; stage_ < kStageCount; ++stage_, step_ = 0) {

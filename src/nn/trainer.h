@@ -28,12 +28,6 @@ struct TrainOptions {
   // Start from this model: keep its encoder, g and normalisation, skip stage 1 and train h and l
   // afresh (empty = train all three stages).
   std::string base_model;
-  // Directories of `nsf rom --out` files, one per training run under the run's file name, made
-  // at the run's μ with a model of base_model's encoder and g: each frame's ROM latent, paired
-  // with the run's τ and C of that frame, joins the training latents of stages 2 and 3. The ROM's
-  // latents drift from the encoder's along directions g barely sees; h and l learn what those
-  // latents mean (docs/experiments/2026-11-25-delta-floor-and-stress.md).
-  std::vector<std::string> rom_latents;
   // Where the networks train: "cpu", or "cuda" / "cuda:N" with a LibTorch built with CUDA
   // (docs/TRAINING.md, "Training on a GPU"). Batches are drawn and assembled on the CPU either
   // way, with the same random numbers; the model file and the checkpoint hold CPU tensors.

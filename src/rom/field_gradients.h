@@ -1,7 +1,6 @@
 #pragma once
 // Spatial derivatives of the deformation field g, for what the ROM step derives from g instead of
-// a network: the CROM baseline's F = ∂g/∂X (stress through the material), and the APIC affine
-// matrices from the ROM's own velocity field (RomOptions::affine = velocity).
+// a network: the CROM baseline's F = ∂g/∂X (stress through the material).
 // Torch level: used by the stepper and its tests, not part of the public runtime header.
 #include <torch/types.h>
 
@@ -17,10 +16,5 @@ class NeuralModel;
 // per-particle latents zN (m × r, float), by reverse-mode autodiff: m × 3 × 3, row-major, double.
 torch::Tensor deformation_gradients(NeuralModel& model, const torch::Tensor& Xn,
                                     const torch::Tensor& zN);
-
-// C = ∂v/∂x of the velocity field v = (g(·, ẑ_n) − g(·, ẑ_{n−1}))/Δt, i.e. Ḟ F⁻¹ with
-// Ḟ = (F_n − F_{n−1})/Δt: APIC's C is the velocity gradient at the particle.
-void velocity_gradients(const torch::Tensor& F, const torch::Tensor& F_prev, double dt,
-                        std::vector<Mat3>& C);
 
 }  // namespace nsf

@@ -15,17 +15,18 @@ struct Tables {
   std::map<std::string, DeformationFactory> deformation = {
       {"network", make_network_deformation},
       {"basis", make_basis_deformation},
-      {"tangent", make_tangent_deformation},
   };
   std::map<std::string, PointFieldFactory> stress = {
-      {"network", make_network_stress}, {"basis", make_basis_stress},
-      {"tangent", make_tangent_stress}, {"crom", make_crom_stress},
+      {"network", make_network_stress},
+      {"basis", make_basis_stress},
+      {"crom", make_crom_stress},
       {"tracked", make_tracked_stress},
   };
   std::map<std::string, PointFieldFactory> affine = {
-      {"network", make_network_affine}, {"basis", make_basis_affine},
-      {"tangent", make_tangent_affine}, {"velocity", make_velocity_affine},
-      {"none", make_zero_affine},       {"tracked", make_tracked_affine},
+      {"network", make_network_affine},
+      {"basis", make_basis_affine},
+      {"none", make_zero_affine},
+      {"tracked", make_tracked_affine},
   };
   std::map<std::string, VelocityFactory> velocity = {
       {"latent", make_latent_velocity},
@@ -57,6 +58,10 @@ template <typename Map>
 const typename Map::mapped_type& find(const Map& m, const std::string& name, const char* what) {
   const auto it = m.find(name);
   if (it == m.end()) {
+    const std::string record = retired_field_source(what, name);
+    if (!record.empty())
+      fail("rom: the ", what, " source '", name, "' was retired (it lost: docs/experiments/",
+           record, ")");
     std::string known;
     for (const auto& entry : m) known += (known.empty() ? "" : ", ") + entry.first;
     fail("rom: unknown ", what, " source '", name, "' (known: ", known, ")");
@@ -121,6 +126,14 @@ std::vector<std::string> deformation_source_names() {
 std::vector<std::string> point_field_source_names(FieldRole role) {
   std::lock_guard<std::mutex> lock(tables_mutex());
   return names_of(tables().of(role));
+}
+
+std::string retired_field_source(const std::string& role, const std::string& name) {
+  // The code last lived at commit 6a0656ca4713.
+  if (name == "tangent" && (role == "deformation" || role == "stress" || role == "affine"))
+    return "2026-11-22-tangent-cache.md";
+  if (name == "velocity" && role == "affine") return "2026-11-22-velocity-affine.md";
+  return "";
 }
 
 std::vector<std::string> velocity_source_names() {

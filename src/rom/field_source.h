@@ -3,10 +3,9 @@
 // the Kirchhoff stress τ and the APIC affine matrices C on the integration points N. Each source
 // is an object behind one of two small interfaces, chosen once, by name, when the stepper is
 // built (as materials are by their registry): the trained decoders (the paper's networks, or the
-// per-point bases of a basis model), their first-order tangent cache, CROM's τ(∂g/∂X), the
-// velocity-derived C, the particles' own tracked state; and the velocities P2G carries (g's
-// backward difference, or each point's own). A new source is one file in src/rom/fields/ plus a
-// line in rom/field_registry.cpp.
+// per-point bases of a basis model), CROM's τ(∂g/∂X), C = 0, the particles' own tracked state; and
+// the velocities P2G carries (g's backward difference, or each point's own). A new source is one
+// file in src/rom/fields/ plus a line in rom/field_registry.cpp.
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
@@ -44,8 +43,6 @@ struct FieldContext {
   const std::vector<std::unique_ptr<Material>>& materials;
   double mu = 0;                        // the run's parameter (h's input when the model takes it)
   double dt = 0;                        // the ROM step
-  Eigen::VectorXd spread;               // each latent component's training spread (norm_z)
-  double tangent_radius = 0;            // the tangent cache's anchor radius, in spreads
   TrackedParticles* tracked = nullptr;  // the particles' own state, for the tracked sources
 };
 
@@ -72,7 +69,6 @@ class DeformationSource {
   }
   // The exact g and ∂g/∂ẑ at the sample particles `S`, for Gauss–Newton (nn/latent_inversion.h).
   virtual std::unique_ptr<SampleDeformation> samples(const std::vector<uint32_t>& S) = 0;
-  virtual long anchors() const { return 0; }  // re-anchorings of an expansion so far
   // True when positions() is g itself, so that positions g gave elsewhere at the same latent
   // (the candidate refresh's) can stand in for it; false for an approximation.
   virtual bool exact() const { return true; }
@@ -85,7 +81,7 @@ class PointFieldSource {
   virtual std::string describe() const = 0;  // "tau from h", "C = 0", …
   virtual void set_points() {}
   // Values at rows `ids` at the state s. `for_step` false: for output, where an approximation
-  // made for speed (the tangent cache) gives way to the field it approximates.
+  // made for speed gives way to the field it approximates.
   virtual void evaluate(const std::vector<uint32_t>& ids, const LatentPair& s, bool for_step,
                         std::vector<Mat3>& out) = 0;
 };
@@ -121,5 +117,9 @@ std::unique_ptr<VelocitySource> make_velocity_source(const std::string& name,
 std::vector<std::string> deformation_source_names();
 std::vector<std::string> point_field_source_names(FieldRole role);
 std::vector<std::string> velocity_source_names();
+// The record (a file under docs/experiments/) of a source that lost and was removed, by its role
+// ("deformation", "stress", "affine", "velocity") and name; "" for any other. The registries
+// refuse it naming the record, and so do a scene's rom.fields and `nsf rom`'s options.
+std::string retired_field_source(const std::string& role, const std::string& name);
 
 }  // namespace nsf

@@ -122,7 +122,6 @@ struct LatentStepper::Impl {
       fail("rom: the time-step ratio (--dt-ratio or the scene's rom.dt_ratio) ", opt.dt_ratio,
            " is more than the scene's ", s.substeps,
            " steps per frame; at most that (one ROM step per frame)");
-    if (!(opt.flip >= 0 && opt.flip <= 1)) fail("rom: --flip must lie in [0, 1], got ", opt.flip);
     // Not capped at the full-order CFL bound: the stress on N comes from h at ẑ, not from F
     // integrated over the step, so the grid's elastic waves do not set the ROM's stability
     // limit (sand_paper runs at 4Δt, 3.7 times the bound;
@@ -176,9 +175,8 @@ struct LatentStepper::Impl {
   void make_sources(const std::vector<Mat3>& F0) {
     tracked = std::make_unique<TrackedParticles>(F0, table.mat0, table.material,
                                                  sim->scene().materials, dt);
-    context = std::make_unique<FieldContext>(FieldContext{fields, table, sim->scene().materials, mu,
-                                                          dt, latent_spread(), opt.tangent_radius,
-                                                          tracked.get()});
+    context = std::make_unique<FieldContext>(
+        FieldContext{fields, table, sim->scene().materials, mu, dt, tracked.get()});
     const FieldChoice c = opt.resolved_fields(fields.bases() ? "basis" : "network");
     g = make_deformation_source(c.deformation, *context);
     stress = make_point_field_source(FieldRole::stress, c.stress, *context);
@@ -186,8 +184,8 @@ struct LatentStepper::Impl {
     velocity = make_velocity_source(c.velocity, *context);
   }
 
-  // Each latent component's spread over the training latents: the unit in which the tangent
-  // cache's radius and the latent prior's distance are measured.
+  // Each latent component's spread over the training latents: the unit in which the latent
+  // prior's distance is measured.
   Eigen::VectorXd latent_spread() const {
     const torch::Tensor sd = model.norm_z.std.to(torch::kFloat64).contiguous();
     return Eigen::Map<const Eigen::VectorXd>(sd.data_ptr<double>(), sd.numel());
@@ -430,20 +428,10 @@ struct LatentStepper::Impl {
     } else {
       for (uint32_t k : gather) P.F[k] = Mat3::Identity();
     }
-    // The latent velocity field is smooth and g carries it exactly; the round trip through
-    // the grid blurs it whenever l's C is off, and that loss recurs at every step, so a
-    // ROM with small steps slows down (sand_small: δ 2.5 % at 1.0Δt, 3.5 % at 0.5Δt).
-    std::vector<Vec3> smoothing(S.size(), Vec3::Zero());
-    if (opt.flip > 0) {
-      std::vector<Vec3> v_round_trip;
-      sim->transfer_velocity(gather, v_round_trip);
-      for (size_t k = 0; k < S.size(); ++k)
-        smoothing[k] = opt.flip * (P.v[gather[k]] - v_round_trip[k]);
-    }
     sim->transfer(dt, t, tracked->active() ? &all_rows : &gather);
     if (tracked->active()) tracked->advance(N, P, all_rows);
     xs_new.resize(S.size());
-    for (size_t k = 0; k < S.size(); ++k) xs_new[k] = P.x[gather[k]] + dt * smoothing[k];
+    for (size_t k = 0; k < S.size(); ++k) xs_new[k] = P.x[gather[k]];
     check_finite_inside(xs_new, S, "sample");
   }
 
@@ -567,7 +555,6 @@ RomDiagnostics LatentStepper::diagnostics() const {
   d.mean_K = m.n ? m.sum_K / double(m.n) : 0.0;
   d.quadrature_points = m.quad.ids.size();
   d.refreshes = m.refreshes;
-  d.anchors = m.g->anchors();
   d.integration_misses = m.misses;
   d.last_residual = m.last_residual;
   d.training_distance = m.prior ? std::sqrt(m.prior->distance2(m.z)) : -1.0;

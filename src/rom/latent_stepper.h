@@ -29,7 +29,6 @@ struct RomDiagnostics {
   double mean_N = 0, mean_K = 0;  // mean |N| and candidates |K| over the steps so far
   size_t quadrature_points = 0;   // points that can join N (|P| unless thinned)
   long refreshes = 0;             // candidate sets rebuilt from all positions
-  long anchors = 0;               // re-anchorings of the tangent cache of g
   long integration_misses = 0;    // with verify_integration_set: particles of N not found
   double last_residual = 0;       // rms ‖g − x‖ on S after the last inversion (m)
   // How far ẑ_n is from the latents the model was trained on (the surface its training runs span
@@ -71,7 +70,7 @@ class LatentStepper {
   // The same for all particles of the scene; also refreshes the candidate set for free.
   void particle_state(std::vector<Vec3>& x, std::vector<Vec3>* v);
   // τ and C of every particle at ẑ_n, from the sources the step itself uses (h or its
-  // replacements, l or its), for output: the decoders themselves, not the tangent cache's.
+  // replacements, l or its), for output (a source's evaluate with for_step false).
   void particle_fields(std::vector<Mat3>& tau, std::vector<Mat3>& C);
 
   size_t particle_count() const;

@@ -14,9 +14,9 @@ namespace nsf {
 // paper's MLP fields, "basis" for per-point bases), and for C, "none" when the stress is CROM's
 // (the baseline has no affine field).
 struct FieldChoice {
-  std::string deformation;  // g on the candidates: network, basis, tangent
-  std::string stress;       // τ on N: network, basis, tangent, crom, tracked
-  std::string affine;       // C on N: network, basis, tangent, velocity, none, tracked
+  std::string deformation;  // g on the candidates: network, basis
+  std::string stress;       // τ on N: network, basis, crom, tracked
+  std::string affine;       // C on N: network, basis, none, tracked
   std::string velocity;     // v on N: latent (g's backward difference, the paper), tracked
 };
 
@@ -27,16 +27,9 @@ struct RomOptions {
   // paper-size sand 4 gives 3.6 % against 5.2 % at 1.0
   // (docs/experiments/2026-11-25-larger-rom-steps.md).
   double dt_ratio = 1.0;
-  // Share of the transfer's smoothing loss given back to the sample particles each step
-  // (FLIP-style: x_S += Δt · flip · (v_S − the velocity P2G then G2P alone hands back)).
-  // 0: the engine's APIC step as it stands (the paper).
-  double flip = 0.0;
   SamplingSpec sampling;
   GaussNewtonOptions inversion;
   FieldChoice fields;
-  // The tangent cache's anchor radius, in units of each latent component's training spread: its
-  // expansions are recomputed when ẑ moves further than this from their anchor.
-  double tangent_radius = 0.05;
   // > 0: the inversion's latent prior with this ε in metres (GaussNewtonOptions::prior_length),
   // built from the latents the model stores of its training runs. 0: none (the paper).
   double latent_prior = 0;
@@ -55,12 +48,6 @@ struct RomOptions {
   // step, not only when N differs from the last step's list. The results are the same bit for bit.
   bool refill_constant_data = false;
 
-  // The tangent cache for g, h and l (`nsf rom --linearize R`); C keeps a source other than l.
-  void use_tangent_cache(double radius) {
-    fields.deformation = fields.stress = "tangent";
-    if (fields.affine.empty() || fields.affine == "network") fields.affine = "tangent";
-    tangent_radius = radius;
-  }
   // The sources by name, with the defaults filled in for a model whose decoders are `decoder`.
   FieldChoice resolved_fields(const std::string& decoder) const {
     FieldChoice f = fields;

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "rom/field_source.h"
 
 namespace nsf {
 
@@ -79,6 +80,10 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
              "' is unknown (known: deformation, stress, affine, velocity)");
       if (!v.is_string() || v.get<std::string>().empty())
         fail("scene key 'rom.fields.", key, "' must be a field source's name, got ", v.dump());
+      const std::string record = retired_field_source(key, v.get<std::string>());
+      if (!record.empty())
+        fail("scene key 'rom.fields.", key, "': the source ", v.dump(),
+             " was retired (it lost: docs/experiments/", record, ")");
       *slot = v.get<std::string>();
     }
     sampling.erase("fields");

@@ -13,14 +13,9 @@ std::unique_ptr<PointFieldSource> make_network_affine(const FieldContext& contex
 std::unique_ptr<DeformationSource> make_basis_deformation(const FieldContext& context);
 std::unique_ptr<PointFieldSource> make_basis_stress(const FieldContext& context);
 std::unique_ptr<PointFieldSource> make_basis_affine(const FieldContext& context);
-// Their tangent cache (first-order expansions in ẑ per point, rom/linearized_field.h).
-std::unique_ptr<DeformationSource> make_tangent_deformation(const FieldContext& context);
-std::unique_ptr<PointFieldSource> make_tangent_stress(const FieldContext& context);
-std::unique_ptr<PointFieldSource> make_tangent_affine(const FieldContext& context);
 // CROM's τ(∂g/∂X) through the material, with no plastic history.
 std::unique_ptr<PointFieldSource> make_crom_stress(const FieldContext& context);
-// C from the gradient of the ROM's own velocity field; C = 0.
-std::unique_ptr<PointFieldSource> make_velocity_affine(const FieldContext& context);
+// C = 0.
 std::unique_ptr<PointFieldSource> make_zero_affine(const FieldContext& context);
 // Each particle's own F^E, plastic state and C, as full order keeps them (rom/tracked_particles.h).
 std::unique_ptr<PointFieldSource> make_tracked_stress(const FieldContext& context);
