@@ -78,14 +78,7 @@ std::vector<double> time_sources(nsf::NeuralFields& fields, const nsf::Scene& sc
   table.particles = scene.particles.size();
   table.X = scene.particles.X, table.material = scene.particles.material;
   table.mat0 = scene.particles.mat;
-  nsf::FieldContext context{fields,
-                            table,
-                            scene.materials,
-                            1.0,
-                            scene.settings.dt,
-                            Eigen::VectorXd::Ones(fields.latent_dim()),
-                            0.05,
-                            nullptr};
+  nsf::FieldContext context{fields, table, scene.materials, 1.0, scene.settings.dt, nullptr};
   auto g = nsf::make_deformation_source(source, context);
   auto h = nsf::make_point_field_source(nsf::FieldRole::stress, source, context);
   auto l = nsf::make_point_field_source(nsf::FieldRole::affine, source, context);
