@@ -26,9 +26,9 @@ using nsf::testing::CliResult;
 using nsf::testing::expect_contains;
 using nsf::testing::run_cli;
 
-const std::vector<std::string> kCommands = {"simulate", "sweep",  "train",  "eval",
-                                            "rom",      "render", "export", "contact-sheet",
-                                            "demo",     "report", "serve",  "calibrate"};
+const std::vector<std::string> kCommands = {
+    "simulate",      "sweep", "train",  "eval",  "rom",       "render",    "export",
+    "contact-sheet", "demo",  "report", "serve", "calibrate", "generalize"};
 
 const std::string kScene = NSF_SOURCE_DIR "/scenes/examples/elastic_drop.json";
 

@@ -99,6 +99,19 @@ TEST(RomSection, ALatentPriorOfItsOwnWinsOverTheModelsCalibration) {
 }
 
 // The ROM's step: the section's, else the model's calibration (> 0), else the options'.
+// The pull toward the predicted latent and QDEIM's samples (issue #55's levers) are read from
+// the section like the latent prior; a negative length or an unknown sampling is refused.
+TEST(RomSection, TakesThePredictionPriorAndQdeimSampling) {
+  const RomSection s =
+      parse_rom_section(json::parse(R"({"prediction_prior": 0.001, "sampling": "qdeim"})"));
+  const RomOptions o = with_rom_section(RomOptions(), s);
+  EXPECT_EQ(o.prediction_prior, 0.001);
+  EXPECT_EQ(o.sampling.mode, "qdeim");
+  EXPECT_EQ(with_rom_section(RomOptions(), RomSection()).prediction_prior, 0.0);
+  expect_rejected(json::parse(R"({"prediction_prior": -1})"), {"rom.prediction_prior"});
+  expect_rejected(json::parse(R"({"sampling": "deim"})"), {"rom.sampling", "qdeim"});
+}
+
 TEST(RomSection, AStepOfItsOwnWinsOverTheModelsCalibration) {
   const RomSection none = parse_rom_section(json::parse(R"({"samples": 100})"));
   const RomSection own = parse_rom_section(json::parse(R"({"dt_ratio": 2})"));

@@ -64,8 +64,11 @@ struct RomReport {
   std::string model_checksum;  // the model file's stored CRC-32 ("" for an older file)
   size_t samples = 0, samples_end = 0;
   double mean_N = 0, mean_K = 0;
-  double energy_kept = 1;   // LatentStepper::inversion_energy_kept
-  double latent_prior = 0;  // ε of the inversion's latent prior (m); 0: none
+  double energy_kept = 1;        // LatentStepper::inversion_energy_kept
+  double latent_prior = 0;       // ε of the inversion's latent prior (m); 0: none
+  double prediction_prior = 0;   // ε of its pull toward the predicted latent (m); 0: none
+  std::string sampling;          // how S was chosen: random, cluster, qdeim
+  double sample_condition = -1;  // with qdeim: the conditioning of g's tangents on S
   // Where ε came from: "command line", "scene" (its rom section, or none there) or "model" (the
   // model's calibration, `nsf calibrate`).
   std::string latent_prior_source;

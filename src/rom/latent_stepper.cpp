@@ -17,6 +17,7 @@
 #include "rom/field_source.h"
 #include "rom/integration_set.h"
 #include "rom/quadrature.h"
+#include "rom/sample_selection.h"
 #include "rom/tracked_particles.h"
 
 namespace nsf {
@@ -94,6 +95,8 @@ struct LatentStepper::Impl {
   std::unique_ptr<SampleDeformation> g_S;  // g and ∂g/∂ẑ on S, for the inversion
 
   double sum_N = 0, sum_K = 0, last_residual = 0;
+  double sample_condition = -1;  // of g's tangents on S, with QDEIM's samples
+  Latent z_predicted;            // 2ẑ_n − ẑ_{n−1}, the prediction prior's anchor
   double energy_after_mpm = 0, energy_after_inversion = 0;  // summed over steps, on S
   long refreshes = 0, misses = 0;
   RomTimes times;
@@ -137,6 +140,7 @@ struct LatentStepper::Impl {
            min_samples, " (r/3 for r = ", r, ") and at most |P| = ", np);
     if (opt.halo < 2) fail("rom: the candidate halo must be at least 2 cells, got ", opt.halo);
     ranked = rank_samples(table.X, opt.sampling);
+    if (opt.sampling.mode == "qdeim") ranked = qdeim_ranking(ranked);
     slot.assign(np, -1);
     all_points = fields.prepare(table.X);
     sim = std::make_unique<Simulation>(std::move(scene));
@@ -145,6 +149,9 @@ struct LatentStepper::Impl {
     set_samples(sample_count_at(opt.sampling, 0, T));
     tracked->check(cfl_bound);
 
+    if (!(opt.prediction_prior >= 0 && std::isfinite(opt.prediction_prior)))
+      fail("rom: the prediction prior's length must be a number of metres, 0 or more, got ",
+           opt.prediction_prior);
     if (!(opt.latent_prior >= 0 && std::isfinite(opt.latent_prior)))
       fail("rom: the latent prior's length must be a number of metres, 0 or more, got ",
            opt.latent_prior);
@@ -169,6 +176,40 @@ struct LatentStepper::Impl {
     z = invert_deformation(*g_S, target, z, fit).z;
     for (size_t k = 0; k < S.size(); ++k) target[k] = table.X[S[k]] - dt * v0[S[k]];
     z_prev = invert_deformation(*g_S, target, z, fit).z;
+  }
+
+  // QDEIM's particles on g's tangent directions first, then `fill` (a random ranking): the
+  // tangents ∂g/∂ẑ of every particle at the rest state's latent and at up to kTangentLatents of
+  // the training runs' latents, whose leading left singular vectors QDEIM picks rows of
+  // (rom/sample_selection.h). Their conditioning on the first |S| is kept for the diagnostics.
+  std::vector<uint32_t> qdeim_ranking(const std::vector<uint32_t>& fill) {
+    constexpr int64_t kTangentLatents = 8;
+    std::vector<uint32_t> all(np);
+    std::iota(all.begin(), all.end(), 0u);
+    const std::vector<Vec3> X(table.X.begin(), table.X.begin() + np);
+    std::unique_ptr<SampleDeformation> g_all = sample_deformation(model, X, all);
+    std::vector<Latent> at = {fields.encode(X)};
+    if (model.trajectory_latents.defined()) {
+      const torch::Tensor t = model.trajectory_latents.to(torch::kFloat64).contiguous();
+      const int64_t runs = t.size(0), frames = t.size(1), r = t.size(2);
+      const int64_t count = std::min<int64_t>(kTangentLatents, runs * frames);
+      for (int64_t k = 0; k < count; ++k) {
+        const int64_t i = (k * runs * frames) / count;  // spread over runs and frames
+        at.push_back(Eigen::Map<const Eigen::VectorXd>(t.data_ptr<double>() + i * r, r));
+      }
+    }
+    const int64_t r = fields.latent_dim();
+    Eigen::MatrixXd A(3 * int64_t(np), r * int64_t(at.size())), J;
+    std::vector<Vec3> g;
+    for (size_t k = 0; k < at.size(); ++k) {
+      g_all->jacobian(at[k], J, g);
+      A.middleCols(r * int64_t(k), r) = J;
+    }
+    const Eigen::MatrixXd U = leading_left_singular_vectors(A, 1 - 1e-6);
+    std::vector<uint32_t> out = qdeim_particles(U, fill);
+    out.resize(std::min(out.size(), size_t(opt.sampling.count)));
+    sample_condition = restricted_condition(U, out);
+    return out;
   }
 
   // The sources the options name, for this model's decoders.
@@ -440,7 +481,16 @@ struct LatentStepper::Impl {
     ScopedTimer timer(times.inversion);
     std::optional<ScopedBlasThreads> fit_threads;
     if (opt.inversion.threads > 0) fit_threads.emplace(opt.inversion.threads);
-    const InversionResult res = invert_deformation(*g_S, xs_new, z, opt.inversion);
+    GaussNewtonOptions fit = opt.inversion;
+    Eigen::VectorXd spread;
+    if (opt.prediction_prior > 0) {
+      z_predicted = 2 * z - z_prev;
+      spread = latent_spread();
+      fit.prediction = &z_predicted;
+      fit.prediction_scale = &spread;
+      fit.prediction_length = opt.prediction_prior;
+    }
+    const InversionResult res = invert_deformation(*g_S, xs_new, z, fit);
     z_prev = z;
     z = res.z;
     last_residual = res.rms_residual;
@@ -557,6 +607,7 @@ RomDiagnostics LatentStepper::diagnostics() const {
   d.refreshes = m.refreshes;
   d.integration_misses = m.misses;
   d.last_residual = m.last_residual;
+  d.sample_condition = m.sample_condition;
   d.training_distance = m.prior ? std::sqrt(m.prior->distance2(m.z)) : -1.0;
   d.energy_kept = m.energy_after_mpm > 0 ? m.energy_after_inversion / m.energy_after_mpm : 1.0;
   return d;

@@ -31,6 +31,9 @@ struct RomDiagnostics {
   long refreshes = 0;             // candidate sets rebuilt from all positions
   long integration_misses = 0;    // with verify_integration_set: particles of N not found
   double last_residual = 0;       // rms ‖g − x‖ on S after the last inversion (m)
+  // With QDEIM's samples (rom.sampling = "qdeim"): the condition number of the orthonormal
+  // tangent basis of g restricted to S (rom/sample_selection.h); −1 otherwise.
+  double sample_condition = -1;
   // How far ẑ_n is from the latents the model was trained on (the surface its training runs span
   // over μ and time; nn/latent_prior.h), in training spreads; −1 for a model that does not store
   // them. Far from it, h and l answer for states they never saw.

@@ -20,8 +20,9 @@ SamplingSpec parse_sampling(const nlohmann::json& rom) {
         fail("scene key '", path, "' must be a positive integer, got ", value.dump());
       s.count = value.get<int>();
     } else if (key == "sampling") {
-      if (!value.is_string() || (value != "random" && value != "cluster"))
-        fail("scene key '", path, "' must be \"random\" or \"cluster\", got ", value.dump());
+      if (!value.is_string() || (value != "random" && value != "cluster" && value != "qdeim"))
+        fail("scene key '", path, "' must be \"random\", \"cluster\" or \"qdeim\", got ",
+             value.dump());
       s.mode = value.get<std::string>();
     } else if (key == "center") {
       if (!value.is_array() || value.size() != 3 || !value[0].is_number() ||
@@ -57,6 +58,7 @@ SamplingSpec parse_sampling(const nlohmann::json& rom) {
     } else {
       fail("unknown scene key '", path,
            "' (known: samples, sampling, center, sigma, seed, schedule, dt_ratio, latent_prior, "
+           "prediction_prior, "
            "quadrature, gn_iterations, fields)");
     }
   }
