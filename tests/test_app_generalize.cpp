@@ -117,23 +117,19 @@ TEST_F(Generalize, EachDrawIsScoredWithItsBaselinesAndTheSummaryHasTheIssuesKeys
             r.draws[1].report->baselines.coarse_delta);
 }
 
-// Issue #55's levers on a draw: QDEIM's samples (rom.sampling = qdeim) keep g's tangents on S
-// well conditioned, and the pull toward the predicted latent runs; each changes the run.
-TEST_F(Generalize, QdeimSamplesAndThePredictionPriorRunOnADraw) {
+// QDEIM's samples (rom.sampling = qdeim) on a draw keep g's tangents on S well conditioned.
+TEST_F(Generalize, QdeimSamplesKeepTheInversionWellConditionedOnADraw) {
   nsf::GeneralizeOptions o = options();
   o.only = {0};
   const nsf::GeneralizeResult plain = nsf::run_generalize(o);
   o.overrides = {"rom.sampling=qdeim"};
   const nsf::GeneralizeResult qdeim = nsf::run_generalize(o);
-  o.overrides = {"rom.prediction_prior=0.001"};
-  const nsf::GeneralizeResult predicted = nsf::run_generalize(o);
-  for (const nsf::GeneralizeResult* r : {&plain, &qdeim, &predicted}) {
+  for (const nsf::GeneralizeResult* r : {&plain, &qdeim}) {
     ASSERT_EQ(r->draws.size(), 1u);
     ASSERT_TRUE(r->draws[0].report) << r->draws[0].error;
     EXPECT_TRUE(r->draws[0].report->delta > 0 && r->draws[0].report->delta < 0.5);
   }
-  const nsf::RomReport &a = *plain.draws[0].report, &b = *qdeim.draws[0].report,
-                       &c = *predicted.draws[0].report;
+  const nsf::RomReport &a = *plain.draws[0].report, &b = *qdeim.draws[0].report;
   EXPECT_EQ(a.sample_condition, -1);
   EXPECT_EQ(b.sampling, "qdeim");
   // The stated conditioning: the orthonormal tangent basis restricted to QDEIM's |S| = 64
@@ -141,8 +137,6 @@ TEST_F(Generalize, QdeimSamplesAndThePredictionPriorRunOnADraw) {
   EXPECT_GE(b.sample_condition, 1.0);
   EXPECT_LT(b.sample_condition, 30.0);
   EXPECT_NE(b.delta, a.delta);
-  EXPECT_EQ(c.prediction_prior, 0.001);
-  EXPECT_NE(c.delta, a.delta);
 }
 
 TEST_F(Generalize, ASceneWithoutPerturbationsOrAMissingDrawIsAClearError) {

@@ -114,8 +114,11 @@ TEST(BasisFit, ColumnSlicesUnderAMemoryCapGiveTheSameBasis) {
   EXPECT_TRUE(sliced.coeffs == whole.coeffs);
   EXPECT_EQ(sliced.total_energy, whole.total_energy);
   ASSERT_EQ(sliced.modes.rows(), whole.modes.rows());
+  // Float round-off, not a wrong slice (that would be of the order of the modes themselves): the
+  // modes are float GEMMs over the slices, which OpenBLAS sums in another order on each CPU
+  // (8e-6 of the largest entry on an AMD EPYC, under 1e-6 on the Intel machines before).
   EXPECT_LT((sliced.modes - whole.modes).cwiseAbs().maxCoeff(),
-            1e-6f * whole.modes.cwiseAbs().maxCoeff());
+            1e-4f * whole.modes.cwiseAbs().maxCoeff());
 }
 
 // ∂c/∂ẑ of a coefficient network, and ∂g/∂ẑ = B ∂c/∂ẑ at the samples, against central differences.

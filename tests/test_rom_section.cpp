@@ -99,16 +99,11 @@ TEST(RomSection, ALatentPriorOfItsOwnWinsOverTheModelsCalibration) {
 }
 
 // The ROM's step: the section's, else the model's calibration (> 0), else the options'.
-// The pull toward the predicted latent and QDEIM's samples (issue #55's levers) are read from
-// the section like the latent prior; a negative length or an unknown sampling is refused.
-TEST(RomSection, TakesThePredictionPriorAndQdeimSampling) {
-  const RomSection s =
-      parse_rom_section(json::parse(R"({"prediction_prior": 0.001, "sampling": "qdeim"})"));
-  const RomOptions o = with_rom_section(RomOptions(), s);
-  EXPECT_EQ(o.prediction_prior, 0.001);
-  EXPECT_EQ(o.sampling.mode, "qdeim");
-  EXPECT_EQ(with_rom_section(RomOptions(), RomSection()).prediction_prior, 0.0);
-  expect_rejected(json::parse(R"({"prediction_prior": -1})"), {"rom.prediction_prior"});
+// QDEIM's samples (issue #55) are read from the section like the other samplings; an unknown
+// sampling is refused, naming the choices.
+TEST(RomSection, TakesQdeimSampling) {
+  const RomSection s = parse_rom_section(json::parse(R"({"sampling": "qdeim"})"));
+  EXPECT_EQ(with_rom_section(RomOptions(), s).sampling.mode, "qdeim");
   expect_rejected(json::parse(R"({"sampling": "deim"})"), {"rom.sampling", "qdeim"});
 }
 

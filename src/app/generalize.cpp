@@ -285,7 +285,6 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
                   {"dt_ratio", g.report->dt_ratio},
                   {"latent_prior", g.report->latent_prior},
                   {"latent_prior_source", g.report->latent_prior_source},
-                  {"prediction_prior", g.report->prediction_prior},
                   {"sampling", g.report->sampling},
                   {"sample_condition", g.report->sample_condition},
                   {"quadrature_per_cell", g.report->quadrature_per_cell},

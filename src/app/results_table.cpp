@@ -134,6 +134,10 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   if (!r.cpu.empty()) j["cpu"] = r.cpu;
   j["delta"] = r.delta;
   j["latent_prior"] = r.latent_prior;
+  if (r.sample_condition >= 0) {  // QDEIM's samples (rom.sampling = qdeim)
+    j["sampling"] = r.sampling;
+    j["sample_condition"] = r.sample_condition;
+  }
   j["latent_prior_source"] = r.latent_prior_source;
   j["stress_error"] = r.stress_error;
   j["affine_error"] = r.affine_error;

@@ -294,7 +294,6 @@ RomReport run_rom(const RomRunOptions& o) {
     GaussNewtonOptions gn = rom.inversion_options();  // the ROM's fit, latent prior included
     gn.max_iterations = std::max(gn.max_iterations, kBudgetIterations);
     gn.taylor = false;
-    gn.prediction = nullptr;  // the projection fits the truth, not the ROM's own prediction
     budget = std::make_unique<ErrorBudget>(fields, truth->rest_positions(), rom.samples(), rep.mu,
                                            gn, rom.latent());
   }
@@ -394,7 +393,6 @@ RomReport run_rom(const RomRunOptions& o) {
   rep.mean_K = d.mean_K;
   rep.energy_kept = d.energy_kept;
   rep.latent_prior = ro.latent_prior;
-  rep.prediction_prior = ro.prediction_prior;
   rep.sampling = ro.sampling.mode;
   rep.sample_condition = d.sample_condition;
   if (d.training_distance < 0) rep.training_distance_mean = rep.training_distance_max = -1;

@@ -66,7 +66,6 @@ struct RomReport {
   double mean_N = 0, mean_K = 0;
   double energy_kept = 1;        // LatentStepper::inversion_energy_kept
   double latent_prior = 0;       // ε of the inversion's latent prior (m); 0: none
-  double prediction_prior = 0;   // ε of its pull toward the predicted latent (m); 0: none
   std::string sampling;          // how S was chosen: random, cluster, qdeim
   double sample_condition = -1;  // with qdeim: the conditioning of g's tangents on S
   // Where ε came from: "command line", "scene" (its rom section, or none there) or "model" (the

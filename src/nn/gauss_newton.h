@@ -3,8 +3,6 @@
 // torch types: the reduced-order step (rom/rom_options.h) and training's latent refinement
 // share them.
 
-#include <Eigen/Dense>
-
 namespace nsf {
 
 class LatentPrior;
@@ -22,13 +20,6 @@ struct GaussNewtonOptions {
   // No prior or ε = 0: the paper's fit.
   const LatentPrior* prior = nullptr;
   double prior_length = 0;  // ε
-  // A pull toward a predicted latent rather than toward the training runs (issue #55): the fit
-  // adds |S| ε_p² ‖(ẑ − ẑ_pred) / σ‖², σ the training spread of each latent component, so a latent
-  // one spread off the prediction costs as much as every sample ε_p (m) out of place. The ROM
-  // predicts ẑ_pred = 2ẑ_n − ẑ_{n−1} (the latent keeps its velocity). Null or ε_p = 0: none.
-  const Eigen::VectorXd* prediction = nullptr;
-  const Eigen::VectorXd* prediction_scale = nullptr;  // σ; null: 1
-  double prediction_length = 0;                       // ε_p
 };
 
 }  // namespace nsf

@@ -148,19 +148,6 @@ InversionResult invert_deformation(SampleDeformation& samples, const std::vector
   const auto prior_at = [&](const Eigen::VectorXd& z) {
     return lambda > 0 ? options.prior->nearest(z) : LatentPrior::Nearest{};
   };
-  // The prediction's weight likewise, and its term: ‖(ẑ − ẑ_pred)/σ‖², with half its gradient and
-  // Hessian as the normal equations take them.
-  const double mu_p = options.prediction && options.prediction_length > 0
-                          ? double(n) * options.prediction_length * options.prediction_length
-                          : 0.0;
-  Eigen::VectorXd inv_scale2 = Eigen::VectorXd::Ones(r);
-  if (mu_p > 0 && options.prediction_scale)
-    inv_scale2 = options.prediction_scale->cwiseMax(1e-12).cwiseAbs2().cwiseInverse();
-  if (mu_p > 0 && options.prediction->size() != r)
-    fail("inversion: a predicted latent of size ", options.prediction->size(), " for r = ", r);
-  const auto prediction_term = [&](const Eigen::VectorXd& z) {
-    return mu_p > 0 ? mu_p * (z - *options.prediction).cwiseAbs2().dot(inv_scale2) : 0.0;
-  };
   // The prior's Gauss–Newton terms come from the closest point of its surface to ẑ; the line
   // search finds it for the step it accepts, which is the next iteration's ẑ.
   LatentPrior::Nearest near = prior_at(res.z);
@@ -168,7 +155,7 @@ InversionResult invert_deformation(SampleDeformation& samples, const std::vector
     samples.jacobian(res.z, J, g);
     Eigen::VectorXd residual(3 * n);
     for (int64_t p = 0; p < n; ++p) residual.segment<3>(3 * p) = g[p] - target[p];
-    const double r0 = residual.squaredNorm() + lambda * near.distance2 + prediction_term(res.z);
+    const double r0 = residual.squaredNorm() + lambda * near.distance2;
     res.rms_residual = std::sqrt(residual.squaredNorm() / double(n));
     // Normal equations are r × r; a tiny Levenberg term keeps them solvable when some latent
     // direction does not move the samples at all.
@@ -178,10 +165,6 @@ InversionResult invert_deformation(SampleDeformation& samples, const std::vector
     if (lambda > 0) {
       JtJ += lambda * near.hessian;
       rhs -= lambda * near.gradient;
-    }
-    if (mu_p > 0) {
-      JtJ.diagonal() += mu_p * inv_scale2;
-      rhs -= mu_p * (res.z - *options.prediction).cwiseProduct(inv_scale2);
     }
     Eigen::VectorXd dz = JtJ.ldlt().solve(rhs);
     if (!dz.allFinite())
@@ -199,7 +182,7 @@ InversionResult invert_deformation(SampleDeformation& samples, const std::vector
     for (int halvings = 0; halvings < 6; ++halvings) {
       const double d1 = squared_residual(samples, res.z + dz, target, trial);
       LatentPrior::Nearest near1 = prior_at(res.z + dz);
-      const double r1 = d1 + lambda * near1.distance2 + prediction_term(res.z + dz);
+      const double r1 = d1 + lambda * near1.distance2;
       if (r1 < r0) {
         res.z += dz;
         near = std::move(near1);

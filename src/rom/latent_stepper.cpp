@@ -96,7 +96,6 @@ struct LatentStepper::Impl {
 
   double sum_N = 0, sum_K = 0, last_residual = 0;
   double sample_condition = -1;  // of g's tangents on S, with QDEIM's samples
-  Latent z_predicted;            // 2ẑ_n − ẑ_{n−1}, the prediction prior's anchor
   double energy_after_mpm = 0, energy_after_inversion = 0;  // summed over steps, on S
   long refreshes = 0, misses = 0;
   RomTimes times;
@@ -149,9 +148,6 @@ struct LatentStepper::Impl {
     set_samples(sample_count_at(opt.sampling, 0, T));
     tracked->check(cfl_bound);
 
-    if (!(opt.prediction_prior >= 0 && std::isfinite(opt.prediction_prior)))
-      fail("rom: the prediction prior's length must be a number of metres, 0 or more, got ",
-           opt.prediction_prior);
     if (!(opt.latent_prior >= 0 && std::isfinite(opt.latent_prior)))
       fail("rom: the latent prior's length must be a number of metres, 0 or more, got ",
            opt.latent_prior);
@@ -481,16 +477,7 @@ struct LatentStepper::Impl {
     ScopedTimer timer(times.inversion);
     std::optional<ScopedBlasThreads> fit_threads;
     if (opt.inversion.threads > 0) fit_threads.emplace(opt.inversion.threads);
-    GaussNewtonOptions fit = opt.inversion;
-    Eigen::VectorXd spread;
-    if (opt.prediction_prior > 0) {
-      z_predicted = 2 * z - z_prev;
-      spread = latent_spread();
-      fit.prediction = &z_predicted;
-      fit.prediction_scale = &spread;
-      fit.prediction_length = opt.prediction_prior;
-    }
-    const InversionResult res = invert_deformation(*g_S, xs_new, z, fit);
+    const InversionResult res = invert_deformation(*g_S, xs_new, z, opt.inversion);
     z_prev = z;
     z = res.z;
     last_residual = res.rms_residual;

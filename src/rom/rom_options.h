@@ -33,9 +33,6 @@ struct RomOptions {
   // > 0: the inversion's latent prior with this ε in metres (GaussNewtonOptions::prior_length),
   // built from the latents the model stores of its training runs. 0: none (the paper).
   double latent_prior = 0;
-  // > 0: a pull toward the predicted latent 2ẑ_n − ẑ_{n−1} instead of the training runs, with
-  // this ε in metres (GaussNewtonOptions::prediction_length). 0: none.
-  double prediction_prior = 0;
   int halo = 3;  // candidate margin in cells around I (rom/integration_set.h)
   // > 0: the MPM step on N integrates with this many points per grid cell of the rest shape, each
   // merging a group of particles (rom/quadrature.h); N, K and the inference on them shrink by

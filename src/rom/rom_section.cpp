@@ -89,8 +89,6 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
     sampling.erase("fields");
   }
   s.latent_prior = number("latent_prior", true, "the latent prior's length in metres; 0: none");
-  s.prediction_prior =
-      number("prediction_prior", true, "the pull toward the predicted latent, metres; 0: none");
   // A family's object merges over the common settings, its tracked object over theirs (so a
   // tracked setting wins over a family's plain one).
   nlohmann::json common = rom;
@@ -143,7 +141,6 @@ RomOptions with_rom_section(RomOptions o, const RomSection& s, const ModelCalibr
   o.dt_ratio = s.dt_ratio.value_or(calibrated.dt_ratio > 0 ? calibrated.dt_ratio : o.dt_ratio);
   o.latent_prior = s.latent_prior.value_or(calibrated.latent_prior >= 0 ? calibrated.latent_prior
                                                                         : o.latent_prior);
-  o.prediction_prior = s.prediction_prior.value_or(o.prediction_prior);
   o.quadrature_per_cell = s.quadrature.value_or(o.quadrature_per_cell);
   o.inversion.max_iterations = s.gn_iterations.value_or(o.inversion.max_iterations);
   for (auto [mine, scenes] : {std::pair{&o.fields.deformation, &s.fields.deformation},

@@ -16,12 +16,11 @@ namespace nsf {
 
 struct RomSection {
   SamplingSpec sampling;
-  std::optional<double> dt_ratio;          // ROM step over the scene's Δt (RomOptions::dt_ratio)
-  std::optional<double> latent_prior;      // ε of the latent prior, m (RomOptions::latent_prior)
-  std::optional<double> prediction_prior;  // m (RomOptions::prediction_prior)
-  std::optional<int> quadrature;           // points per cell (RomOptions::quadrature_per_cell)
-  std::optional<int> gn_iterations;        // GaussNewtonOptions::max_iterations
-  FieldChoice fields;                      // "fields": {"deformation", "stress", "affine"} by name
+  std::optional<double> dt_ratio;      // ROM step over the scene's Δt (RomOptions::dt_ratio)
+  std::optional<double> latent_prior;  // ε of the latent prior, m (RomOptions::latent_prior)
+  std::optional<int> quadrature;       // points per cell (RomOptions::quadrature_per_cell)
+  std::optional<int> gn_iterations;    // GaussNewtonOptions::max_iterations
+  FieldChoice fields;                  // "fields": {"deformation", "stress", "affine"} by name
   // "mlp", "basis": settings for a model of that decoder family, over the ones above (a scene
   // whose two families were measured best at different steps, priors or sample counts).
   std::shared_ptr<const RomSection> mlp, basis;

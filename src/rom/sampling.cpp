@@ -58,7 +58,6 @@ SamplingSpec parse_sampling(const nlohmann::json& rom) {
     } else {
       fail("unknown scene key '", path,
            "' (known: samples, sampling, center, sigma, seed, schedule, dt_ratio, latent_prior, "
-           "prediction_prior, "
            "quadrature, gn_iterations, fields)");
     }
   }
