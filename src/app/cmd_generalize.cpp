@@ -46,6 +46,7 @@ std::string command_of(const GeneralizeArgs& a, const CLI::App& cmd) {
   if (cmd.count("--latent-prior")) c << " --latent-prior " << a.latent_prior;
   if (cmd.count("--dt-ratio")) c << " --dt-ratio " << a.dt_ratio;
   if (!a.opt.coarse_scene.empty()) c << " --coarse-scene " << quoted_arg(a.opt.coarse_scene);
+  if (cmd.count("--threads")) c << " -j " << a.opt.rom.threads;  // the speed-ups depend on it
   return c.str();
 }
 
