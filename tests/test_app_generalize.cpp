@@ -149,6 +149,14 @@ TEST_F(Generalize, ASceneWithoutPerturbationsOrAMissingDrawIsAClearError) {
     nsf::testing::expect_contains(e.what(), "has no \"generalize\" section");
   }
   o = options();
+  o.model_path = (root_ / "missing.nsf").string();
+  try {
+    nsf::run_generalize(o);
+    ADD_FAILURE() << "accepted a missing model";
+  } catch (const nsf::Error& e) {
+    nsf::testing::expect_contains(e.what(), "missing.nsf");
+  }
+  o = options();
   o.only = {5};
   try {
     nsf::run_generalize(o);

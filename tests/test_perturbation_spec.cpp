@@ -97,6 +97,10 @@ TEST(PerturbationSpec, APerturbationTheSweepOverwritesOrThatChangesNothingIsRefu
   expect_contains(error_of(json::parse(R"({"perturbations": [{"name": "x", "range": [2, 1],
                       "set": ["objects[0].angular_velocity=[0,0,{v}]"]}]})")),
                   "lo < hi");
+  // Moving the body changes the particles the model was trained on.
+  expect_contains(error_of(json::parse(R"({"perturbations": [{"name": "moved", "range": [0.1, 0.2],
+                      "set": ["objects[0].shape.min=[{v},0.2,0.4]"]}]})")),
+                  "changes the particles");
   expect_contains(error_of(json::parse(R"({"perturbations": []})")), "non-empty");
   expect_contains(error_of(json::parse(R"({"perturbations": [{"name": "x", "range": [1, 2],
                       "set": ["objects[0].angular_velocity=[0,0,{w}]"]}]})")),

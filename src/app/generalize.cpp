@@ -10,6 +10,8 @@
 #include "core/cpu_model.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "nn/dataset.h"
+#include "nn/neural_fields.h"
 
 namespace nsf {
 
@@ -79,6 +81,15 @@ double win_rate(const std::vector<double>& rom, const std::vector<double>& basel
   return counted ? double(wins) / counted : -1;
 }
 
+// `v` (a JSON number) times `scale` through printf's `fmt`, or `none` where it is not a number
+// (not measured).
+std::string formatted(const nlohmann::json& v, double scale, const char* fmt, const char* none) {
+  char b[32];
+  if (!v.is_number()) return none;
+  std::snprintf(b, sizeof b, fmt, scale * v.get<double>());
+  return b;
+}
+
 }  // namespace
 
 GeneralizeResult run_generalize(const GeneralizeOptions& o) {
@@ -111,6 +122,11 @@ GeneralizeResult run_generalize(const GeneralizeOptions& o) {
                                }),
                 draws.end());
   }
+
+  // Bad input stops here, not as a failure of every draw: the model (of this scene) and the
+  // dataset the baselines play back.
+  NeuralFields::load(o.model_path);
+  if (sweep) Dataset(o.data_dir);
 
   Progress progress("unseen interactions of " + res.scene, long(draws.size()), "draws");
   for (size_t i = 0; i < draws.size(); ++i) {
@@ -297,21 +313,11 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
 std::string format_generalize(const nlohmann::json& j) {
   std::ostringstream s;
   char line[320];
-  const auto pct = [](const nlohmann::json& v) {
-    char b[32] = "-";
-    if (v.is_number()) std::snprintf(b, sizeof b, "%.2f%%", 100 * v.get<double>());
-    return std::string(b);
-  };
+  const auto pct = [](const nlohmann::json& v) { return formatted(v, 100, "%.2f%%", "-"); };
   const auto num = [](const nlohmann::json& v, const char* fmt) {
-    char b[32] = "-";
-    if (v.is_number()) std::snprintf(b, sizeof b, fmt, v.get<double>());
-    return std::string(b);
+    return formatted(v, 1, fmt, "-");
   };
-  const auto share = [](const nlohmann::json& v) {
-    char b[32] = "-";
-    if (v.is_number()) std::snprintf(b, sizeof b, "%.0f%%", 100 * v.get<double>());
-    return std::string(b);
-  };
+  const auto share = [](const nlohmann::json& v) { return formatted(v, 100, "%.0f%%", "-"); };
   s << "unseen interactions of " << j.value("scene", "") << " (seed " << j.value("seed", 0)
     << "; delta against a fresh full-order run of each draw)\n";
   std::snprintf(line, sizeof line, "  %4s  %-28s %9s %8s  %8s %8s %8s %8s %8s  %7s %9s\n", "draw",
@@ -363,23 +369,17 @@ std::string generalize_markdown(const std::vector<nlohmann::json>& in) {
   std::sort(rows.begin(), rows.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
     return a.value("scene", "") < b.value("scene", "");
   });
-  const auto pct = [](const nlohmann::json& j, const char* key) {
-    char b[32] = "—";
-    if (j.contains(key) && j[key].is_number())
-      std::snprintf(b, sizeof b, "%.2f %%", 100 * j[key].get<double>());
-    return std::string(b);
+  const auto at = [](const nlohmann::json& j, const char* key) {
+    return j.contains(key) ? j[key] : nlohmann::json(nullptr);
   };
-  const auto times = [](const nlohmann::json& j, const char* key) {
-    char b[32] = "—";
-    if (j.contains(key) && j[key].is_number())
-      std::snprintf(b, sizeof b, "%.1f×", j[key].get<double>());
-    return std::string(b);
+  const auto pct = [&](const nlohmann::json& j, const char* key) {
+    return formatted(at(j, key), 100, "%.2f %%", "—");
   };
-  const auto share = [](const nlohmann::json& j, const char* key) {
-    char b[32] = "—";
-    if (j.contains(key) && j[key].is_number())
-      std::snprintf(b, sizeof b, "%.0f %%", 100 * j[key].get<double>());
-    return std::string(b);
+  const auto times = [&](const nlohmann::json& j, const char* key) {
+    return formatted(at(j, key), 1, "%.1f×", "—");
+  };
+  const auto share = [&](const nlohmann::json& j, const char* key) {
+    return formatted(at(j, key), 100, "%.0f %%", "—");
   };
   std::ostringstream s;
   s << "## Unseen interactions (`nsf generalize`)\n\n"

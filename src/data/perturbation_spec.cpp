@@ -1,6 +1,7 @@
 #include "data/perturbation_spec.h"
 
 #include <random>
+#include <tuple>
 
 #include "core/error.h"
 #include "core/json_util.h"
@@ -24,13 +25,7 @@ Perturbation parse_perturbation(const nlohmann::json& j, const std::string& path
   Perturbation p;
   p.name = js::get_string(j, path, "name");
   if (p.name.empty()) fail("scene: '", path, ".name' must not be empty");
-  const nlohmann::json* range = j.contains("range") ? &j.at("range") : nullptr;
-  if (!range || !range->is_array() || range->size() != 2 || !(*range)[0].is_number() ||
-      !(*range)[1].is_number() || !((*range)[0].get<double>() < (*range)[1].get<double>()))
-    fail("scene: '", path, ".range' must be [lo, hi] with lo < hi, got ",
-         range ? range->dump() : std::string("nothing"));
-  p.lo = (*range)[0].get<double>();
-  p.hi = (*range)[1].get<double>();
+  std::tie(p.lo, p.hi) = parse_range(j, path);
   if (!j.contains("set") || !j.at("set").is_array() || j.at("set").empty())
     fail("scene: '", path, ".set' must be a non-empty array of override templates, got ",
          j.contains("set") ? j.at("set").dump() : std::string("nothing"));
@@ -59,6 +54,21 @@ Perturbation parse_perturbation(const nlohmann::json& j, const std::string& path
     } catch (const Error& e) {
       fail("scene: '", path, ".set' does not apply at v = ", v, ": ", e.what());
     }
+    // The reduced model is tied to the particles it was trained on: a perturbation may move
+    // colliders, set velocities or change materials, not the bodies' shapes or the sampling.
+    const nlohmann::json perturbed = at(overrides, 0), plain = at({}, 0);
+    bool same_particles = perturbed.value("simulation", nlohmann::json()) ==
+                              plain.value("simulation", nlohmann::json()) &&
+                          perturbed.value("objects", nlohmann::json()).size() ==
+                              plain.value("objects", nlohmann::json()).size();
+    for (size_t i = 0; same_particles && i < plain.value("objects", nlohmann::json()).size(); ++i)
+      same_particles = perturbed["objects"][i].value("shape", nlohmann::json()) ==
+                       plain["objects"][i].value("shape", nlohmann::json());
+    if (!same_particles)
+      fail("scene: '", path, "' (\"", p.name,
+           "\") changes the particles (an object's shape or the ", "simulation section) at v = ", v,
+           ": a reduced model runs on the particles it was trained on; move a collider, set a ",
+           "velocity or change a material instead");
     for (double mu : sweep ? std::vector<double>{sweep->lo, sweep->hi} : std::vector<double>{0})
       if (at(overrides, mu) == at({}, mu))
         fail("scene: '", path, "' (\"", p.name, "\") leaves the scene unchanged at v = ", v,

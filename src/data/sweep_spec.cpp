@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <tuple>
 #include <utility>
 
 #include "core/error.h"
@@ -104,13 +105,7 @@ SweepSpec parse_sweep(const nlohmann::json& j, const nlohmann::json& scene) {
     s.set.push_back(text);
   }
 
-  const nlohmann::json* range = j.contains("range") ? &j.at("range") : nullptr;
-  if (!range || !range->is_array() || range->size() != 2 || !(*range)[0].is_number() ||
-      !(*range)[1].is_number() || !((*range)[0].get<double>() < (*range)[1].get<double>()))
-    fail("scene: '", path, ".range' must be [lo, hi] with lo < hi, got ",
-         range ? range->dump() : std::string("nothing"));
-  s.lo = (*range)[0].get<double>();
-  s.hi = (*range)[1].get<double>();
+  std::tie(s.lo, s.hi) = parse_range(j, path);
   s.train = js::get_int(j, path, "train", 2, 100000);
   // Each test value needs its own interval between training values.
   s.test = js::get_int(j, path, "test", 0, 0, s.train - 1);
@@ -126,6 +121,15 @@ SweepSpec parse_sweep(const nlohmann::json& j, const nlohmann::json& scene) {
     }
   }
   return s;
+}
+
+std::pair<double, double> parse_range(const nlohmann::json& j, const std::string& path) {
+  const nlohmann::json* range = j.contains("range") ? &j.at("range") : nullptr;
+  if (!range || !range->is_array() || range->size() != 2 || !(*range)[0].is_number() ||
+      !(*range)[1].is_number() || !((*range)[0].get<double>() < (*range)[1].get<double>()))
+    fail("scene: '", path, ".range' must be [lo, hi] with lo < hi, got ",
+         range ? range->dump() : std::string("nothing"));
+  return {(*range)[0].get<double>(), (*range)[1].get<double>()};
 }
 
 std::vector<SweepRun> plan_sweep(const SweepSpec& s) {

@@ -4,6 +4,7 @@
 // the scene (override templates such as "material.E={mu*1000}").
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace nsf {
@@ -26,6 +27,9 @@ struct SweepRun {
 // Reads and validates the section; `scene` is the whole scene, on which every template is tried
 // (with μ = lo) so that a misspelled override path fails at load, not after hours of sweeping.
 SweepSpec parse_sweep(const nlohmann::json& sweep, const nlohmann::json& scene);
+
+// A section's "range": [lo, hi] with lo < hi, both numbers; fails naming `path`.range otherwise.
+std::pair<double, double> parse_range(const nlohmann::json& section, const std::string& path);
 
 // Training μ evenly spaced over [lo, hi] including both ends; test μ at midpoints of the
 // intervals between neighbouring training values, spread over the range (interpolation only).
