@@ -26,16 +26,8 @@ Perturbation parse_perturbation(const nlohmann::json& j, const std::string& path
   p.name = js::get_string(j, path, "name");
   if (p.name.empty()) fail("scene: '", path, ".name' must not be empty");
   std::tie(p.lo, p.hi) = parse_range(j, path);
-  if (!j.contains("set") || !j.at("set").is_array() || j.at("set").empty())
-    fail("scene: '", path, ".set' must be a non-empty array of override templates, got ",
-         j.contains("set") ? j.at("set").dump() : std::string("nothing"));
-  for (size_t i = 0; i < j.at("set").size(); ++i) {
-    const nlohmann::json& t = j.at("set")[i];
-    const std::string where = js::child(js::child(path, "set"), i);
-    if (!t.is_string() || t.get<std::string>().find('=') == std::string::npos)
-      fail("scene: '", where, "' must be a string \"path=value\" with {v} in it, got ", t.dump());
-    p.set.push_back(t.get<std::string>());
-  }
+  // A template without {v} sets a companion value (the pivot a tilted floor turns about).
+  p.set = parse_templates(j, path, "v", false);
   nlohmann::json base = scene;
   base.erase("generalize");
   base.erase("sweep");

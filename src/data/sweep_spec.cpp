@@ -92,18 +92,7 @@ SweepSpec parse_sweep(const nlohmann::json& j, const nlohmann::json& scene) {
   s.parameter = js::get_string(j, path, "parameter");
   if (s.parameter.empty()) fail("scene: '", path, ".parameter' must not be empty");
 
-  if (!j.contains("set") || !j.at("set").is_array() || j.at("set").empty())
-    fail("scene: '", path, ".set' must be a non-empty array of override templates, got ",
-         j.contains("set") ? j.at("set").dump() : std::string("nothing"));
-  for (size_t i = 0; i < j.at("set").size(); ++i) {
-    const nlohmann::json& t = j.at("set")[i];
-    const std::string where = js::child(js::child(path, "set"), i);
-    if (!t.is_string()) fail("scene: '", where, "' must be a string, got ", t.dump());
-    const std::string text = t.get<std::string>();
-    if (text.find('=') == std::string::npos || text.find('{') == std::string::npos)
-      fail("scene: '", where, "' = \"", text, "\" must look like \"path=value\" with {mu} in it");
-    s.set.push_back(text);
-  }
+  s.set = parse_templates(j, path, "mu", true);
 
   std::tie(s.lo, s.hi) = parse_range(j, path);
   s.train = js::get_int(j, path, "train", 2, 100000);
@@ -121,6 +110,26 @@ SweepSpec parse_sweep(const nlohmann::json& j, const nlohmann::json& scene) {
     }
   }
   return s;
+}
+
+std::vector<std::string> parse_templates(const nlohmann::json& j, const std::string& path,
+                                         const std::string& variable, bool expression_required) {
+  if (!j.contains("set") || !j.at("set").is_array() || j.at("set").empty())
+    fail("scene: '", path, ".set' must be a non-empty array of override templates, got ",
+         j.contains("set") ? j.at("set").dump() : std::string("nothing"));
+  std::vector<std::string> out;
+  for (size_t i = 0; i < j.at("set").size(); ++i) {
+    const nlohmann::json& t = j.at("set")[i];
+    const std::string where = json::child(json::child(path, "set"), i);
+    if (!t.is_string()) fail("scene: '", where, "' must be a string, got ", t.dump());
+    const std::string text = t.get<std::string>();
+    if (text.find('=') == std::string::npos ||
+        (expression_required && text.find('{') == std::string::npos))
+      fail("scene: '", where, "' = \"", text, "\" must look like \"path=value\" with {", variable,
+           "} in it");
+    out.push_back(text);
+  }
+  return out;
 }
 
 std::pair<double, double> parse_range(const nlohmann::json& j, const std::string& path) {

@@ -28,6 +28,11 @@ struct SweepRun {
 // (with μ = lo) so that a misspelled override path fails at load, not after hours of sweeping.
 SweepSpec parse_sweep(const nlohmann::json& sweep, const nlohmann::json& scene);
 
+// A section's "set": override templates "path=value" in `variable` ({mu}, {v}); each must hold
+// an expression where `expression_required`. Fails naming `path`.set[i].
+std::vector<std::string> parse_templates(const nlohmann::json& section, const std::string& path,
+                                         const std::string& variable, bool expression_required);
+
 // A section's "range": [lo, hi] with lo < hi, both numbers; fails naming `path`.range otherwise.
 std::pair<double, double> parse_range(const nlohmann::json& section, const std::string& path);
 
