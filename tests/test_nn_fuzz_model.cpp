@@ -22,6 +22,10 @@
 #include "error_matchers.h"
 #include "fuzz_harness.h"
 #include "nn/checked_archive.h"
+#include "nn/field_checks.h"
+#include "nn/gauss_newton.h"
+#include "nn/latent_inversion.h"
+#include "nn/latent_prior.h"
 #include "nn/model.h"
 #include "nn/neural_fields.h"
 
@@ -166,16 +170,36 @@ void refresh_checksum(std::string& b) {
   b.replace(b.size() - 8, 8, hex);
 }
 
+// The zip comment that holds the checksum removed (its length set to 0), when the file still
+// ends in one: a file as any zip tool rewriting it would leave it.
+void strip_checksum(std::string& b) {
+  const size_t comment = 18;
+  if (b.size() < comment + 22 || b.compare(b.size() - comment, 10, "nsf-crc32 ") != 0) return;
+  b.resize(b.size() - comment);
+  b[b.size() - 2] = b[b.size() - 1] = 0;
+}
+
+// 4 to 64 bytes of 0xFF (NaN in float32) somewhere in the file: most of a model's bytes are
+// tensor data, so this mostly puts NaN into weights, as the issue's damaged encoder had.
+std::string nan_bytes(std::string b, ByteMutator& m, std::string& what) {
+  const size_t at = m.below(b.size()), len = std::min(b.size() - at, 4 + m.below(61));
+  std::fill(b.begin() + long(at), b.begin() + long(at + len), '\xff');
+  what = std::to_string(len) + " bytes of 0xFF at " + std::to_string(at);
+  return b;
+}
+
 std::string bytes_of(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 // What `nsf rom` and `nsf eval` do with a model: load it, check it against the scene, encode a
-// frame, evaluate the fields at the particles.
+// frame, evaluate the fields at the particles and refuse them if they are not finite (eval's row
+// rule), then invert the deformation at the samples under the latent prior, as the ROM's stepper
+// does first (a NaN weight crashed there, in LatentPrior::closest).
 void load_and_use(const std::string& path) {
   torch::set_num_threads(1);
-  const nsf::NeuralFields f = nsf::NeuralFields::load(path);
+  nsf::NeuralFields f = nsf::NeuralFields::load(path);
   const std::vector<nsf::Vec3> X = rest_positions();
   f.check_scene("fuzz", X, "the scene");
   const nsf::Latent z = f.encode(X);
@@ -186,6 +210,27 @@ void load_and_use(const std::string& path) {
   f.stress(points, z, 1.5, tau);
   const nsf::Latent zdot = nsf::Latent::Zero(z.size());  // C's map reads the latent velocity
   f.affine(points, z, C, 1.5, &zdot);
+  nsf::require_finite_fields(z, x, tau, C, "model " + path, "the rest frame", 0);
+  nsf::NeuralModel& m = f.model();
+  if (!m.trajectory_latents.defined()) return;
+  const torch::Tensor t = m.trajectory_latents.to(torch::kFloat64).contiguous();
+  const int64_t runs = t.size(0), frames = t.size(1), r = t.size(2);
+  std::vector<std::vector<Eigen::VectorXd>> latents(static_cast<size_t>(runs));
+  for (int64_t j = 0; j < runs; ++j)
+    for (int64_t i = 0; i < frames; ++i)
+      latents[size_t(j)].push_back(
+          Eigen::Map<const Eigen::VectorXd>(t.data_ptr<double>() + (j * frames + i) * r, r));
+  const torch::Tensor sd = m.norm_z.std.to(torch::kFloat64).contiguous();
+  const nsf::LatentPrior prior(latents,
+                               Eigen::Map<const Eigen::VectorXd>(sd.data_ptr<double>(), r));
+  std::vector<uint32_t> ids;
+  for (uint32_t p = 0; p < uint32_t(kParticles); p += 4) ids.push_back(p);
+  std::vector<nsf::Vec3> target;
+  for (uint32_t p : ids) target.push_back(X[p] + nsf::Vec3(0.001, 0, 0));
+  nsf::GaussNewtonOptions o;
+  o.prior = &prior;
+  o.prior_length = 0.001;
+  nsf::invert_deformation(*nsf::sample_deformation(m, X, ids), target, z, o);
 }
 
 // The checksum a results row records (docs/RESULTS.md, `model_crc32`) is the one the file
@@ -262,6 +307,122 @@ TEST(FuzzModel, EntriesNsfNeverWritesAreNamedErrorsUnderAValidChecksum) {
   fs::remove_all(dir);
 }
 
+// #54 item 7: a network weight of NaN (the issue filled the encoder's fc2 with 0xFF and made the
+// checksum match) crashed the ROM's first inversion in LatentPrior::closest. It is refused on
+// load, naming the network; and the prior and the inversion refuse a NaN latent by name.
+TEST(FuzzModel, ANaNWeightIsRefusedOnLoadNamingItsNetwork) {
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / ("nsf_model_nan_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  torch::manual_seed(7);
+  for (const std::string decoder : {"basis", "mlp"}) {
+    nsf::NeuralModel m = small_model(decoder);
+    {
+      torch::NoGradGuard no_grad;
+      auto params = m.encoder->named_parameters();
+      torch::Tensor w = params[params.size() - 1].value();  // the encoder's last layer
+      w.fill_(std::nanf(""));
+    }
+    const std::string path = (dir / (decoder + ".nsf")).string();
+    m.save(path);
+    const Result r = run_bounded([&] { load_and_use(path); }, 60);
+    EXPECT_EQ(r.outcome, Outcome::NamedError) << decoder << ": " << r.detail;
+    nsf::testing::expect_contains(r.detail, "network 'encoder'");
+    nsf::testing::expect_contains(r.detail, "NaN or infinite weight");
+  }
+  const std::vector<std::vector<Eigen::VectorXd>> runs = {
+      {Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 0)},
+      {Eigen::Vector2d(0, 1), Eigen::Vector2d(1, 1)}};
+  const nsf::LatentPrior prior(runs, Eigen::Vector2d(1, 1));
+  const Eigen::Vector2d nan(std::nan(""), 0);
+  const Result near = run_bounded([&] { prior.nearest(nan); }, 30);
+  EXPECT_EQ(near.outcome, Outcome::NamedError) << near.detail;
+  nsf::testing::expect_contains(near.detail, "latent prior");
+  const nsf::NeuralModel basis = small_model("basis");
+  const std::string path = (dir / "ok.nsf").string();
+  basis.save(path);
+  const Result inv = run_bounded(
+      [&] {
+        nsf::NeuralFields f = nsf::NeuralFields::load(path);
+        const std::vector<uint32_t> ids = {0, 1, 2, 3};
+        std::vector<nsf::Vec3> target(4, nsf::Vec3::Zero());
+        nsf::invert_deformation(*nsf::sample_deformation(f.model(), rest_positions(), ids), target,
+                                nan, nsf::GaussNewtonOptions{});
+      },
+      30);
+  EXPECT_EQ(inv.outcome, Outcome::NamedError) << inv.detail;
+  nsf::testing::expect_contains(inv.detail, "starting latent");
+  fs::remove_all(dir);
+}
+
+// #54 item 8: a model nsf wrote with a checksum that has none now (one byte appended, the last
+// byte cut, the zip comment removed) is damaged, not "written before nsf stored one" (the first
+// two are caught by the zip's own end record, the third by the format version or its entry). Both
+// families: the basis model's format version postdates checksums, and the MLP model's (3) says so
+// by its `checksummed` entry. A file of version 3 written without one still loads, with a note.
+TEST(FuzzModel, AFileNsfWroteWithAChecksumIsRefusedWithoutOne) {
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / ("nsf_model_strip_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  torch::manual_seed(7);
+  for (const std::string decoder : {"basis", "mlp"}) {
+    const std::string path = (dir / (decoder + ".nsf")).string();
+    small_model(decoder).save(path);
+    const std::string original = bytes_of(path);
+    std::string stripped = original;
+    strip_checksum(stripped);
+    ASSERT_NE(stripped, original);
+    const std::vector<std::pair<std::string, std::string>> damaged = {
+        {"one byte appended", original + "x"},
+        {"last byte cut", original.substr(0, original.size() - 1)},
+        {"zip comment removed", stripped}};
+    for (const auto& [what, bytes] : damaged) {
+      std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+      const Result r = run_bounded([&] { load_and_use(path); }, 60);
+      EXPECT_EQ(r.outcome, Outcome::NamedError) << decoder << ", " << what << ": " << r.detail;
+      if (r.outcome == Outcome::NamedError) {
+        EXPECT_NE(r.detail.find(what == "zip comment removed" ? "has none now" : "is damaged"),
+                  std::string::npos)
+            << what << ": " << r.detail;
+      }
+    }
+  }
+  torch::serialize::OutputArchive a;  // as nsf wrote an MLP model before it stored checksums
+  small_model("mlp").write(a);
+  a.write("checksummed", c10::IValue(false));
+  const std::string old_path = (dir / "old.nsf").string();
+  nsf::save_checked_archive(a, old_path, "model file");
+  std::string old = bytes_of(old_path);
+  strip_checksum(old);
+  std::ofstream(old_path, std::ios::binary | std::ios::trunc) << old;
+  const Result r = run_bounded([&] { load_and_use(old_path); }, 60);
+  EXPECT_EQ(r.outcome, Outcome::Accepted) << r.detail;
+  fs::remove_all(dir);
+}
+
+// Torch's reader does not check the zip's own CRC-32s, and its TorchScript parser crashed on a
+// class source with one bit flipped under a matching outer checksum (a fuzz case). Each entry is
+// checked against its CRC-32 before torch reads it.
+TEST(FuzzModel, AnEntryThatDoesNotMatchItsZipCrcIsRefusedBeforeTorchReadsIt) {
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / ("nsf_model_entry_crc_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string path = (dir / "m.nsf").string();
+  small_model("mlp").save(path);
+  std::string bytes = bytes_of(path);
+  const size_t name = bytes.find("archive/data.pkl");
+  ASSERT_NE(name, std::string::npos);
+  const size_t pickle = bytes.find('\x80', name);  // the pickle's protocol opcode
+  ASSERT_NE(pickle, std::string::npos);
+  bytes[pickle + 5] = static_cast<char>(bytes[pickle + 5] ^ 4);
+  refresh_checksum(bytes);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  const Result r = run_bounded([&] { load_and_use(path); }, 60);
+  EXPECT_EQ(r.outcome, Outcome::NamedError) << r.detail;
+  nsf::testing::expect_contains(r.detail, "'archive/data.pkl' does not match its CRC-32");
+  fs::remove_all(dir);
+}
+
 TEST(FuzzModel, MutatedModelFilesLoadOrAreRefusedWithANamedError) {
   const uint64_t seed = nsf::testing::fuzz::seed(20261126);
   const int cases = case_count(200);
@@ -292,15 +453,24 @@ TEST(FuzzModel, MutatedModelFilesLoadOrAreRefusedWithANamedError) {
     } else {
       ByteMutator b(rng);
       std::string detail;
-      std::string bytes = b.mutate(originals[k], detail);
+      std::string bytes =
+          rng() % 4 == 0 ? nan_bytes(originals[k], b, detail) : b.mutate(originals[k], detail);
       what += detail;
       if (rng() % 3 == 0) {
         bytes = b.mutate(bytes, detail);
         what += "; " + detail;
       }
-      if (rng() % 2 == 0) {
-        refresh_checksum(bytes);
-        what += ", checksum made to match";
+      switch (rng() % 3) {
+        case 0:
+          refresh_checksum(bytes);
+          what += ", checksum made to match";
+          break;
+        case 1:
+          strip_checksum(bytes);
+          what += ", checksum stripped";
+          break;
+        default:
+          break;
       }
       std::ofstream(path, std::ios::binary) << bytes;
     }

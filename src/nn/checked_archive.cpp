@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "nn/zip_entries.h"
 
 namespace nsf {
 
@@ -90,6 +91,7 @@ bool load_checked_archive(torch::serialize::InputArchive& a, const std::string& 
            "); it was changed after nsf wrote it. Copy it again "
            "or retrain");
   }
+  check_zip_entries(bytes, checked ? kCommentLength : 0, what, path);
   try {
     a.load_from(bytes.data(), bytes.size(), torch::Device(torch::kCPU));
   } catch (const c10::Error& e) {

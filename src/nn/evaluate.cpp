@@ -111,6 +111,7 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
       nf.deform(pts, z, x);
       nf.stress(pts, z, run.mu, tau, &zdot);
       nf.affine(pts, z, C, run.mu, &zdot);
+      require_finite_fields(z, x, tau, C, "model " + model_path, "run " + row.run, k);
       for (size_t i = 0; i < n; ++i) {
         const size_t p = subset[i];
         ex += (x[i] - full[p]).squaredNorm(), nx += full[p].squaredNorm();

@@ -14,6 +14,20 @@
 
 namespace nsf {
 
+void require_finite_fields(const Eigen::VectorXd& z, const std::vector<Vec3>& x,
+                           const std::vector<Mat3>& tau, const std::vector<Mat3>& C,
+                           const std::string& source, const std::string& where, size_t frame) {
+  const char* what = !z.allFinite() ? "latent" : nullptr;
+  for (size_t i = 0; !what && i < x.size(); ++i)
+    what = !x[i].allFinite()                       ? "positions"
+           : i < tau.size() && !tau[i].allFinite() ? "stress"
+           : i < C.size() && !C[i].allFinite()     ? "affine field"
+                                                   : nullptr;
+  if (what)
+    fail(source, " gives a NaN or infinite ", what, " on ", where, ", frame ", frame,
+         " (a damaged model, or one far outside its training); no row is written");
+}
+
 Mat3 stored_stress(const float* s) {
   Mat3 t;
   t << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];

@@ -4,7 +4,9 @@
 // largely average out in P2G. A relative error against the raw per-particle values therefore
 // stays well above zero; these measures say how much of a field is smooth and what the dynamics
 // see of the error.
+#include <Eigen/Core>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/types.h"
@@ -14,6 +16,13 @@ namespace nsf {
 // A particle's τ as a run file stores it (xx yy zz xy yz xz) and its C (row-major 9), as 3×3.
 Mat3 stored_stress(const float* s);
 Mat3 stored_affine(const float* c);
+
+// A row of results is made only of finite predictions: fields that are NaN or infinite on a frame
+// (damaged weights under a matching checksum, or a latent far outside training) are an nsf::Error
+// naming `source` (the model), `where` (the run) and the frame, not a row of "-" or of 1e30 %.
+void require_finite_fields(const Eigen::VectorXd& z, const std::vector<Vec3>& x,
+                           const std::vector<Mat3>& tau, const std::vector<Mat3>& C,
+                           const std::string& source, const std::string& where, size_t frame);
 
 // Accumulates Σ‖a − b‖² and Σ‖b‖² over many frames; relative() = √(err / ref), NaN when ref = 0.
 // Over positions against the truth's, it is δ of eq. (11).

@@ -136,6 +136,12 @@ InversionResult invert_deformation(SampleDeformation& samples, const std::vector
   if (3 * n < r)
     fail("inversion: |S| = ", n, " sample particles cannot fix r = ", r,
          " latent coordinates (need |S| ≥ r/3)");
+  if (!z0.allFinite())
+    fail(
+        "inversion: the starting latent holds a NaN or infinite value (a damaged model, or a "
+        "state that diverged)");
+  for (const Vec3& x : target)
+    if (!x.allFinite()) fail("inversion: a target position holds a NaN or infinite value");
   InversionResult res;
   res.z = z0;
   Eigen::MatrixXd J;

@@ -72,6 +72,11 @@ Eigen::VectorXd LatentPrior::whiten(const Eigen::VectorXd& z) const {
 
 double LatentPrior::closest(const Eigen::VectorXd& w, Eigen::VectorXd* point,
                             Eigen::MatrixXd* plane) const {
+  // No distance to a NaN compares smaller than infinity: no triangle would be the closest.
+  if (!w.allFinite())
+    fail(
+        "latent prior: the latent holds a NaN or infinite value (a damaged model, or a state "
+        "that diverged)");
   // The best feature: a triangle's interior (edge = -1) or one of its edges (0, 1, 2), with the
   // parameters of the closest point on it.
   double best = std::numeric_limits<double>::infinity();

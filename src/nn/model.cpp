@@ -31,6 +31,11 @@ constexpr int64_t kModesEncoderFormatVersion = 6;
 // nsf would call with too few inputs: it refuses the file.
 constexpr int64_t kStressVelocityFormatVersion = 7;
 constexpr int64_t kNewestFormatVersion = kStressVelocityFormatVersion;
+// nsf has stored a checksum in every model file since before format version 5 was written, so a
+// file of version 5 or later without one was changed after nsf wrote it (bytes appended or cut,
+// the zip comment removed). Files of versions 3 and 4 written since carry the entry
+// `checksummed`, which says the same of them; older ones load with a note.
+constexpr int64_t kFirstChecksummedFormatVersion = 5;
 constexpr const char* kMapParts[5] = {"centers", "weights", "poly", "shift", "scale"};
 constexpr const char* kBasisNames[3] = {"u", "tau", "C"};
 constexpr int64_t kBasisDims[3] = {3, 6, 9};
@@ -183,6 +188,7 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
                       : is_basis()                   ? kBasisFormatVersion
                                                      : kFormatVersion));
   a.write("nsf_version", c10::IValue(std::string(NSF_VERSION)));
+  a.write("checksummed", c10::IValue(true));
   a.write("scene_name", c10::IValue(scene.scene_name));
   a.write("scene_particles", c10::IValue(scene.particles));
   a.write("scene_x_hash", c10::IValue(hex64(scene.x_hash)));
@@ -436,12 +442,23 @@ void NeuralModel::save(const std::string& path) const {
 NeuralModel NeuralModel::load(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) fail("model file ", path, " does not exist");
   torch::serialize::InputArchive a;
-  if (!load_checked_archive(a, path, "model file"))
-    std::fprintf(stderr,
-                 "nsf: note: model file %s has no checksum (written before nsf stored one); "
-                 "its contents are not verified\n",
-                 path.c_str());
+  const bool checked = load_checked_archive(a, path, "model file");
   try {
+    if (!checked) {
+      c10::IValue version, marked;
+      const bool written_with_checksum =
+          (a.try_read("format_version", version) && version.isInt() &&
+           version.toInt() >= kFirstChecksummedFormatVersion) ||
+          (a.try_read("checksummed", marked) && marked.isBool() && marked.toBool());
+      if (written_with_checksum)
+        fail("model file ", path,
+             " is damaged: nsf wrote it with a checksum, and it has none now (bytes were "
+             "appended or cut, or its zip comment was removed). Copy it again or retrain");
+      std::fprintf(stderr,
+                   "nsf: note: model file %s has no checksum (written before nsf stored one); "
+                   "its contents are not verified\n",
+                   path.c_str());
+    }
     NeuralModel m = read(a, path);
     m.set_eval_mode();
     return m;

@@ -89,6 +89,9 @@ void load_network_checked(torch::nn::Module& net, torch::serialize::InputArchive
       fail("model file ", path, ": damaged network '", name, "': '", key, "' is ",
            c10::toString(t.scalar_type()), " ", shape_text(t.sizes()), ", the configuration needs ",
            c10::toString(type), " ", shape_text(shape));
+    if (t.is_floating_point() && !torch::isfinite(t).all().item<bool>())
+      fail("model file ", path, ": network '", name, "': '", key,
+           "' holds a NaN or infinite weight");
   };
   for (const auto& p : net.named_parameters()) check(p.key(), p.value());
   for (const auto& b : net.named_buffers()) check(b.key(), b.value());

@@ -30,7 +30,8 @@ void check_model_tensor(const torch::Tensor& t, at::IntArrayRef shape, const std
                         const std::string& path);
 
 // net->load(archive) that refuses weights whose shapes or types differ from those the
-// configuration built (torch's own load would take them and fail later, mid-evaluation).
+// configuration built (torch's own load would take them and fail later, mid-evaluation), and
+// weights that are not finite (they would reach the ROM's inversion as a NaN latent).
 void load_network_checked(torch::nn::Module& net, torch::serialize::InputArchive& archive,
                           const std::string& name, const std::string& path);
 

@@ -745,7 +745,9 @@ void Trainer::save_checkpoint() const {
 
 void Trainer::load_checkpoint() {
   torch::serialize::InputArchive a, m;
-  load_checked_archive(a, ckpt_, "checkpoint");
+  if (!load_checked_archive(a, ckpt_, "checkpoint"))  // nsf writes every checkpoint with one
+    fail("checkpoint ", ckpt_,
+         " is damaged: it has no checksum (bytes were appended or cut); start over with --fresh");
   c10::IValue v;
   a.read("config_key", v);
   if (v.toStringRef() != config_key())
