@@ -1,5 +1,5 @@
-// The baselines beside each reduced-order row (app/baselines.h): look-up, interpolation in μ and
-// the coarse engine, on hand-made runs whose answers are known, and on a small scene.
+// The baselines beside each reduced-order row (rom/eval/baselines.h): look-up, interpolation in μ
+// and the coarse engine, on hand-made runs whose answers are known, and on a small scene.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -7,12 +7,12 @@
 #include <cmath>
 #include <filesystem>
 
-#include "app/baselines.h"
 #include "core/error.h"
 #include "error_matchers.h"
 #include "io/run_writer.h"
 #include "mpm/particles.h"
 #include "mpm/simulation.h"
+#include "rom/eval/baselines.h"
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
@@ -150,9 +150,9 @@ TEST_F(Baselines, CoarserOverridesScaleDxAndDtWhenTheSubstepsDivide) {
 // The engine on the truth's own scene reproduces the truth exactly (every particle carried by
 // itself alone); at 1.5× Δx it has fewer particles and a small, nonzero error.
 TEST_F(Baselines, CoarseEngineOnTheSameSceneIsExactAndACoarserOneClose) {
-  const nsf::app::SceneFile file = nsf::app::read_scene_file(kTinyScene);
+  const nsf::SceneFile file = nsf::read_scene_file(kTinyScene);
   {
-    nsf::Simulation sim(nsf::app::build_scene_file(file));
+    nsf::Simulation sim(nsf::build_scene_file(file));
     nsf::RunWriter w(path("truth.h5"), sim.particles(), sim.settings(), "rom_tiny",
                      file.json.dump());
     w.write_frame(sim.particles(), sim.time());
@@ -169,8 +169,8 @@ TEST_F(Baselines, CoarseEngineOnTheSameSceneIsExactAndACoarserOneClose) {
   EXPECT_EQ(same.coarse_particles, truth.particle_count());
   EXPECT_GT(same.coarse_seconds, 0.0);
 
-  const nsf::app::SceneFile coarse =
-      nsf::app::read_scene_file(kTinyScene, nsf::coarser_overrides(file.json, 1.5));
+  const nsf::SceneFile coarse =
+      nsf::read_scene_file(kTinyScene, nsf::coarser_overrides(file.json, 1.5));
   nsf::Baselines c;
   nsf::measure_coarse_baseline(coarse, coarse.json, truth, 6, 2, true, c);
   EXPECT_LT(c.coarse_particles, truth.particle_count() / 2);

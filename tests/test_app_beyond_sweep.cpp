@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "app/beyond_sweep.h"
-#include "app/scene_file.h"
+#include "rom/setup/scene_file.h"
 
 namespace fs = std::filesystem;
 
@@ -19,12 +19,12 @@ TEST(BeyondSweep, EveryCaseChangesItsSceneAtBothSizesAndTheSceneBuilds) {
         const std::string path =
             (fs::path(NSF_SOURCE_DIR) / "scenes" / "paper" / (base + std::string(size) + ".json"))
                 .string();
-        const nsf::app::SceneFile plain = nsf::app::read_scene_file(path);
-        const nsf::app::SceneFile changed = nsf::app::read_scene_file(path, c.set);
+        const nsf::SceneFile plain = nsf::read_scene_file(path);
+        const nsf::SceneFile changed = nsf::read_scene_file(path, c.set);
         if (!c.set.empty()) {
           EXPECT_NE(plain.json, changed.json) << path << ": " << c.what;
         }
-        EXPECT_NO_THROW(nsf::app::build_scene_file(changed)) << path << ": " << c.what;
+        EXPECT_NO_THROW(nsf::build_scene_file(changed)) << path << ": " << c.what;
       }
     }
   EXPECT_GE(cases, 3);  // issue #25 point 5: at least three scenes

@@ -1,17 +1,17 @@
-// `nsf generalize` (app/generalize.h): the benchmark of unseen interactions on the tiny scene's
-// "generalize" section, with a tiny per-point basis model trained on its sweep. Each draw is run
-// at full order, by the ROM and by the baselines; a draw reruns alone to the same figures.
+// `nsf generalize` (rom/eval/generalize.h): the benchmark of unseen interactions on the tiny
+// scene's "generalize" section, with a tiny per-point basis model trained on its sweep. Each draw
+// is run at full order, by the ROM and by the baselines; a draw reruns alone to the same figures.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 
-#include "app/generalize.h"
 #include "core/error.h"
 #include "data/sweep.h"
 #include "error_matchers.h"
 #include "nn/runtime.h"
 #include "nn/trainer.h"
+#include "rom/eval/generalize.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// The commands' check of a whole scene (app/scene_file.h): the engine's loader reads its own
+// The commands' check of a whole scene (rom/setup/scene_file.h): the engine's loader reads its own
 // sections, and the "sweep", "rom" and "train" sections are parsed by their owners, so that a
 // misspelt key anywhere still stops every command that loads the scene.
 #include <gtest/gtest.h>
@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "app/scene_file.h"
 #include "core/error.h"
+#include "rom/setup/scene_file.h"
 
 namespace nsf::app {
 namespace {

@@ -19,7 +19,7 @@
 #include "nn/runtime.h"
 #include "nn/trainer.h"
 #include "rom/latent_stepper.h"
-#include "runtime/rom_setup.h"
+#include "rom/setup/rom_setup.h"
 #include "ws_client.h"
 
 namespace fs = std::filesystem;

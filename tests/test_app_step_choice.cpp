@@ -1,11 +1,11 @@
 // How `nsf calibrate --dt-ratios` picks the ROM step from its table
-// (app/latent_prior_calibration.h): the largest ratio whose mean δ stays within the tolerance of
-// the best ratio's, or within a budget.
+// (rom/calibration/latent_prior_calibration.h): the largest ratio whose mean δ stays within the
+// tolerance of the best ratio's, or within a budget.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "app/latent_prior_calibration.h"
+#include "rom/calibration/latent_prior_calibration.h"
 
 namespace nsf {
 namespace {

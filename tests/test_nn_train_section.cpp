@@ -6,11 +6,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/latent_prior_calibration.h"
 #include "app/pipeline.h"
 #include "core/error.h"
 #include "error_matchers.h"
 #include "nn/train_section.h"
+#include "rom/calibration/latent_prior_calibration.h"
 
 namespace nsf {
 namespace {

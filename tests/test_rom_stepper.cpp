@@ -12,9 +12,7 @@
 #include <fstream>
 #include <random>
 
-#include "app/latent_prior_calibration.h"
 #include "app/results_table.h"
-#include "app/rom_run.h"
 #include "cli_runner.h"
 #include "core/error.h"
 #include "data/sweep.h"
@@ -28,11 +26,14 @@
 #include "nn/neural_fields.h"
 #include "nn/runtime.h"
 #include "nn/trainer.h"
+#include "rom/calibration/latent_prior_calibration.h"
+#include "rom/eval/rom_evaluation.h"
 #include "rom/field_gradients.h"
 #include "rom/field_source.h"
 #include "rom/integration_set.h"
 #include "rom/latent_stepper.h"
-#include "runtime/rom_setup.h"
+#include "rom/rom_diverged.h"
+#include "rom/setup/rom_setup.h"
 
 namespace fs = std::filesystem;
 using nsf::Mat3;
@@ -304,8 +305,8 @@ class RomEndToEnd : public ::testing::Test {
   static std::string truth() { return (root_ / "data" / "test_0.h5").string(); }
   static double test_mu() { return 1.0; }  // the sweep's single test run (midpoint)
 
-  static nsf::RomRunOptions options() {
-    nsf::RomRunOptions o;
+  static nsf::RomEvalOptions options() {
+    nsf::RomEvalOptions o;
     o.model_path = model();
     o.scene_path = kTinyScene;
     o.mu = test_mu();
@@ -330,7 +331,7 @@ class RomEndToEnd : public ::testing::Test {
 fs::path RomEndToEnd::root_;
 
 TEST_F(RomEndToEnd, StaysCloseToTheFullOrderRunAndBeatsAFrozenLatent) {
-  const nsf::RomReport r = nsf::run_rom(options());
+  const nsf::RomReport r = nsf::evaluate_rom(options());
   ASSERT_GE(r.delta, 0);
   EXPECT_LT(r.delta, 0.05) << "delta of the reduced-order run";
   std::printf("tiny scene: ROM delta %.3f%%\n", 100 * r.delta);
@@ -357,7 +358,7 @@ TEST_F(RomEndToEnd, StaysCloseToTheFullOrderRunAndBeatsAFrozenLatent) {
   EXPECT_GE(*best, 0.0);
   EXPECT_LE(*best, r.delta);
   EXPECT_GE(*worst, r.delta);
-  EXPECT_EQ(nsf::result_json(r, "s.json", "m.nsf", "", "").at("delta_per_frame"),
+  EXPECT_EQ(nsf::app::result_json(r, "s.json", "m.nsf", "", "").at("delta_per_frame"),
             nlohmann::json(r.delta_per_frame));
   // The inversion projects the samples' displacements after the MPM step onto g's tangent: a
   // least-squares projection (equal masses here) cannot add kinetic energy; it may only drop
@@ -374,10 +375,10 @@ TEST_F(RomEndToEnd, StaysCloseToTheFullOrderRunAndBeatsAFrozenLatent) {
 // Full order run in the same process, with no --fom-out: its scratch truth file and the file's
 // ParaView sidecar are gone when the run ends (they once piled up in the temp directory).
 TEST_F(RomEndToEnd, FullOrderInTheSameRunLeavesNoScratchFilesBehind) {
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.full_order = true;
   o.truth_path.clear();
-  const nsf::RomReport r = nsf::run_rom(o);
+  const nsf::RomReport r = nsf::evaluate_rom(o);
   EXPECT_GT(r.fom_seconds, 0);
   EXPECT_GE(r.delta, 0);
   const std::string stem = "nsf_rom_truth_" + std::to_string(::getpid());
@@ -431,9 +432,9 @@ TEST_F(RomEndToEnd, ThinnedQuadratureKeepsNExactAmongTheQuadraturePoints) {
   EXPECT_LE(after.mean_K, double(after.quadrature_points));
   EXPECT_GT(after.mean_N, double(rom.sample_count()));
 
-  nsf::RomRunOptions full = options(), thin = options();
+  nsf::RomEvalOptions full = options(), thin = options();
   thin.rom.quadrature_per_cell = 1;
-  const nsf::RomReport a = nsf::run_rom(full), b = nsf::run_rom(thin);
+  const nsf::RomReport a = nsf::evaluate_rom(full), b = nsf::evaluate_rom(thin);
   EXPECT_LT(b.mean_N, 0.25 * a.mean_N) << "thinned " << b.mean_N << " vs " << a.mean_N;
   EXPECT_LT(b.delta, 0.05);
   std::printf(
@@ -513,13 +514,13 @@ TEST_F(RomEndToEnd, TimeStepRatioIsTakenAsAskedEvenBeyondTheCflBound) {
 }
 
 TEST_F(RomEndToEnd, SceneSetsTheTimeStepRatioAndTheCommandLineOverridesIt) {
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.overrides = {"rom.dt_ratio=3"};
-  const nsf::RomReport scene_ratio = nsf::run_rom(o);
+  const nsf::RomReport scene_ratio = nsf::evaluate_rom(o);
   EXPECT_EQ(scene_ratio.rom_steps_per_frame, 5);  // 15 substeps of Δt, 3Δt each
   EXPECT_GE(scene_ratio.delta, 0);
   o.dt_ratio = 5;
-  const nsf::RomReport given = nsf::run_rom(o);
+  const nsf::RomReport given = nsf::evaluate_rom(o);
   EXPECT_EQ(given.rom_steps_per_frame, 3);
   std::printf("tiny scene: ROM delta %.3f%% at 3 dt, %.3f%% at 5 dt\n", 100 * scene_ratio.delta,
               100 * given.delta);
@@ -529,14 +530,14 @@ TEST_F(RomEndToEnd, SceneSetsTheTimeStepRatioAndTheCommandLineOverridesIt) {
 // every particle an integration point or with the thinned quadrature (whose merged points take
 // their group's blended basis rows), and the sources of the other family are a clear error.
 TEST_F(RomEndToEnd, BasisModelRunsCloseToGroundTruth) {
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.model_path = basis_model();
-  const nsf::RomReport r = nsf::run_rom(o);
+  const nsf::RomReport r = nsf::evaluate_rom(o);
   EXPECT_EQ(r.field_sources, "x from g's basis, tau from h's basis, C from l's basis");
   EXPECT_LT(r.delta, 0.05);
   EXPECT_GE(r.stress_error, 0);
   o.rom.quadrature_per_cell = 1;
-  const nsf::RomReport thin = nsf::run_rom(o);
+  const nsf::RomReport thin = nsf::evaluate_rom(o);
   EXPECT_LT(thin.delta, 0.05);
   EXPECT_LT(thin.mean_N, 0.5 * r.mean_N);
   std::printf(
@@ -545,11 +546,11 @@ TEST_F(RomEndToEnd, BasisModelRunsCloseToGroundTruth) {
       100 * r.delta, 100 * r.stress_error, 100 * r.affine_error, 100 * thin.delta);
   o.rom.quadrature_per_cell = 0;
   o.rom.fields.stress = "network";
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
                                 "per-point basis model");
   o.model_path = model();
   o.rom.fields.stress = "basis";
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
                                 "nsf train --decoder basis");
 }
 
@@ -565,7 +566,7 @@ TEST_F(RomEndToEnd, BasisRunIsBitIdenticalAcrossThreadCounts) {
   // the points' own velocities.
   for (const std::string variant : {"", "tracked", "prior", "velocity"}) {
     const std::string m = basis_model() + " " + variant;
-    nsf::RomRunOptions o = options();
+    nsf::RomEvalOptions o = options();
     o.model_path = basis_model();
     o.rom.serial_below_points = 0;
     if (variant == "tracked") {
@@ -579,7 +580,7 @@ TEST_F(RomEndToEnd, BasisRunIsBitIdenticalAcrossThreadCounts) {
       o.threads = threads;
       o.out_path = (root_ / ("threads_" + std::to_string(threads) + ".h5")).string();
       o.gzip = threads == 3 ? 1 : 0;  // a compressed output file holds the same bits
-      nsf::run_rom(o);
+      nsf::evaluate_rom(o);
       const nsf::RunReader r(o.out_path);
       std::vector<nsf::Vec3> all;
       for (size_t k = 0; k < r.frame_count(); ++k)
@@ -599,63 +600,64 @@ TEST_F(RomEndToEnd, BasisRunIsBitIdenticalAcrossThreadCounts) {
 // The scene's rom.seed chooses the samples (it was validated and then overwritten by the command
 // line's default); the command line's --seed overrides it.
 TEST_F(RomEndToEnd, SceneSetsTheSampleSeedAndTheCommandLineOverridesIt) {
-  nsf::RomRunOptions o = options();
-  const nsf::RomReport seed1 = nsf::run_rom(o);
+  nsf::RomEvalOptions o = options();
+  const nsf::RomReport seed1 = nsf::evaluate_rom(o);
   o.overrides = {"rom.seed=7"};
-  const nsf::RomReport scene_seed = nsf::run_rom(o);
+  const nsf::RomReport scene_seed = nsf::evaluate_rom(o);
   EXPECT_NE(scene_seed.delta, seed1.delta) << "the scene's seed was ignored";
   o.seed = 1;
-  const nsf::RomReport given = nsf::run_rom(o);
+  const nsf::RomReport given = nsf::evaluate_rom(o);
   EXPECT_EQ(given.delta, seed1.delta);
   o.overrides.clear();
   o.seed = 7;
-  EXPECT_EQ(nsf::run_rom(o).delta, scene_seed.delta);
+  EXPECT_EQ(nsf::evaluate_rom(o).delta, scene_seed.delta);
 }
 
 // A scene's "rom" section sets the quadrature, the Gauss–Newton cap and the field sources; the
 // command line's own choices take precedence, field by field.
 TEST_F(RomEndToEnd, SceneSetsQuadratureAndFieldSourcesAndTheCommandLineOverridesThem) {
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.overrides = {"rom.quadrature=1", "rom.fields={\"affine\": \"none\"}"};
-  const nsf::RomReport scene = nsf::run_rom(o);
+  const nsf::RomReport scene = nsf::evaluate_rom(o);
   EXPECT_LT(scene.quadrature_points, scene.particles);
   nsf::testing::expect_contains(scene.field_sources, "C = 0");
   o.quadrature = 0;
   o.rom.fields.affine = "network";
-  const nsf::RomReport given = nsf::run_rom(o);
+  const nsf::RomReport given = nsf::evaluate_rom(o);
   EXPECT_EQ(given.quadrature_points, given.particles);
   nsf::testing::expect_contains(given.field_sources, "C from l");
   o.overrides.clear();
   o.quadrature.reset();
   o.rom.fields.affine.clear();
-  EXPECT_EQ(given.delta, nsf::run_rom(o).delta) << "the plain run differs from the overridden one";
+  EXPECT_EQ(given.delta, nsf::evaluate_rom(o).delta)
+      << "the plain run differs from the overridden one";
 }
 
 // Field sources are chosen by name from a registry; an unknown name lists the known ones.
 TEST_F(RomEndToEnd, UnknownFieldSourceIsAClearErrorListingTheKnownOnes) {
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.rom.fields.stress = "magic";
-  const std::string msg = nsf::testing::error_of([&] { nsf::run_rom(o); });
+  const std::string msg = nsf::testing::error_of([&] { nsf::evaluate_rom(o); });
   nsf::testing::expect_contains(msg, "unknown stress source 'magic'");
   nsf::testing::expect_contains(msg, "basis, crom, network, tracked");
   o.rom.fields = {};
   o.rom.fields.affine = "nope";
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
                                 "unknown affine source 'nope'");
   o.rom.fields = {};
   o.rom.fields.velocity = "smooth";
-  nsf::testing::expect_error([&] { nsf::run_rom(o); },
+  nsf::testing::expect_error([&] { nsf::evaluate_rom(o); },
                              {"unknown velocity source 'smooth'", "latent, tracked"});
   // A source that lost and was removed names its record (rom.fields given with --set too).
   o.rom.fields = {};
   o.rom.fields.affine = "velocity";
   nsf::testing::expect_error(
-      [&] { nsf::run_rom(o); },
+      [&] { nsf::evaluate_rom(o); },
       {"affine source 'velocity' was retired", "docs/experiments/2026-11-22-velocity-affine.md"});
   o.rom.fields = {};
   o.rom.fields.deformation = "tangent";
   nsf::testing::expect_error(
-      [&] { nsf::run_rom(o); },
+      [&] { nsf::evaluate_rom(o); },
       {"deformation source 'tangent' was retired", "docs/experiments/2026-11-22-tangent-cache.md"});
 }
 
@@ -685,15 +687,15 @@ TEST_F(RomEndToEnd, ARegisteredVelocitySourceIsChosenByName) {
       "zz_half", [](const nsf::FieldContext& c) { return std::make_unique<Scaled>(c.dt, 0.5); });
   const std::vector<std::string> names = nsf::velocity_source_names();
   EXPECT_NE(std::find(names.begin(), names.end(), "zz_half"), names.end());
-  nsf::RomRunOptions o = options();
-  const nsf::RomReport plain = nsf::run_rom(o);
+  nsf::RomEvalOptions o = options();
+  const nsf::RomReport plain = nsf::evaluate_rom(o);
   o.rom.fields.velocity = "zz_copy";
-  const nsf::RomReport copy = nsf::run_rom(o);
+  const nsf::RomReport copy = nsf::evaluate_rom(o);
   EXPECT_EQ(copy.delta, plain.delta);
   nsf::testing::expect_contains(copy.field_sources, "v from a test source x1");
   EXPECT_THAT(plain.field_sources, Not(HasSubstr("v from")));
   o.rom.fields.velocity = "zz_half";
-  const nsf::RomReport half = nsf::run_rom(o);
+  const nsf::RomReport half = nsf::evaluate_rom(o);
   EXPECT_NE(half.delta, plain.delta);
   nsf::testing::expect_contains(half.field_sources, "v from a test source x0.5");
 }
@@ -719,14 +721,14 @@ TEST_F(RomEndToEnd, IntegrationParticlesLeavingTheGridAreAClearError) {
 }
 
 TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.rom.fields.stress = "crom";
-  const nsf::RomReport crom = nsf::run_rom(o);
+  const nsf::RomReport crom = nsf::evaluate_rom(o);
   EXPECT_GE(crom.delta, 0);
   EXPECT_EQ(crom.field_sources, "x from g, tau from dg/dX through the material (CROM), C = 0");
   o.rom.fields.stress = "";
   o.rom.inversion.taylor = true;
-  const nsf::RomReport taylor = nsf::run_rom(o);
+  const nsf::RomReport taylor = nsf::evaluate_rom(o);
   EXPECT_LT(taylor.delta, 0.1);
 }
 
@@ -735,22 +737,22 @@ TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {
 // of a thinned quadrature carries one for its group. It must change the run and stay close to
 // ground truth on the tiny elastic scene, with every particle a sample or a few, thinned or not.
 TEST_F(RomEndToEnd, TrackedStateOnTheIntegrationPointsReplacesTheNetworks) {
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.samples = 864;  // |P| of the tiny scene
-  const nsf::RomReport networks = nsf::run_rom(o);
+  const nsf::RomReport networks = nsf::evaluate_rom(o);
   o.rom.fields.stress = o.rom.fields.affine = "tracked";
-  const nsf::RomReport tracked = nsf::run_rom(o);
+  const nsf::RomReport tracked = nsf::evaluate_rom(o);
   EXPECT_NE(tracked.delta, networks.delta);
   EXPECT_LT(tracked.delta, 0.05);
   o.rom.fields.affine = "network";
-  const nsf::RomReport stress_only = nsf::run_rom(o);
+  const nsf::RomReport stress_only = nsf::evaluate_rom(o);
   EXPECT_NE(stress_only.delta, tracked.delta);
   o.rom.fields.affine = "tracked";
   o.samples = 100;
-  const nsf::RomReport few = nsf::run_rom(o);
+  const nsf::RomReport few = nsf::evaluate_rom(o);
   EXPECT_LT(few.delta, 0.05);
   o.rom.quadrature_per_cell = 1;
-  const nsf::RomReport thinned = nsf::run_rom(o);
+  const nsf::RomReport thinned = nsf::evaluate_rom(o);
   EXPECT_LT(thinned.delta, 0.05);
   EXPECT_NE(thinned.delta, few.delta);
   EXPECT_LT(thinned.quadrature_points, 864u);
@@ -761,7 +763,7 @@ TEST_F(RomEndToEnd, TrackedStateOnTheIntegrationPointsReplacesTheNetworks) {
   // A sample schedule (the cake's) keeps the first S's quadrature, and with it every point's
   // state: the run changes (fewer samples fitted) and stays close.
   o.overrides = {R"(rom.schedule=[{"fraction": 0.5, "samples": 50}])"};
-  const nsf::RomReport scheduled = nsf::run_rom(o);
+  const nsf::RomReport scheduled = nsf::evaluate_rom(o);
   EXPECT_NE(scheduled.delta, thinned.delta);
   EXPECT_LT(scheduled.delta, 0.05);
   EXPECT_EQ(scheduled.quadrature_points, thinned.quadrature_points);
@@ -772,47 +774,66 @@ TEST_F(RomEndToEnd, TrackedStateOnTheIntegrationPointsReplacesTheNetworks) {
   o.overrides.clear();
   o.rom.quadrature_per_cell = 0;
   o.rom.fields.velocity = "tracked";
-  const nsf::RomReport own_v = nsf::run_rom(o);
+  const nsf::RomReport own_v = nsf::evaluate_rom(o);
   EXPECT_NE(own_v.delta, few.delta);
   EXPECT_LT(own_v.delta, 0.05);
   EXPECT_THAT(own_v.field_sources, HasSubstr("v from each point's own G2P"));
   EXPECT_THAT(few.field_sources, Not(HasSubstr("G2P")));
   o.rom.fields.velocity.clear();
   o.overrides = {R"(rom.fields={"stress": "tracked", "affine": "tracked", "velocity": "tracked"})"};
-  EXPECT_EQ(nsf::run_rom(o).delta, own_v.delta);
+  EXPECT_EQ(nsf::evaluate_rom(o).delta, own_v.delta);
   std::printf("tiny scene: tracked, 100 samples, each point's own velocity: ROM delta %.3f%%\n",
               100 * own_v.delta);
   o.overrides.clear();
   o.dt_ratio = 5;  // past the CFL bound, where the explicit tracked stress would blow up
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "CFL bound");
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }), "CFL bound");
+  // That refusal is the typed RomDiverged a calibration rules a setting out on; the engine's own
+  // time-step error, a scene whose Δt is past its CFL bound, is not (the calibration matched
+  // both by the words "CFL bound" before, and took a bad scene for a diverged ε).
+  EXPECT_THROW(nsf::evaluate_rom(o), nsf::RomDiverged);
+  o.dt_ratio.reset();
+  o.overrides = {"simulation.dt=0.05"};
+  o.truth_path.clear();  // the full-order run, which refuses the step first
+  o.full_order = true;
+  try {
+    nsf::evaluate_rom(o);
+    ADD_FAILURE() << "a scene past its CFL bound ran";
+  } catch (const nsf::RomDiverged& e) {
+    ADD_FAILURE() << "the engine's own CFL error is a RomDiverged: " << e.what();
+  } catch (const nsf::Error& e) {
+    EXPECT_THAT(std::string(e.what()), HasSubstr("exceeds the CFL bound"));
+  }
 }
 
 TEST_F(RomEndToEnd, BadInputIsAClearError) {
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.samples = 1;  // r = 4 needs at least 2
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "out of range");
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
+                                "out of range");
   o.samples = 100000;
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "out of range");
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
+                                "out of range");
   o = options();
   o.truth_path = (root_ / "missing.h5").string();
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "missing.h5");
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
+                                "missing.h5");
   o = options();
   o.scene_path = (fs::path(NSF_SOURCE_DIR) / "scenes" / "paper" / "jelly_small.json").string();
   o.mu = 2.0;
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
                                 "the model was trained for");
   o = options();
   o.mu.reset();
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "--mu");
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }), "--mu");
 }
 
 TEST_F(RomEndToEnd, MuOutsideTheTrainingRangeWarns) {
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.mu = 1.5;
-  EXPECT_TRUE(nsf::run_rom(o).warnings.empty());
+  EXPECT_TRUE(nsf::evaluate_rom(o).warnings.empty());
   o.mu = 1.6;  // just beyond the training range: a warning, and the run still completes
   o.truth_path.clear();
-  const nsf::RomReport r = nsf::run_rom(o);
+  const nsf::RomReport r = nsf::evaluate_rom(o);
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_THAT(r.warnings[0], HasSubstr("outside the training range"));
 }
@@ -828,11 +849,11 @@ TEST_F(RomEndToEnd, LatentPriorHoldsTheLatentNearTheTrainingRunsLatents) {
   EXPECT_NEAR(stored.trajectory_mu.min().item<double>(), stored.mu_min, 1e-6);
   EXPECT_NEAR(stored.trajectory_mu.max().item<double>(), stored.mu_max, 1e-6);
 
-  nsf::RomRunOptions o = options();
-  const nsf::RomReport free_run = nsf::run_rom(o);
+  nsf::RomEvalOptions o = options();
+  const nsf::RomReport free_run = nsf::evaluate_rom(o);
   EXPECT_GT(free_run.training_distance_max, 0);
   o.latent_prior = 0.001;
-  const nsf::RomReport held = nsf::run_rom(o);
+  const nsf::RomReport held = nsf::evaluate_rom(o);
   EXPECT_DOUBLE_EQ(held.latent_prior, 0.001);
   EXPECT_LT(held.training_distance_mean, 0.5 * free_run.training_distance_mean);
   EXPECT_LT(held.training_distance_max, 0.6 * free_run.training_distance_max);
@@ -847,11 +868,11 @@ TEST_F(RomEndToEnd, LatentPriorHoldsTheLatentNearTheTrainingRunsLatents) {
   // The scene's rom.latent_prior sets it as well; the command line's value wins.
   o.latent_prior.reset();
   o.overrides = {"rom.latent_prior=0.001"};
-  EXPECT_DOUBLE_EQ(nsf::run_rom(o).delta, held.delta);
+  EXPECT_DOUBLE_EQ(nsf::evaluate_rom(o).delta, held.delta);
   o.latent_prior = 0;
-  EXPECT_DOUBLE_EQ(nsf::run_rom(o).delta, free_run.delta);
+  EXPECT_DOUBLE_EQ(nsf::evaluate_rom(o).delta, free_run.delta);
   o.overrides = {"rom.latent_prior=-1"};
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
                                 "rom.latent_prior");
 
   // A model file from before the training latents were stored.
@@ -862,11 +883,11 @@ TEST_F(RomEndToEnd, LatentPriorHoldsTheLatentNearTheTrainingRunsLatents) {
   old.save(old_path);
   o = options();
   o.model_path = old_path;
-  const nsf::RomReport unknown = nsf::run_rom(o);
+  const nsf::RomReport unknown = nsf::evaluate_rom(o);
   EXPECT_LT(unknown.training_distance_max, 0);
   EXPECT_DOUBLE_EQ(unknown.delta, free_run.delta);
   o.latent_prior = 0.001;
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }),
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
                                 "needs the training runs' latents");
 }
 
@@ -884,9 +905,9 @@ std::vector<nsf::Latent> written_latents(const std::string& path) {
 // Fig. 9 shows the ROM's stress), and the printed stress and affine errors are those of the
 // written fields against the ground truth's.
 TEST_F(RomEndToEnd, OutputHoldsTheStressAndAffineFieldsOfEachFramesLatent) {
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.out_path = (root_ / "rom_fields.h5").string();
-  const nsf::RomReport r = nsf::run_rom(o);
+  const nsf::RomReport r = nsf::evaluate_rom(o);
   const nsf::RunReader rom(o.out_path), gt(truth());
   const std::vector<nsf::Latent> z = written_latents(o.out_path);
   ASSERT_EQ(z.size(), rom.frame_count());
@@ -962,7 +983,7 @@ TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
   EXPECT_THAT(bad.output, HasSubstr("--latent-prior"));
 }
 
-// The baselines beside the ROM (app/baselines.h; issue #25 point 4): `nsf rom --baselines DATA
+// The baselines beside the ROM (rom/eval/baselines.h; issue #25 point 4): `nsf rom --baselines DATA
 // --coarse-factor k` prints look-up, interpolation and the coarse engine, and its JSON row holds
 // them under the keys docs/results uses; bad baseline inputs stop the run before it starts.
 TEST_F(RomEndToEnd, BaselinesSitBesideTheRomInItsSummaryAndRow) {
@@ -1014,13 +1035,13 @@ TEST_F(RomEndToEnd, BaselinesSitBesideTheRomInItsSummaryAndRow) {
 // unmeasured, with a warning in the row, and the ROM and the other baselines still stand; asked for
 // by hand (`nsf rom --coarse-factor`), it stops.
 TEST_F(RomEndToEnd, ACoarseSceneThatCannotBeBuiltIsAWarningWhereItIsOptional) {
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.model_path = basis_model();
   o.baseline_data = (root_ / "data").string();
   o.coarse_factor = 6;
-  EXPECT_THROW(nsf::run_rom(o), nsf::Error);
+  EXPECT_THROW(nsf::evaluate_rom(o), nsf::Error);
   o.coarse_optional = true;
-  const nsf::RomReport r = nsf::run_rom(o);
+  const nsf::RomReport r = nsf::evaluate_rom(o);
   EXPECT_GE(r.delta, 0);
   EXPECT_GT(r.baselines.lookup_delta, 0);
   EXPECT_LT(r.baselines.coarse_delta, 0) << "not measured";
@@ -1077,13 +1098,13 @@ TEST_F(RomEndToEnd, CliUsesAllCoresByDefaultAndQuietDropsTheProgressLines) {
 // model and μ — must find nothing: the encoder refined and the samples' fit both recover each
 // frame's latent, and the run itself reproduces the file bit for bit.
 TEST_F(RomEndToEnd, BudgetOfARunOnTheModelsOwnManifoldIsZero) {
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.out_path = (root_ / "manifold.h5").string();
-  nsf::run_rom(o);
+  nsf::evaluate_rom(o);
   o.truth_path = o.out_path;
   o.out_path.clear();
   o.budget = true;
-  const nsf::RomReport r = nsf::run_rom(o);
+  const nsf::RomReport r = nsf::evaluate_rom(o);
   ASSERT_TRUE(r.budget.has_value());
   EXPECT_EQ(r.delta, 0.0);
   EXPECT_LT(r.budget->projected.delta, 1e-6);
@@ -1093,7 +1114,7 @@ TEST_F(RomEndToEnd, BudgetOfARunOnTheModelsOwnManifoldIsZero) {
   EXPECT_GT(r.budget->projection_iterations, 0.0);
   // Without a truth there is nothing to measure against.
   o.truth_path.clear();
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::run_rom(o); }), "--budget");
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }), "--budget");
 }
 
 // `nsf train --base-model M` keeps M's encoder and g (no stage 1) and trains h and l afresh.
@@ -1127,9 +1148,10 @@ TEST_F(RomEndToEnd, BaseModelKeepsTheEncoderAndGBitForBit) {
 
 }  // namespace
 
-// `nsf calibrate` (app/latent_prior_calibration.h): each ε's δ is the ROM's on that training run,
-// the lowest mean wins, the model file keeps it, and `nsf rom` takes it only where neither its
-// command line nor the scene's rom section gives one. Training the model again forgets it.
+// `nsf calibrate` (rom/calibration/latent_prior_calibration.h): each ε's δ is the ROM's on that
+// training run, the lowest mean wins, the model file keeps it, and `nsf rom` takes it only where
+// neither its command line nor the scene's rom section gives one. Training the model again forgets
+// it.
 TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrainingRuns) {
   nsf::CalibrationOptions co = calibration_options("calibrated.nsf");
   const std::string calibrated = co.model_path;
@@ -1140,12 +1162,12 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
   ASSERT_EQ(r.delta.size(), 3u);
   EXPECT_EQ(r.runs, (std::vector<std::string>{"train_1.h5", "train_3.h5"}));  // each half's middle
   // δ of one cell, made again by hand: the ROM at that run's μ against that run.
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.model_path = basis_model();
   o.mu = r.mu[0];
   o.truth_path = (root_ / "data" / r.runs[0]).string();
   o.latent_prior = r.grid[2];
-  EXPECT_EQ(nsf::run_rom(o).delta, r.delta[2][0]);
+  EXPECT_EQ(nsf::evaluate_rom(o).delta, r.delta[2][0]);
   // The lowest mean of the ε measured on both runs wins; an ε whose first run alone puts its mean
   // above the best before it stops there (it cannot win), its mean then a lower bound.
   size_t best = 0;
@@ -1172,7 +1194,7 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
   // The model file written again holds the same fields: a run at a given ε has the same bits.
   o.model_path = calibrated;
   o.latent_prior = r.grid[2];
-  EXPECT_EQ(nsf::run_rom(o).delta, r.delta[2][0]);
+  EXPECT_EQ(nsf::evaluate_rom(o).delta, r.delta[2][0]);
   const nlohmann::json table =
       nlohmann::json::parse(nsf::NeuralModel::load(calibrated).calibration.table);
   EXPECT_EQ(table.at("chosen").get<double>(), r.chosen);
@@ -1185,7 +1207,7 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
   nsf::store_calibration(calibrated, forced);
   o = options();
   o.model_path = calibrated;
-  nsf::RomReport used = nsf::run_rom(o);
+  nsf::RomReport used = nsf::evaluate_rom(o);
   EXPECT_EQ(used.latent_prior, 0.01);
   EXPECT_EQ(used.latent_prior_source, "model");
   // The runtime (the embedding API, Python, nsf serve) takes it the same way.
@@ -1194,20 +1216,20 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
   EXPECT_EQ(nsf::rom_setup(cf, kTinyScene, 1.0, {"rom.latent_prior=0.03"}, 0).options.latent_prior,
             0.03);
   o.latent_prior = 0.02;
-  used = nsf::run_rom(o);
+  used = nsf::evaluate_rom(o);
   EXPECT_EQ(used.latent_prior, 0.02);
   EXPECT_EQ(used.latent_prior_source, "command line");
   o.latent_prior.reset();
   o.overrides = {"rom.latent_prior=0.03"};
-  used = nsf::run_rom(o);
+  used = nsf::evaluate_rom(o);
   EXPECT_EQ(used.latent_prior, 0.03);
   EXPECT_EQ(used.latent_prior_source, "scene");
   // A setting for the other decoder family is not this (basis) model's; a null in its own
   // family's object hands ε back to the model's calibration. The runtime reads them alike.
   o.overrides = {"rom.latent_prior=0.03", R"(rom.mlp={"latent_prior": 0.05})"};
-  EXPECT_EQ(nsf::run_rom(o).latent_prior, 0.03);
+  EXPECT_EQ(nsf::evaluate_rom(o).latent_prior, 0.03);
   o.overrides = {"rom.latent_prior=0.03", R"(rom.basis={"latent_prior": null})"};
-  used = nsf::run_rom(o);
+  used = nsf::evaluate_rom(o);
   EXPECT_EQ(used.latent_prior, 0.01);
   EXPECT_EQ(used.latent_prior_source, "model");
   EXPECT_EQ(nsf::rom_setup(cf, kTinyScene, 1.0,
@@ -1219,22 +1241,22 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
   // rom.tracked object speaks for tracked runs alone. The runtime reads them alike.
   o.overrides.clear();
   o.rom.fields.stress = "tracked";
-  EXPECT_EQ(nsf::run_rom(o).latent_prior, 0.01) << "no tracked calibration yet: the other one";
+  EXPECT_EQ(nsf::evaluate_rom(o).latent_prior, 0.01) << "no tracked calibration yet: the other one";
   nsf::CalibrationResult tracked = r;
   tracked.tracked = true;
   tracked.chosen = 0.02;
   nsf::store_calibration(calibrated, tracked);
   EXPECT_EQ(nsf::NeuralFields::load(calibrated).calibrated_latent_prior(), 0.01);
   EXPECT_EQ(nsf::NeuralFields::load(calibrated).calibrated_latent_prior(true), 0.02);
-  used = nsf::run_rom(o);
+  used = nsf::evaluate_rom(o);
   EXPECT_EQ(used.latent_prior, 0.02);
   EXPECT_EQ(used.latent_prior_source, "model");
   o.overrides = {R"(rom.tracked={"latent_prior": 0.04})"};
-  used = nsf::run_rom(o);
+  used = nsf::evaluate_rom(o);
   EXPECT_EQ(used.latent_prior, 0.04);
   EXPECT_EQ(used.latent_prior_source, "scene");
   o.rom.fields.stress.clear();
-  EXPECT_EQ(nsf::run_rom(o).latent_prior, 0.01);
+  EXPECT_EQ(nsf::evaluate_rom(o).latent_prior, 0.01);
   const nsf::NeuralFields tf = nsf::NeuralFields::load(calibrated);
   EXPECT_EQ(nsf::rom_setup(tf, kTinyScene, 1.0, {R"(rom.fields={"stress": "tracked"})"}, 0)
                 .options.latent_prior,
@@ -1243,7 +1265,7 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
 
   o = options();  // an uncalibrated model and a scene without one: none
   o.model_path = basis_model();
-  used = nsf::run_rom(o);
+  used = nsf::evaluate_rom(o);
   EXPECT_EQ(used.latent_prior, 0.0);
   EXPECT_EQ(used.latent_prior_source, "default");
 
@@ -1294,13 +1316,13 @@ TEST_F(RomEndToEnd, CalibrationChoosesTheLargestStepWithinTheToleranceAndStoresI
   EXPECT_EQ(s.steps_per_frame, (std::vector<int>{4, 2, 1}));
   EXPECT_EQ(s.chosen, 15);
   // δ of one cell, made again by hand: the ROM at that run's μ, at that step.
-  nsf::RomRunOptions o = options();
+  nsf::RomEvalOptions o = options();
   o.model_path = basis_model();
   o.mu = loose.mu[1];
   o.truth_path = (root_ / "data" / loose.runs[1]).string();
   o.latent_prior = 0.0;
   o.dt_ratio = 7.5;
-  EXPECT_EQ(nsf::run_rom(o).delta, s.delta[1][1]);
+  EXPECT_EQ(nsf::evaluate_rom(o).delta, s.delta[1][1]);
   std::printf("tiny scene: step calibration means %.3f%% (4 dt), %.3f%% (7.5), %.3f%% (15)\n",
               100 * s.mean[0], 100 * s.mean[1], 100 * s.mean[2]);
 
@@ -1325,7 +1347,7 @@ TEST_F(RomEndToEnd, CalibrationChoosesTheLargestStepWithinTheToleranceAndStoresI
   // Where the step comes from: the model; the command line; the scene's rom section.
   o = options();
   o.model_path = calibrated;
-  nsf::RomReport used = nsf::run_rom(o);
+  nsf::RomReport used = nsf::evaluate_rom(o);
   EXPECT_EQ(used.dt_ratio, 7.5);
   EXPECT_EQ(used.dt_ratio_source, "model");
   EXPECT_EQ(used.rom_steps_per_frame, 2);
@@ -1333,16 +1355,16 @@ TEST_F(RomEndToEnd, CalibrationChoosesTheLargestStepWithinTheToleranceAndStoresI
   EXPECT_EQ(nsf::rom_setup(cf, kTinyScene, 1.0, {}, 0).options.dt_ratio, 7.5);
   EXPECT_EQ(nsf::rom_setup(cf, kTinyScene, 1.0, {"rom.dt_ratio=2"}, 0).options.dt_ratio, 2);
   o.dt_ratio = 1;
-  used = nsf::run_rom(o);
+  used = nsf::evaluate_rom(o);
   EXPECT_EQ(used.dt_ratio_source, "command line");
   EXPECT_EQ(used.rom_steps_per_frame, 15);
   o.dt_ratio.reset();
   o.overrides = {"rom.dt_ratio=3"};
-  used = nsf::run_rom(o);
+  used = nsf::evaluate_rom(o);
   EXPECT_EQ(used.dt_ratio_source, "scene");
   EXPECT_EQ(used.rom_steps_per_frame, 5);
   o = options();
-  EXPECT_EQ(nsf::run_rom(o).dt_ratio_source, "default");
+  EXPECT_EQ(nsf::evaluate_rom(o).dt_ratio_source, "default");
 
   // Ratios out of order are a clear error, and the model stays as it was.
   const nsf::testing::CliResult cli =

@@ -86,7 +86,7 @@ TEST(SweepTemplates, ExpandExpressions) {
 }
 
 // Each broken section fails with a message naming the key. The engine's loader leaves the section
-// to its owner (the commands check it whenever they load a scene: app/scene_file.h).
+// to its owner (the commands check it whenever they load a scene: rom/setup/scene_file.h).
 TEST(SweepSection, NamesTheKeyAtFault) {
   EXPECT_NO_THROW(nsf::parse_sweep(tiny_scene().at("sweep"), tiny_scene()));
   auto fails_with = [](const char* key, const json& value, const char* needle) {

@@ -78,7 +78,7 @@ def test_bad_input_raises_a_clear_exception(rom, tiny_model, tiny_scene, tmp_pat
     P = rom.particle_count
     with pytest.raises(FileNotFoundError, match="model .*missing.nsf: no such file"):
         nsf.Rom(tmp_path / "missing.nsf", tiny_scene, mu=1.0)
-    with pytest.raises(RuntimeError, match="give its value as RuntimeOptions::mu"):
+    with pytest.raises(RuntimeError, match=r"give its value \(nsf rom --mu, RuntimeOptions::mu, Python.s Rom\(mu=...\)\)"):
         nsf.Rom(tiny_model, tiny_scene)
     with pytest.raises(ValueError, match=r"shape \(864, 3\).*got shape \(10, 3\)"):
         rom.positions(out=np.empty((10, 3), np.float32))

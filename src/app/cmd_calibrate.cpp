@@ -1,6 +1,6 @@
 // `nsf calibrate models/NAME.nsf data/NAME [--dt-ratios 1,1.5,2]`: choose the model's latent prior
 // ε (and the ROM's step) on its training runs and store them in the model file
-// (app/latent_prior_calibration.h, docs/ROM.md).
+// (rom/calibration/latent_prior_calibration.h, docs/ROM.md).
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -9,10 +9,10 @@
 
 #include "app/commands.h"
 #include "app/common_options.h"
-#include "app/latent_prior_calibration.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
 #include "nn/neural_fields.h"
+#include "rom/calibration/latent_prior_calibration.h"
 
 namespace nsf::app {
 

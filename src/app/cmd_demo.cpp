@@ -7,11 +7,8 @@
 
 #include "app/commands.h"
 #include "app/common_options.h"
-#include "app/generalize.h"
 #include "app/pipeline.h"
 #include "app/results_table.h"
-#include "app/rom_run.h"
-#include "app/scene_file.h"
 #include "app/train_size_options.h"
 #include "core/error.h"
 #include "core/timer.h"
@@ -19,6 +16,9 @@
 #include "io/run_comparison.h"
 #include "nn/dataset.h"
 #include "nn/runtime.h"
+#include "rom/eval/generalize.h"
+#include "rom/eval/rom_evaluation.h"
+#include "rom/setup/scene_file.h"
 
 namespace nsf::app {
 
@@ -65,7 +65,7 @@ void run_demo(const DemoArgs& a) {
   const SimulationFile& held_out = dataset.test()[0];
   std::printf("== 3/4 reduced-order run at the held-out mu = %g (not in the training set)\n",
               held_out.mu);
-  RomRunOptions ro;
+  RomEvalOptions ro;
   ro.model_path = model;
   ro.scene_path = a.scene;
   if (held_out.has_mu) ro.mu = held_out.mu;
@@ -74,7 +74,7 @@ void run_demo(const DemoArgs& a) {
   ro.quiet = a.quiet;
   ro.out_path = a.out + "/" + name + "_rom.h5";
   ro.fom_out = a.out + "/" + name + "_full_order.h5";
-  const RomReport r = run_rom(ro);
+  const RomReport r = evaluate_rom(ro);
   const ComparisonFiles pics =
       write_comparison(ro.fom_out, ro.out_path, "ground truth (full order)", "reduced order",
                        a.out + "/" + name + "_compare");

@@ -9,11 +9,11 @@
 
 #include "app/commands.h"
 #include "app/common_options.h"
-#include "app/generalize.h"
-#include "app/latent_prior_calibration.h"
 #include "app/results_table.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "rom/calibration/latent_prior_calibration.h"
+#include "rom/eval/generalize.h"
 
 namespace nsf::app {
 

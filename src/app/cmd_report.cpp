@@ -105,7 +105,7 @@ void report_run(const ReportArgs& a, const std::string& scene, const DecoderRows
     label = label.empty() ? decoder.label : label + ", " + decoder.label;
     tag += decoder.tag_suffix;
   }
-  RomRunOptions ro;
+  RomEvalOptions ro;
   if (a.quadrature > 0) ro.quadrature = a.quadrature;
   if (a.tracked) ro.rom.fields.stress = ro.rom.fields.affine = "tracked";
   ro.model_path = model;
@@ -130,7 +130,7 @@ void report_run(const ReportArgs& a, const std::string& scene, const DecoderRows
     ro.latent_prior = stored.latent_prior;
     ro.dt_ratio = stored.dt_ratio;
   }
-  const RomReport r = run_rom(ro);
+  const RomReport r = evaluate_rom(ro);
   std::printf("%s", format_rom_report(r).c_str());
   const std::string picture = "results/" + tag + ".png";
   if (a.check) return check_row(a, tag, result_json(r, scene, model, picture, label));

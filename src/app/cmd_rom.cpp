@@ -7,10 +7,10 @@
 #include "app/common_options.h"
 #include "app/results_table.h"
 #include "app/retired_options.h"
-#include "app/rom_run.h"
 #include "core/path_clash.h"
 #include "data/manifest.h"
 #include "io/xdmf_writer.h"
+#include "rom/eval/rom_evaluation.h"
 #include "rom/field_source.h"
 
 namespace nsf::app {
@@ -18,7 +18,7 @@ namespace nsf::app {
 namespace {
 
 struct RomArgs {
-  RomRunOptions opt;
+  RomEvalOptions opt;
   double mu = 0;
   int samples = 0;
   double dt_ratio = 1;
@@ -165,7 +165,7 @@ void add_rom_command(CLI::App& app) {
     if (*dt_ratio) a->opt.dt_ratio = a->dt_ratio;
     if (*latent_prior) a->opt.latent_prior = a->latent_prior;
     a->opt.full_order = !a->no_full_order;
-    const RomRunOptions& o = a->opt;
+    const RomEvalOptions& o = a->opt;
     refuse_path_clash({{"--out", o.out_path},
                        {"the XDMF sidecar of --out",
                         o.out_path.empty() ? std::string() : xdmf_path_for(o.out_path)},
@@ -178,7 +178,7 @@ void add_rom_command(CLI::App& app) {
                        {"--truth", o.truth_path},
                        {"--coarse", o.coarse_scene}});
     set_threads(a->opt.threads);
-    const RomReport r = run_rom(a->opt);
+    const RomReport r = evaluate_rom(a->opt);
     std::printf("%s", format_rom_report(r).c_str());
     if (!a->json.empty())
       write_json_atomically(a->json, result_json(r, a->opt.scene_path, a->opt.model_path, "", ""));

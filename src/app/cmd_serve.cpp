@@ -9,7 +9,6 @@
 
 #include "app/commands.h"
 #include "app/common_options.h"
-#include "app/scene_file.h"
 #include "app/serve_page.h"
 #include "app/serve_protocol.h"
 #include "core/error.h"
@@ -18,7 +17,8 @@
 #include "nn/basis_decoders.h"
 #include "nn/runtime.h"
 #include "rom/latent_stepper.h"
-#include "runtime/rom_setup.h"
+#include "rom/setup/rom_setup.h"
+#include "rom/setup/scene_file.h"
 
 namespace nsf::app {
 

@@ -6,7 +6,6 @@
 
 #include "app/commands.h"
 #include "app/common_options.h"
-#include "app/scene_file.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/path_clash.h"
@@ -19,6 +18,7 @@
 #include "io/run_render.h"
 #include "io/xdmf_writer.h"
 #include "mpm/simulation.h"
+#include "rom/setup/scene_file.h"
 
 namespace nsf::app {
 
@@ -98,7 +98,8 @@ void run_simulate(const SimulateArgs& a) {
       {{"--out", a.out}, {"the XDMF sidecar of --out", xdmf_path_for(a.out)}, {"--png", a.png}},
       {{"the scene", a.scene}});
   const int threads = set_threads(a.threads);
-  // The whole scene is checked, also the sections only other commands read (app/scene_file.h).
+  // The whole scene is checked, also the sections only other commands read
+  // (rom/setup/scene_file.h).
   Scene scene = build_scene_file(read_scene_file(a.scene, a.overrides));
   const std::string name = scene.name;
   Simulation sim(std::move(scene));

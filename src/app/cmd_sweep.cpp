@@ -7,10 +7,10 @@
 
 #include "app/commands.h"
 #include "app/common_options.h"
-#include "app/scene_file.h"
 #include "app/sweep_ranks.h"
 #include "core/progress.h"
 #include "data/sweep.h"
+#include "rom/setup/scene_file.h"
 
 namespace nsf::app {
 

@@ -10,10 +10,8 @@
 
 #include "app/commands.h"
 #include "app/common_options.h"
-#include "app/latent_prior_calibration.h"
 #include "app/pipeline.h"
 #include "app/retired_options.h"
-#include "app/scene_file.h"
 #include "app/train_size_options.h"
 #include "app/train_team.h"
 #include "core/cpu_model.h"
@@ -27,6 +25,8 @@
 #include "nn/runtime.h"
 #include "nn/train_section.h"
 #include "nn/trainer.h"
+#include "rom/calibration/latent_prior_calibration.h"
+#include "rom/setup/scene_file.h"
 
 namespace nsf::app {
 

@@ -3,14 +3,14 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "app/latent_prior_calibration.h"
-#include "app/scene_file.h"
 #include "core/error.h"
 #include "data/sweep.h"
 #include "nn/dataset.h"
 #include "nn/model.h"
 #include "nn/neural_fields.h"
 #include "nn/trainer.h"
+#include "rom/calibration/latent_prior_calibration.h"
+#include "rom/setup/scene_file.h"
 
 namespace nsf::app {
 

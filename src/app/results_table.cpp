@@ -7,11 +7,11 @@
 #include <map>
 #include <sstream>
 
-#include "app/generalize.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "rom/eval/generalize.h"
 
-namespace nsf {
+namespace nsf::app {
 
 namespace {
 
@@ -166,7 +166,7 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
     j["stress_error_projected"] = r.budget->projected.stress;
     j["affine_error_projected"] = r.budget->projected.affine;
   }
-  // The baselines (app/baselines.h), where measured.
+  // The baselines (rom/eval/baselines.h), where measured.
   const Baselines& b = r.baselines;
   if (b.lookup_delta >= 0) {
     j["lookup_delta"] = b.lookup_delta;
@@ -205,8 +205,8 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in, const s
        "full-order engine on the same scene in the same process, with the same threads (the "
        "last column of the time table; — for rows stored before the count was, which ran with "
        "`nsf report`'s default of 2). "
-       "The decoders column names the model's family: per-point bases (the default since "
-       "2026-11-26) or MLP fields (docs/TRAINING.md, \"Decoder families\"); rows labelled with "
+       "The decoders column names the model's family: per-point bases (the default) or MLP "
+       "fields (docs/TRAINING.md, \"Decoder families\"); rows labelled with "
        "the family are `nsf report --decoder` with the family other than the scene's own. "
        "δ is eq. 11 over all particles and frames; speed-up is full-order step time over "
        "ROM step time (output excluded from both); memory is each phase's peak resident "
@@ -255,7 +255,8 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in, const s
   }
   s << "\n## Against the simple baselines\n\n"
     << "What a user could run instead, each scored with δ against the same ground truth in the "
-       "same `nsf report` run (app/baselines.h): *look-up* plays back the training run nearest "
+       "same `nsf report` run (rom/eval/baselines.h): *look-up* plays back the training run "
+       "nearest "
        "in μ; *interpolation* blends the two training runs around μ linearly in μ, frame by "
        "frame (the two nearest, extrapolating, outside the training range); the *coarse engine* "
        "is nsf's full-order engine on the small scene (for a paper-size row) or on the scene at "
@@ -339,4 +340,4 @@ size_t write_results_page(const std::string& docs) {
   return rows.size();
 }
 
-}  // namespace nsf
+}  // namespace nsf::app

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "app/rom_run.h"
+#include "rom/eval/rom_evaluation.h"
 
-namespace nsf {
+namespace nsf::app {
 
 // One row: the report's measurements plus what it was made of.
 nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
@@ -24,7 +24,8 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
 std::vector<std::string> row_differences(const nlohmann::json& stored, const nlohmann::json& fresh);
 
 // The markdown page for all rows (sorted by scene), naming `command` as its source, with the
-// benchmark of unseen interactions (`nsf generalize`'s summaries, app/generalize.h) where given.
+// benchmark of unseen interactions (`nsf generalize`'s summaries, rom/eval/generalize.h) where
+// given.
 std::string results_markdown(const std::vector<nlohmann::json>& rows, const std::string& command,
                              const std::vector<nlohmann::json>& generalize = {});
 
@@ -33,4 +34,4 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows, const std:
 // of rows. `nsf report` and `nsf demo --docs` call it.
 size_t write_results_page(const std::string& docs);
 
-}  // namespace nsf
+}  // namespace nsf::app

@@ -17,6 +17,7 @@
 #include "rom/field_source.h"
 #include "rom/integration_set.h"
 #include "rom/quadrature.h"
+#include "rom/rom_diverged.h"
 #include "rom/sample_selection.h"
 #include "rom/tracked_particles.h"
 
@@ -343,14 +344,15 @@ struct LatentStepper::Impl {
       const bool inside = x.allFinite() && (x - s.domain_lo).minCoeff() > 1.5 * dx &&
                           (s.domain_hi - x).minCoeff() > 1.5 * dx;
       if (!inside)
-        fail("rom: ", what, " ",
-             ids[k] < np ? "particle " + std::to_string(ids[k])
-                         : "quadrature point " + std::to_string(ids[k] - np) +
-                               " (merged particles of one cell)",
-             " is at (", x[0], ", ", x[1], ", ", x[2], "), outside the grid, at step ", n,
-             " (t = ", t,
-             " s): the latent dynamics diverged. Try more sample particles (--samples), a smaller "
-             "--dt-ratio, or a model trained longer.");
+        fail_diverged(
+            "rom: ", what, " ",
+            ids[k] < np ? "particle " + std::to_string(ids[k])
+                        : "quadrature point " + std::to_string(ids[k] - np) +
+                              " (merged particles of one cell)",
+            " is at (", x[0], ", ", x[1], ", ", x[2], "), outside the grid, at step ", n,
+            " (t = ", t,
+            " s): the latent dynamics diverged. Try more sample particles (--samples), a smaller "
+            "--dt-ratio, or a model trained longer.");
     }
   }
 

@@ -6,6 +6,7 @@
 #include "mpm/materials/material.h"
 #include "mpm/particles.h"
 #include "rom/field_source.h"
+#include "rom/rom_diverged.h"
 
 namespace nsf {
 
@@ -65,8 +66,9 @@ void TrackedParticles::check(double cfl_bound) const {
   if (!active()) return;
   // Unlike h's stress, the tracked one is the explicit engine's and shares its bound.
   if (explicit_stress_ && dt_ > cfl_bound * (1 + 1e-9))
-    fail("rom: ", what_, " integrates the material explicitly, so the ROM step ", dt_,
-         " s must stay within the full-order CFL bound ", cfl_bound, " s: lower --dt-ratio");
+    fail_diverged("rom: ", what_, " integrates the material explicitly, so the ROM step ", dt_,
+                  " s must stay within the full-order CFL bound ", cfl_bound,
+                  " s: lower --dt-ratio");
 }
 
 Mat3 TrackedParticles::update(size_t p) {

@@ -11,7 +11,7 @@
 #include "mpm/colliders/rigid_collider.h"
 #include "nn/runtime.h"
 #include "rom/latent_stepper.h"
-#include "runtime/rom_setup.h"
+#include "rom/setup/rom_setup.h"
 
 namespace nsf {
 

@@ -1,10 +1,10 @@
-#include "app/scene_file.h"
+#include "rom/setup/scene_file.h"
 
 #include <filesystem>
 
 #include "core/error.h"
 
-namespace nsf::app {
+namespace nsf {
 
 SceneSections parse_scene_sections(const nlohmann::json& scene) {
   SceneSections s;
@@ -22,6 +22,7 @@ SceneFile read_scene_file(const std::string& path, const std::vector<std::string
   f.path = path;
   f.dir = std::filesystem::path(path).parent_path().string();
   f.json = read_scene_json(path, overrides);
+  f.overrides = overrides;
   try {
     f.sections = parse_scene_sections(f.json);
   } catch (const Error& e) {
@@ -38,4 +39,4 @@ Scene build_scene_file(const SceneFile& file, const nlohmann::json& json) {
   }
 }
 
-}  // namespace nsf::app
+}  // namespace nsf

@@ -1,4 +1,4 @@
-#include "app/baselines.h"
+#include "rom/eval/baselines.h"
 
 #include <omp.h>
 
@@ -126,11 +126,11 @@ void measure_sweep_baselines(const std::vector<TrainingRun>& runs_in, double mu,
   out.interp_delta = interp.relative();
 }
 
-void measure_coarse_baseline(const app::SceneFile& file, const nlohmann::json& js,
+void measure_coarse_baseline(const SceneFile& file, const nlohmann::json& js,
                              const RunReader& truth, int frames, int threads, bool quiet,
                              Baselines& out) {
   omp_set_num_threads(std::max(1, threads));
-  Simulation sim(app::build_scene_file(file, js));
+  Simulation sim(build_scene_file(file, js));
   const SimSettings& s = sim.settings();
   const double frame_dt = s.substeps * s.dt;
   for (int f = 1; f <= frames; ++f) {

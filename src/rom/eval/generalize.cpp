@@ -1,4 +1,4 @@
-#include "app/generalize.h"
+#include "rom/eval/generalize.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,12 +6,12 @@
 #include <limits>
 #include <sstream>
 
-#include "app/scene_file.h"
 #include "core/cpu_model.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "nn/dataset.h"
 #include "nn/neural_fields.h"
+#include "rom/setup/scene_file.h"
 
 namespace nsf {
 
@@ -101,7 +101,7 @@ GeneralizeResult run_generalize(const GeneralizeOptions& o) {
     fail(
         "generalize: give the scene file (--scene): the benchmark's perturbations are in its "
         "\"generalize\" section");
-  const app::SceneFile file = app::read_scene_file(res.scene_file, o.overrides);
+  const SceneFile file = read_scene_file(res.scene_file, o.overrides);
   if (!file.sections.generalize)
     fail("generalize: scene ", res.scene_file,
          " has no \"generalize\" section listing the perturbations to draw (docs/GENERALIZE.md)");
@@ -132,7 +132,7 @@ GeneralizeResult run_generalize(const GeneralizeOptions& o) {
   for (size_t i = 0; i < draws.size(); ++i) {
     GeneralizeDraw g;
     g.draw = draws[i];
-    RomRunOptions ro = o.rom;
+    RomEvalOptions ro = o.rom;
     ro.model_path = o.model_path;
     ro.scene_path = res.scene_file;
     ro.overrides = o.overrides;
@@ -148,7 +148,7 @@ GeneralizeResult run_generalize(const GeneralizeOptions& o) {
     ro.coarse_factor = o.coarse_scene.empty() ? o.coarse_factor : 0;
     ro.coarse_optional = true;
     try {
-      g.report = run_rom(ro);
+      g.report = evaluate_rom(ro);
     } catch (const Error& e) {
       g.error = e.what();
     }

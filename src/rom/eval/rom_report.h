@@ -1,55 +1,16 @@
 #pragma once
-// `nsf rom`: a reduced-order run of a scene at a parameter μ, written in the layout of
-// `nsf simulate`, compared with the full-order engine on the same scene in the same process
-// (wall time, peak memory) and with a ground truth (δ of eq. 11). Shared by `nsf rom`,
-// `nsf demo` and `nsf report`.
+// What a reduced-order run measured against full order (rom/eval/rom_evaluation.h): the setup it
+// ran with, δ and the field errors against the truth, the budget, the baselines, time and memory;
+// and its summary as `nsf rom` prints it.
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "app/baselines.h"
 #include "rom/error_budget.h"
+#include "rom/eval/baselines.h"
 #include "rom/latent_stepper.h"
 
 namespace nsf {
-
-struct RomRunOptions {
-  std::string model_path, scene_path;
-  std::vector<std::string> overrides;  // --set, applied before μ
-  std::optional<double> mu;            // applied through the scene's "sweep" templates
-  std::optional<int> samples;          // |S| at t = 0; default: the scene's "rom" section
-  std::optional<uint64_t> seed;        // of the sample choice; default: the scene's, else 1
-  std::optional<double> dt_ratio;      // ROM step over Δt; default: the scene's, else rom's
-  std::optional<double> latent_prior;  // ε (m); default: the scene's, else the model's, else 0
-  std::optional<int> quadrature;       // points per cell; default: the scene's, else rom's (0)
-  std::optional<int> gn_iterations;    // Gauss–Newton cap; default: the scene's, else rom's
-  // rom.fields names the sources the command line chose; each empty one takes the scene's.
-  RomOptions rom;
-  std::string out_path;    // ROM run file; empty: none
-  std::string truth_path;  // existing ground truth; empty: the full-order run made here
-  std::string fom_out;     // where the full-order run goes; empty: a temporary file
-  bool full_order = true;  // run the full-order engine for timing and as the ground truth
-  int upsample = 1;        // positions of k points per particle in the output file (Fig. 6)
-  int gzip = 0;            // deflate level of both run files (0 = off; io/run_writer.h)
-  int threads = 0;         // OpenMP and torch threads, for both engines alike; 0: all cores
-  bool quiet = false;
-  // Also measure the error budget on the truth's frames (rom/error_budget.h; needs a truth).
-  bool budget = false;
-  // The simple baselines of app/baselines.h, against the same truth (needs one): look-up and
-  // interpolation from this dataset's training runs; the coarse engine on coarse_scene (else
-  // this scene), with `overrides` and μ, made coarse_factor times coarser where that is > 1.
-  std::string baseline_data;
-  std::string coarse_scene;
-  double coarse_factor = 0;
-  // A coarse scene that cannot be built (a body inside the coarser wall band, say) leaves the
-  // coarse engine unmeasured, with a warning in the report, instead of stopping the run
-  // (`nsf report`, which picks the coarse scene itself; `nsf rom --coarse` stops).
-  bool coarse_optional = false;
-};
-
-// Gauss–Newton iterations the budget's projection allows per frame: its warm start is a frame
-// (many ROM steps) old, so it runs to convergence rather than the ROM's per-step cap.
-constexpr int kBudgetIterations = 20;
 
 struct RomReport {
   std::string scene;
@@ -93,8 +54,8 @@ struct RomReport {
   // all particles and frames 1…N; < 0 without a truth (or when the truth's field is zero).
   double stress_error = -1, affine_error = -1;
   std::string field_sources;  // where τ and C come from (h and l, or what replaces them)
-  std::optional<ErrorBudgetResult> budget;  // with RomRunOptions::budget
-  Baselines baselines;                      // those RomRunOptions asked for; the rest < 0
+  std::optional<ErrorBudgetResult> budget;  // with RomEvalOptions::budget
+  Baselines baselines;                      // those RomEvalOptions asked for; the rest < 0
   double rom_seconds = 0;                   // the latent steps only
   double rom_setup_seconds = 0, rom_output_seconds = 0;
   RomTimes rom_times;
@@ -110,8 +71,6 @@ struct RomReport {
                                                            : -1.0;
   }
 };
-
-RomReport run_rom(const RomRunOptions& options);
 
 // A run whose latent stayed this many training spreads or more from the training runs' latents,
 // on average over its frames, gets a warning: h answered far from anything it was trained on,

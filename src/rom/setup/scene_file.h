@@ -15,7 +15,7 @@
 #include "nn/train_section.h"
 #include "rom/rom_section.h"
 
-namespace nsf::app {
+namespace nsf {
 
 // The sections of a scene that the engine does not read, as their owners parse them.
 struct SceneSections {
@@ -34,6 +34,7 @@ struct SceneFile {
   std::string path;
   std::string dir;      // the file's directory: relative mesh paths resolve against it
   nlohmann::json json;  // as read, overrides applied
+  std::vector<std::string> overrides;  // as given (`--set`), in order
   SceneSections sections;
 };
 
@@ -47,4 +48,4 @@ inline Scene build_scene_file(const SceneFile& file) {
   return build_scene_file(file, file.json);
 }
 
-}  // namespace nsf::app
+}  // namespace nsf

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "app/rom_run.h"
 #include "data/perturbation_spec.h"
+#include "rom/eval/rom_evaluation.h"
 
 namespace nsf {
 
@@ -25,7 +25,7 @@ struct GeneralizeOptions {
   std::vector<int> only;               // run only these draws (by index); empty: all
   // The ROM's settings as `nsf rom` takes them (samples, step, latent prior, field sources,
   // threads); the model, scene, overrides, μ, baselines and budget are set per draw.
-  RomRunOptions rom;
+  RomEvalOptions rom;
   std::string coarse_scene;    // the coarse engine's scene; "": this one, coarse_factor times
   double coarse_factor = 1.5;  //   coarser (as `nsf report` does for small scenes)
   bool quiet = false;

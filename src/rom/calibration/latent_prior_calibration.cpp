@@ -1,4 +1,4 @@
-#include "app/latent_prior_calibration.h"
+#include "rom/calibration/latent_prior_calibration.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,14 +9,15 @@
 #include <optional>
 #include <sstream>
 
-#include "app/rom_run.h"
-#include "app/scene_file.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/timer.h"
 #include "nn/dataset.h"
 #include "nn/model.h"
 #include "nn/neural_fields.h"
+#include "rom/eval/rom_evaluation.h"
+#include "rom/rom_diverged.h"
+#include "rom/setup/scene_file.h"
 
 namespace nsf {
 
@@ -73,7 +74,7 @@ struct Measured {
 Measured measure(const CalibrationOptions& o, const std::string& scene,
                  const std::vector<std::string>& overrides, const SimulationFile& run, double eps,
                  std::optional<double> dt_ratio) {
-  RomRunOptions ro;
+  RomEvalOptions ro;
   ro.model_path = o.model_path;
   ro.scene_path = scene;
   ro.overrides = overrides;
@@ -86,15 +87,12 @@ Measured measure(const CalibrationOptions& o, const std::string& scene,
   ro.quiet = true;
   Measured m;
   try {
-    const RomReport rep = run_rom(ro);
+    const RomReport rep = evaluate_rom(ro);
     m.delta = std::isfinite(rep.delta) ? rep.delta : kInf;
     m.rom_seconds = rep.rom_seconds;
     m.frames = rep.frames;
     m.steps_per_frame = rep.rom_steps_per_frame;
-  } catch (const Error& e) {
-    const std::string what = e.what();
-    if (what.find("diverged") == std::string::npos && what.find("CFL bound") == std::string::npos)
-      throw;
+  } catch (const RomDiverged&) {
     m.delta = kInf;
   }
   return m;
@@ -199,14 +197,14 @@ std::string millimetres(double eps) {
 
 size_t calibration_recipes(const std::string& scene_path) {
   if (scene_path.empty()) return 0;
-  const std::optional<TrainSection> train = app::read_scene_file(scene_path).sections.train;
+  const std::optional<TrainSection> train = read_scene_file(scene_path).sections.train;
   return train ? train->calibrate.size() : 0;
 }
 
 void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& given, size_t index) {
   const std::string scene = o.scene_path.empty() ? dataset_scene_file(o.data_dir) : o.scene_path;
   if (scene.empty()) return;
-  const std::optional<TrainSection> train = app::read_scene_file(scene).sections.train;
+  const std::optional<TrainSection> train = read_scene_file(scene).sections.train;
   if (!train || train->calibrate.empty()) return;
   if (index >= train->calibrate.size())
     fail("calibrate: scene ", scene, " gives ", train->calibrate.size(),
@@ -236,7 +234,7 @@ void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& giv
 SceneRomSettings scene_rom_settings(const CalibrationOptions& o, const std::string& family) {
   const std::string scene = o.scene_path.empty() ? dataset_scene_file(o.data_dir) : o.scene_path;
   if (scene.empty()) return {};
-  const app::SceneFile file = app::read_scene_file(scene, calibration_overrides(o));
+  const SceneFile file = read_scene_file(scene, calibration_overrides(o));
   const RomSection& rom = file.sections.rom;
   const RomSection& section = rom.for_run(family);
   return {rom.tracks_stress(family), section.latent_prior, section.dt_ratio};

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "app/scene_file.h"
 #include "io/run_reader.h"
+#include "rom/setup/scene_file.h"
 
 namespace nsf {
 
@@ -41,7 +41,7 @@ void measure_sweep_baselines(const std::vector<TrainingRun>& runs, double mu,
 
 // The coarse engine: `scene` (already at μ) built from `file`, run for the truth's frames with
 // `threads` OpenMP threads. Its frames must fall at the truth's times. Throws nsf::Error.
-void measure_coarse_baseline(const app::SceneFile& file, const nlohmann::json& scene,
+void measure_coarse_baseline(const SceneFile& file, const nlohmann::json& scene,
                              const RunReader& truth, int frames, int threads, bool quiet,
                              Baselines& out);
 

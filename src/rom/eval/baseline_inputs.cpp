@@ -1,0 +1,74 @@
+#include "rom/eval/baseline_inputs.h"
+
+#include <cstdio>
+
+#include "core/error.h"
+#include "data/sweep_spec.h"
+#include "nn/dataset.h"
+
+namespace nsf {
+
+namespace {
+
+// The coarse engine's scene at μ, built once so that a scene it cannot build fails now.
+void read_coarse_scene(const RomEvalOptions& o, const RomSetup& setup, BaselineInputs& in) {
+  const std::string path = o.coarse_scene.empty() ? o.scene_path : o.coarse_scene;
+  std::vector<std::string> overrides = o.overrides;  // the same case on the coarse scene
+  if (o.coarse_factor > 0) {
+    const std::vector<std::string> coarser =
+        coarser_overrides(read_scene_file(path, overrides).json, o.coarse_factor);
+    overrides.insert(overrides.end(), coarser.begin(), coarser.end());
+  }
+  in.coarse = read_scene_file(path, overrides);
+  in.coarse_json = in.coarse->json;
+  in.label = in.coarse_json.value("name", path);
+  if (o.coarse_factor > 0) {
+    char at[48];
+    std::snprintf(at, sizeof at, " at %gx dx", o.coarse_factor);
+    in.label += at;
+  }
+  if (setup.has_mu) {
+    if (!in.coarse->sections.sweep)
+      fail("rom: the coarse scene ", path, " has no \"sweep\" section to set mu");
+    apply_overrides(in.coarse_json, sweep_overrides(*in.coarse->sections.sweep, setup.mu));
+  }
+  build_scene_file(*in.coarse, in.coarse_json);  // fails now on a scene it cannot build
+}
+
+std::vector<TrainingRun> read_training_runs(const RomEvalOptions& o, const RomSetup& setup) {
+  const Dataset data(o.baseline_data);
+  if (!setup.has_mu || !data.has_mu())
+    fail("rom: look-up and interpolation (--baselines ", o.baseline_data,
+         ") need runs at other values of the scene's swept parameter mu");
+  if (data.rest_positions() != setup.scene.particles.X)
+    fail("rom: dataset ", o.baseline_data, " is not scene ", o.scene_path,
+         " (other particles): its runs cannot stand in for this one");
+  std::vector<TrainingRun> runs;
+  for (const SimulationFile& s : data.train()) runs.push_back({s.path, s.mu});
+  if (runs.size() < 2)
+    fail("rom: dataset ", o.baseline_data, " has ", runs.size(),
+         " training runs; look-up and interpolation need at least two");
+  return runs;
+}
+
+}  // namespace
+
+BaselineInputs read_baseline_inputs(const RomEvalOptions& o, const RomSetup& setup) {
+  BaselineInputs in;
+  if (o.baseline_data.empty() && o.coarse_scene.empty() && o.coarse_factor == 0) return in;
+  if (!o.full_order && o.truth_path.empty())
+    fail("rom: the baselines need a ground truth (--truth, or the full-order run)");
+  if (!o.baseline_data.empty()) in.runs = read_training_runs(o, setup);
+  if (!o.coarse_scene.empty() || o.coarse_factor > 0) {
+    try {
+      read_coarse_scene(o, setup, in);
+    } catch (const Error& e) {
+      if (!o.coarse_optional) throw;
+      in.coarse.reset();
+      in.coarse_skipped = std::string("coarse engine not measured: ") + e.what();
+    }
+  }
+  return in;
+}
+
+}  // namespace nsf
