@@ -34,6 +34,7 @@
 #include "rom/latent_stepper.h"
 #include "rom/rom_diverged.h"
 #include "rom/setup/rom_setup.h"
+#include "rom/step_guard.h"
 
 namespace fs = std::filesystem;
 using nsf::Mat3;
@@ -718,6 +719,94 @@ TEST_F(RomEndToEnd, IntegrationParticlesLeavingTheGridAreAClearError) {
   });
   nsf::testing::expect_contains(msg, "integration particle");
   nsf::testing::expect_contains(msg, "outside the grid");
+}
+
+// The run of IntegrationParticlesLeavingTheGridAreAClearError: eight samples in a cluster and a
+// throw far faster than any training run's, whose latent runs away within a few frames.
+nsf::LatentStepper diverging_run(nsf::NeuralFields& f) {
+  nsf::RomOptions o;
+  o.sampling.count = 8;
+  o.sampling.mode = "cluster";
+  o.sampling.center = Vec3(0.6, 0.26, 0.5);
+  o.sampling.sigma = 0.02;
+  return nsf::LatentStepper(f, nsf::load_scene(kTinyScene, {"objects[0].velocity=[6.0,-1.0,0]"}),
+                            1.5, o);
+}
+
+// #55 item 5: the error indicator rises on a run made to diverge, and flags a step before any
+// point leaves the grid. Its early steps sit far below the threshold of 1.
+TEST_F(RomEndToEnd, IndicatorRisesOnARunMadeToDivergeBeforeAPointLeavesTheGrid) {
+  nsf::NeuralFields f = nsf::NeuralFields::load(model());
+  nsf::LatentStepper rom = diverging_run(f);
+  nsf::GuardOptions watch;
+  watch.recover = false;
+  nsf::StepGuard guard(rom, watch);
+  std::vector<double> indicator;
+  long first_flag = -1, diverged_at = -1;
+  for (long k = 0; k < 2000 && diverged_at < 0; ++k) {
+    try {
+      guard.step();
+    } catch (const nsf::RomDiverged&) {
+      diverged_at = k;
+      break;
+    }
+    indicator.push_back(guard.health().indicator);
+    if (std::getenv("NSF_DEBUG_GUARD"))
+      std::printf("step %ld: misfit %.4g cells, courant %.4g, margin %.4g\n", k,
+                  guard.health().residual_cells, guard.health().courant,
+                  guard.health().grid_margin);
+    if (guard.health().flagged && first_flag < 0) first_flag = k;
+  }
+  ASSERT_GT(diverged_at, 5) << "the run diverged at once, or never: " << diverged_at;
+  ASSERT_GE(first_flag, 0) << "no step was flagged before the run diverged at " << diverged_at;
+  EXPECT_LT(first_flag, diverged_at);
+  const double early = *std::max_element(indicator.begin(), indicator.begin() + 3);
+  EXPECT_LT(early, 0.5);
+  std::printf(
+      "diverging run: indicator %.3g on the first steps, flagged at step %ld, a point "
+      "left the grid at step %ld\n",
+      early, first_flag, diverged_at);
+}
+
+// A guarded run of the same case goes on to the scene's end: each failed step is redone (at rest
+// in place, else at rest a step earlier, else from the initial pose at rest), counted and
+// described, without going back to the initial pose here, and every particle
+// stays finite and inside the grid. A healthy run's guard changes nothing: its latents are those
+// of the unguarded run, bit for bit, and nothing is flagged.
+TEST_F(RomEndToEnd, AGuardedRunRecoversFromADivergenceAndSaysSo) {
+  nsf::NeuralFields f = nsf::NeuralFields::load(model());
+  nsf::LatentStepper rom = diverging_run(f);
+  nsf::StepGuard guard(rom);
+  const nsf::Scene scene = nsf::load_scene(kTinyScene);
+  for (int k = 0; k < scene.settings.frames; ++k) ASSERT_NO_THROW(guard.advance_frame());
+  EXPECT_GT(guard.health().recoveries, 0);
+  EXPECT_THAT(guard.health().last_recovery, HasSubstr("redone"));
+  EXPECT_THAT(guard.health().last_recovery, Not(HasSubstr("initial pose")));
+  std::vector<Vec3> x;
+  rom.particle_state(x, nullptr);
+  for (const Vec3& p : x) {
+    ASSERT_TRUE(p.allFinite());
+    EXPECT_TRUE((p.array() > scene.settings.domain_lo.array()).all() &&
+                (p.array() < scene.settings.domain_hi.array()).all());
+  }
+  std::printf("diverging run, guarded: %ld steps redone; the last: %s\n", guard.health().recoveries,
+              guard.health().last_recovery.c_str());
+
+  nsf::RomOptions o;
+  o.sampling.count = 100;
+  nsf::LatentStepper plain(f, nsf::load_scene(kTinyScene), 1.5, o);
+  nsf::LatentStepper watched(f, nsf::load_scene(kTinyScene), 1.5, o);
+  nsf::StepGuard watch(watched);
+  double worst = 0;
+  for (int k = 0; k < scene.settings.frames; ++k) {
+    plain.advance_frame();
+    watch.advance_frame();
+    worst = std::max(worst, watch.health().indicator);
+  }
+  EXPECT_EQ(watch.health().recoveries, 0);
+  EXPECT_LT(worst, 1.0);
+  EXPECT_EQ(plain.latent(), watched.latent());
+  std::printf("healthy run: indicator at most %.3g\n", worst);
 }
 
 TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {

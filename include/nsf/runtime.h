@@ -31,6 +31,25 @@ struct RuntimeOptions {
   int threads = 0;
   // "a.b.c=value" overrides of the scene, as `nsf rom --set` takes them.
   std::vector<std::string> overrides;
+  // The error indicator's limits (docs/EMBEDDING.md, "Error indicator"): the inversion's misfit at
+  // the samples (cells), the Courant number of the step, and the cells left before the grid's
+  // edge. A step past the first two, or one that would carry a point off the grid, is redone
+  // (recover) instead of ending the run; false: such a step throws.
+  double indicator_misfit_cells = 0.5;
+  double indicator_courant = 1.0;
+  double indicator_grid_margin = 0.5;
+  bool recover = true;
+};
+
+// How the run is doing, online (no truth needed): Runtime::health().
+struct RuntimeHealth {
+  double indicator = 0;       // the last step's: below 1 fine, 1 or more past a limit
+  double misfit_cells = 0;    // the inversion's rms misfit at the samples, in cells
+  double courant = 0;         // the fastest integration point's cells per step
+  double grid_margin = 0;     // cells left before the grid's edge
+  bool flagged = false;       // the last step's indicator was 1 or more, or it was redone
+  long recoveries = 0;        // steps redone so far
+  std::string last_recovery;  // what the last one did, when and why ("" for none)
 };
 
 // A rigid collider's pose in the world frame.
@@ -62,6 +81,7 @@ class NSF_API Runtime {
 
   void advance_frame();  // steps_per_frame() steps
   void step();           // one reduced-order step
+  RuntimeHealth health() const;
 
   // Positions (x0 y0 z0 x1 …, metres) of every particle into out[0, 3·particle_count());
   // throws if `size` (in floats) is less.

@@ -158,6 +158,16 @@ class Rom:
         """One reduced-order step."""
         self._rt.step()
 
+    @property
+    def health(self):
+        """How the run is doing, online (no truth needed; docs/EMBEDDING.md, "Error indicator"):
+        a dict of indicator (the last step's: below 1 fine, 1 or more past a limit),
+        misfit_cells (the inversion's rms misfit at the samples, in cells), courant (the fastest
+        integration point's cells per step), grid_margin (cells left before the grid's edge),
+        flagged (the last step's indicator was 1 or more, or it was redone), recoveries (steps
+        redone so far instead of ending the run) and last_recovery (what the last one did)."""
+        return self._rt.health()
+
     def positions(self, out=None):
         """Every particle's position now, (P, 3) float32, metres. With `out` (a writeable
         C-contiguous float32 array of that shape, or such a slice of a bigger one) the values are

@@ -74,6 +74,19 @@ py::array_t<float> velocities(const Runtime& rt, const py::object& out) {
   return per_particle<&Runtime::velocities>(rt, out, "velocities");
 }
 
+py::dict health(const Runtime& rt) {
+  const RuntimeHealth h = rt.health();
+  py::dict d;
+  d["indicator"] = h.indicator;
+  d["misfit_cells"] = h.misfit_cells;
+  d["courant"] = h.courant;
+  d["grid_margin"] = h.grid_margin;
+  d["flagged"] = h.flagged;
+  d["recoveries"] = h.recoveries;
+  d["last_recovery"] = h.last_recovery;
+  return d;
+}
+
 }  // namespace
 
 void bind_runtime(py::module_& m) {
@@ -97,6 +110,7 @@ void bind_runtime(py::module_& m) {
       .def("step", &Runtime::step, py::call_guard<py::gil_scoped_release>())
       .def("positions", &positions, py::arg("out") = py::none())
       .def("velocities", &velocities, py::arg("out") = py::none())
+      .def("health", &health)
       .def_property_readonly("collider_count", &Runtime::collider_count)
       .def("collider_type", &Runtime::collider_type)
       .def("collider_pose", &Runtime::collider_pose)

@@ -94,3 +94,21 @@ def test_bad_input_raises_a_clear_exception(rom, tiny_model, tiny_scene, tmp_pat
         rom.set_collider_pose(0, position=[0, 1])
     with pytest.raises(RuntimeError, match="not a rotation matrix"):
         rom.set_collider_pose(0, rotation=2 * np.eye(3))
+
+
+def test_a_run_thrown_into_the_wall_recovers_and_reports_its_health(tiny_model, tiny_scene):
+    # Thrown at 8 m/s, eight times the sweep's fastest: the latent carries the bar into the wall,
+    # where its points would leave the grid. The run goes on to the scene's end, and says so.
+    rom = nsf.Rom(tiny_model, tiny_scene, mu=8.0, threads=2)
+    healthy = rom.health
+    assert set(healthy) == {"indicator", "misfit_cells", "courant", "grid_margin", "flagged",
+                            "recoveries", "last_recovery"}
+    worst = 0.0
+    for _ in range(rom.frame_count):
+        rom.advance_frame()
+        worst = max(worst, rom.health["indicator"])
+    x = rom.positions()
+    assert np.isfinite(x).all() and (x > 0).all() and (x < 1).all()
+    h = rom.health
+    assert worst >= 1.0
+    assert h["recoveries"] > 0 and "redone" in h["last_recovery"]

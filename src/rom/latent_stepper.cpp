@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <optional>
 
@@ -95,7 +96,8 @@ struct LatentStepper::Impl {
   std::vector<Vec3> xN_prev;
   std::unique_ptr<SampleDeformation> g_S;  // g and ∂g/∂ẑ on S, for the inversion
 
-  double sum_N = 0, sum_K = 0, last_residual = 0;
+  double sum_N = 0, sum_K = 0, last_residual = 0, last_courant = 0;
+  double last_margin = std::numeric_limits<double>::infinity();
   double sample_condition = -1;  // of g's tangents on S, with QDEIM's samples
   double energy_after_mpm = 0, energy_after_inversion = 0;  // summed over steps, on S
   long refreshes = 0, misses = 0;
@@ -334,6 +336,17 @@ struct LatentStepper::Impl {
     refreshed_at = n;
   }
 
+  // Cells between the points xs and the nearest place where a stencil no longer fits (1.5 Δx
+  // inside a domain face); negative outside.
+  double grid_margin(const std::vector<Vec3>& xs) const {
+    const SimSettings& s = sim->settings();
+    double margin = std::numeric_limits<double>::infinity();
+    for (const Vec3& x : xs)
+      margin =
+          std::min(margin, std::min((x - s.domain_lo).minCoeff(), (s.domain_hi - x).minCoeff()));
+    return margin / dx - 1.5;
+  }
+
   // Positions xs of the particles ids must lie where the engine's stencils fit (its sort and
   // transfers index the grid unchecked), as the full-order engine's own guard requires.
   void check_finite_inside(const std::vector<Vec3>& xs, const std::vector<uint32_t>& ids,
@@ -412,6 +425,10 @@ struct LatentStepper::Impl {
           xN_prev.push_back(xK_prev[k]);
         }
       velocity->evaluate(N, xN, xN_prev, vN);
+      double vmax = 0;
+      for (const Vec3& v : vN) vmax = std::max(vmax, v.norm());
+      last_courant = vmax * dt / dx;
+      last_margin = grid_margin(xN);
       // A diverging latent can carry a particle of N off the grid while its clamped stencil
       // still touches I's boundary nodes. S ⊆ N (a sample touches its own nodes), so this
       // checks the samples too.
@@ -479,7 +496,15 @@ struct LatentStepper::Impl {
     ScopedTimer timer(times.inversion);
     std::optional<ScopedBlasThreads> fit_threads;
     if (opt.inversion.threads > 0) fit_threads.emplace(opt.inversion.threads);
-    const InversionResult res = invert_deformation(*g_S, xs_new, z, opt.inversion);
+    InversionResult res;
+    try {
+      res = invert_deformation(*g_S, xs_new, z, opt.inversion);
+    } catch (const Error& e) {  // a non-finite fit: the step before had already run away
+      fail_diverged("rom: at step ", n, " (t = ", t, " s) ", e.what());
+    }
+    if (!res.z.allFinite())
+      fail_diverged("rom: the latent fitted at step ", n, " (t = ", t,
+                    " s) is not finite: the latent dynamics diverged");
     z_prev = z;
     z = res.z;
     last_residual = res.rms_residual;
@@ -520,6 +545,21 @@ LatentStepper::~LatentStepper() = default;
 
 void LatentStepper::step() {
   impl_->step();
+}
+LatentStepper::Checkpoint LatentStepper::checkpoint() const {
+  return {impl_->z, impl_->z_prev, impl_->t, impl_->n};
+}
+void LatentStepper::restore(const Checkpoint& c) {
+  Impl& m = *impl_;
+  m.z = c.z, m.z_prev = c.z_prev, m.t = c.t, m.n = c.n;
+  // Every cache of g at a latent goes: the candidates are found again from all positions.
+  m.cache_step = -1;
+  m.xK_last_valid = false;
+  m.refreshed_at = -1;
+  m.K = CandidateSet(m.opt.halo);
+}
+LatentStepper::Signals LatentStepper::signals() const {
+  return {impl_->last_residual / impl_->dx, impl_->last_courant, impl_->last_margin};
 }
 void LatentStepper::advance_frame() {
   for (int i = 0; i < impl_->per_frame; ++i) impl_->step();
@@ -599,6 +639,7 @@ RomDiagnostics LatentStepper::diagnostics() const {
   d.sample_condition = m.sample_condition;
   d.training_distance = m.prior ? std::sqrt(m.prior->distance2(m.z)) : -1.0;
   d.energy_kept = m.energy_after_mpm > 0 ? m.energy_after_inversion / m.energy_after_mpm : 1.0;
+  d.courant = m.last_courant;
   return d;
 }
 

@@ -41,6 +41,9 @@ struct RomDiagnostics {
   // Σ over steps of the samples' kinetic energy the inversion keeps, over Σ of what the MPM step
   // gave them: below 1, the projection onto g's tangent bleeds velocity every step.
   double energy_kept = 1;
+  // The last step's Courant number on N: its fastest point's speed × Δt over Δx (cells a step).
+  // Past 1 the explicit MPM step on N is unstable: a latent about to diverge shows here first.
+  double courant = 0;
 };
 
 class LatentStepper {
@@ -56,6 +59,24 @@ class LatentStepper {
 
   void step();
   void advance_frame();  // steps_per_frame() steps
+
+  // The latent pair and the clock of the run: what a guard (rom/step_guard.h) keeps before a
+  // step and puts back to redo it. The tracked state's own F and plastic state are not in it.
+  struct Checkpoint {
+    Latent z, z_prev;
+    double t = 0;
+    long n = 0;
+  };
+  Checkpoint checkpoint() const;
+  void restore(const Checkpoint& c);
+  // What the last step tells of its own health, online: the inversion's rms misfit at S in
+  // cells, the Courant number on N (RomDiagnostics::last_residual / Δx and ::courant), and the
+  // cells left between N and the place where the engine's stencils no longer fit (1.5 Δx inside
+  // a domain face; full order's walls keep its particles a cell or more short of it).
+  struct Signals {
+    double residual_cells = 0, courant = 0, grid_margin = 0;
+  };
+  Signals signals() const;
 
   double time() const;
   double dt() const;  // the ROM step

@@ -12,6 +12,7 @@
 #include "nn/runtime.h"
 #include "rom/latent_stepper.h"
 #include "rom/setup/rom_setup.h"
+#include "rom/step_guard.h"
 
 namespace nsf {
 
@@ -48,6 +49,7 @@ struct Runtime::Impl {
   int frames = 0;
   double frame_time = 0;
   std::unique_ptr<LatentStepper> stepper;  // holds a reference to `fields`
+  std::unique_ptr<StepGuard> guard;        // and this one to `stepper`
 
   Impl(const std::string& model_path, const std::string& scene_path, const RuntimeOptions& o)
       : fields(NeuralFields::load(model_path)) {
@@ -55,6 +57,12 @@ struct Runtime::Impl {
     frames = s.scene.settings.frames;
     frame_time = s.scene.settings.substeps * s.scene.settings.dt;
     stepper = std::make_unique<LatentStepper>(fields, std::move(s.scene), s.mu, s.options);
+    GuardOptions g;
+    g.residual_cells = o.indicator_misfit_cells;
+    g.courant = o.indicator_courant;
+    g.grid_margin = o.indicator_grid_margin;
+    g.recover = o.recover;
+    guard = std::make_unique<StepGuard>(*stepper, g);
   }
 
   RigidCollider& collider(std::size_t i) const {
@@ -96,10 +104,15 @@ double Runtime::time() const {
 }
 
 void Runtime::advance_frame() {
-  guarded("advance_frame", [&] { impl_->stepper->advance_frame(); });
+  guarded("advance_frame", [&] { impl_->guard->advance_frame(); });
 }
 void Runtime::step() {
-  guarded("step", [&] { impl_->stepper->step(); });
+  guarded("step", [&] { impl_->guard->step(); });
+}
+RuntimeHealth Runtime::health() const {
+  const RomHealth& h = impl_->guard->health();
+  return {h.indicator, h.residual_cells, h.courant,      h.grid_margin,
+          h.flagged,   h.recoveries,     h.last_recovery};
 }
 
 void Runtime::positions(float* out, std::size_t size) const {
