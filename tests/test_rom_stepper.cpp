@@ -751,10 +751,6 @@ TEST_F(RomEndToEnd, IndicatorRisesOnARunMadeToDivergeBeforeAPointLeavesTheGrid) 
       break;
     }
     indicator.push_back(guard.health().indicator);
-    if (std::getenv("NSF_DEBUG_GUARD"))
-      std::printf("step %ld: misfit %.4g cells, courant %.4g, margin %.4g\n", k,
-                  guard.health().residual_cells, guard.health().courant,
-                  guard.health().grid_margin);
     if (guard.health().flagged && first_flag < 0) first_flag = k;
   }
   ASSERT_GT(diverged_at, 5) << "the run diverged at once, or never: " << diverged_at;
