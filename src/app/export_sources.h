@@ -24,8 +24,8 @@ class ExportSources {
   // Fails when `dir` already holds files of `run`'s name that were exported from another run file,
   // or from a run file that was not recorded, naming the files, both runs and the way out.
   void check(const std::string& run) const;
-  // Records `run` (as an absolute path) as the source of its name's files, and writes the record
-  // atomically.
+  // Records each run (as an absolute path) as the source of its name's files, and writes the
+  // record atomically.
   void record(const std::vector<std::string>& runs);
 
  private:
