@@ -371,6 +371,13 @@ def main():
     if len(sys.argv) != 3 or sys.argv[2] not in ("meshio", "vtk", "xdmf3"):
         sys.exit(__doc__)
     nsf, reader = sys.argv[1:]
+    # What the reader needs, checked before simulating anything.
+    for module, package in [("numpy", "python3-numpy"), ("h5py", "python3-h5py")] + {
+            "meshio": [("meshio", "python3-meshio")], "vtk": [("vtk", "python3-vtk9")],
+            "xdmf3": []}[reader]:
+        need(module, package)
+    if reader == "xdmf3":
+        Xdmf3()
     with tempfile.TemporaryDirectory(prefix="nsf_export_readers_") as work:
         scene = os.path.join(work, "scene.json")
         with open(scene, "w") as f:
