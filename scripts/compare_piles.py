@@ -32,7 +32,7 @@ FRAME = re.compile(r"_(\d+)\.ply$")
 
 
 def read_ply(path):
-    """Rows of (x, y, z, vx, vy, vz, von Mises or None) from a binary little-endian PLY written
+    """Rows of (x, y, z, v_x, v_y, v_z, von Mises or None) from a binary little-endian PLY written
     by nsf export."""
     with open(path, "rb") as f:
         data = f.read()
@@ -45,7 +45,9 @@ def read_ply(path):
         elif words[:1] == ["property"]:
             props.append((words[1], words[2]))
     names = [name for _, name in props]
-    need = ["x", "y", "z", "vx", "vy", "vz"]
+    # v_x v_y v_z (docs/VISUALISE.md); nsf exports before that named them vx vy vz.
+    velocity = ["v_x", "v_y", "v_z"] if "v_x" in names else ["vx", "vy", "vz"]
+    need = ["x", "y", "z"] + velocity
     if any(n not in names for n in need):
         sys.exit(f"{path}: expected the properties {need}, found {names}")
     fmt = "<" + "".join(TYPES[t] for t, _ in props)

@@ -12,6 +12,8 @@ PACKAGES=(
   libassimp-dev
   openmpi-bin libopenmpi-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-h5py
+  # The exported files read back by meshio, VTK and the Xdmf3 library (tests/check_export_readers.py).
+  python3-meshio python3-vtk9 libxdmf3
   # The page of `nsf serve` checked in a headless browser (tests/test_app_serve.cpp, ...Chromium...).
   chromium
 )

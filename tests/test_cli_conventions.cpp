@@ -174,7 +174,7 @@ TEST_F(CliConventions, ChoicesAreListedByNameAndCheckedBeforeRunning) {
        "render " + run + " --out " + in_dir("frames") + " --view bogus"},
       {"contact-sheet", "--color", "{material,object,speed,stress}",
        "contact-sheet " + run + " --out " + in_dir("sheet.png") + " -c bogus"},
-      {"export", "--format", "{ply,vtk,vtu}",
+      {"export", "--format", "{ply,vtk,vtu,xdmf}",
        "export " + run + " --out " + in_dir("vtu") + " --format obj"},
       {"eval", "--split", "{test,train,all}", "eval " + in_dir("m.nsf") + " " + run + " --split x"},
       {"report", "--size", "{small,paper}", "report --size huge --page-only"},

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "io/colormap.h"
+#include "io/h5_util.h"
 #include "io/run_reader.h"
 #include "synthetic_run.h"
 
@@ -112,15 +114,15 @@ std::map<std::string, std::vector<double>> read_ply(const fs::path& path) {
   return out;
 }
 
-// A legacy binary VTK POLYDATA file: each section (POINTS, VERTICES, VECTORS velocity, ...) as
-// doubles, plus the TIME field.
+// A legacy binary VTK UNSTRUCTURED_GRID file: POINTS, CELLS, CELL_TYPES and every field array
+// (the dataset's TIME, the point data's arrays) by name, as doubles.
 std::map<std::string, std::vector<double>> read_vtk(const fs::path& path) {
   const std::string buf = slurp(path);
   size_t pos = 0;
   EXPECT_EQ(next_line(buf, pos), "# vtk DataFile Version 3.0");
   next_line(buf, pos);  // title
   EXPECT_EQ(next_line(buf, pos), "BINARY");
-  EXPECT_EQ(next_line(buf, pos), "DATASET POLYDATA");
+  EXPECT_EQ(next_line(buf, pos), "DATASET UNSTRUCTURED_GRID");
   std::map<std::string, std::vector<double>> out;
   size_t n = 0;
   const auto read_block = [&](const std::string& key, const std::string& type, size_t count) {
@@ -144,27 +146,26 @@ std::map<std::string, std::vector<double>> read_vtk(const fs::path& path) {
     size_t a = 0, b = 0;
     ls >> word;
     if (word == "FIELD") {
-      ls >> name >> a;
-      EXPECT_EQ(a, 1u);
-      std::istringstream arr(next_line(buf, pos));
-      arr >> name >> a >> b >> type;
-      read_block(name, type, a * b);
+      size_t arrays = 0;
+      ls >> name >> arrays;
+      for (size_t i = 0; i < arrays; ++i) {
+        std::istringstream arr(next_line(buf, pos));
+        arr >> name >> a >> b >> type;
+        out[name + ":components"] = {double(a)};
+        read_block(name, type, a * b);
+      }
     } else if (word == "POINTS") {
       ls >> n >> type;
       read_block("POINTS", type, 3 * n);
-    } else if (word == "VERTICES") {
+    } else if (word == "CELLS") {
       ls >> a >> b;
-      read_block("VERTICES", "int", b);
+      read_block("CELLS", "int", b);
+    } else if (word == "CELL_TYPES") {
+      ls >> a;
+      read_block("CELL_TYPES", "int", a);
     } else if (word == "POINT_DATA") {
       ls >> a;
       EXPECT_EQ(a, n);
-    } else if (word == "SCALARS") {
-      ls >> name >> type;
-      EXPECT_EQ(next_line(buf, pos), "LOOKUP_TABLE default");
-      read_block(name, type, n);
-    } else if (word == "VECTORS" || word == "TENSORS") {
-      ls >> name >> type;
-      read_block(name, type, (word == "VECTORS" ? 3 : 9) * n);
     } else {
       ADD_FAILURE() << "unexpected VTK section '" << word << "'";
       break;
@@ -225,9 +226,24 @@ std::vector<double> flat(const std::vector<Mat3>& v) {  // row-major
   return out;
 }
 
+// tau as the run file stores it: xx yy zz xy yz xz.
+std::vector<double> flat_sym(const std::vector<Mat3>& v) {
+  std::vector<double> out;
+  for (const Mat3& m : v)
+    out.insert(out.end(), {m(0, 0), m(1, 1), m(2, 2), m(0, 1), m(1, 2), m(0, 2)});
+  return out;
+}
+
 template <typename T>
 std::vector<double> flat(const std::vector<T>& v) {
   return std::vector<double>(v.begin(), v.end());
+}
+
+std::vector<std::string> folder_names(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 class Export : public ::testing::Test {
@@ -266,7 +282,7 @@ TEST_F(Export, PlyHoldsTheFrameAsFloats) {
     for (size_t i = 0; i < n; ++i) {
       for (int a = 0; a < 3; ++a) {
         EXPECT_EQ(ply[std::string(1, "xyz"[a])][i], float(f.x[i][a]));
-        EXPECT_EQ(ply[std::string("v") + "xyz"[a]][i], float(f.v[i][a]));
+        EXPECT_EQ(ply[std::string("v_") + "xyz"[a]][i], float(f.v[i][a]));
       }
       EXPECT_EQ(ply["speed"][i], float(f.v[i].norm()));
       EXPECT_EQ(ply["von_mises"][i], float(nsf::von_mises(f.tau[i])));
@@ -278,7 +294,9 @@ TEST_F(Export, PlyHoldsTheFrameAsFloats) {
 
 TEST_F(Export, PlyDoublePositionsAreExact) {
   export_run("--format ply --double --frames -1 --out '" + (dir_ / "ply").string() + "'");
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir_ / "ply"), fs::directory_iterator()), 1);
+  // The one frame, and the record of which run the folder's run_* files came from.
+  EXPECT_EQ(folder_names(dir_ / "ply"),
+            (std::vector<std::string>{".nsf-export.json", "run_0003.ply"}));
   auto ply = read_ply(dir_ / "ply" / "run_0003.ply");
   const nsf::RunFrame f = nsf::RunReader(run_).read_frame(3);
   for (size_t i = 0; i < f.x.size(); ++i) EXPECT_EQ(ply["y"][i], f.x[i].y());
@@ -296,18 +314,20 @@ TEST_F(Export, LegacyVtkHoldsTheFrame) {
     const nsf::RunFrame f = run.read_frame(k);
     EXPECT_EQ(vtk["TIME"], std::vector<double>{f.time});
     EXPECT_EQ(vtk["POINTS"], flat(f.x));
-    EXPECT_EQ(vtk["velocity"], flat(f.v));
-    EXPECT_EQ(vtk["tau"], flat(f.tau));
+    EXPECT_EQ(vtk["v"], flat(f.v));
+    EXPECT_EQ(vtk["tau"], flat_sym(f.tau));
+    EXPECT_EQ(vtk["tau:components"], std::vector<double>{6});
     EXPECT_EQ(vtk["F"], flat(f.F));
     EXPECT_EQ(vtk["speed"], flat(nsf::speeds(f.v)));
     EXPECT_EQ(vtk["von_mises"], flat(nsf::von_mises(f.tau)));
     EXPECT_EQ(vtk["material"], flat(run.material()));
     EXPECT_EQ(vtk["object"], flat(run.object()));
-    ASSERT_EQ(vtk["VERTICES"].size(), 2 * f.x.size());
+    ASSERT_EQ(vtk["CELLS"].size(), 2 * f.x.size());
     for (size_t i = 0; i < f.x.size(); ++i) {
-      EXPECT_EQ(vtk["VERTICES"][2 * i], 1);
-      EXPECT_EQ(vtk["VERTICES"][2 * i + 1], double(i));
+      EXPECT_EQ(vtk["CELLS"][2 * i], 1);
+      EXPECT_EQ(vtk["CELLS"][2 * i + 1], double(i));
     }
+    EXPECT_EQ(vtk["CELL_TYPES"], std::vector<double>(f.x.size(), 1.0));  // VTK_VERTEX
   }
   // The series file gives ParaView the times.
   const auto series = nlohmann::json::parse(slurp(dir_ / "vtk" / "run.vtk.series"));
@@ -327,8 +347,8 @@ TEST_F(Export, VtuHoldsTheFrameAndPvdListsTheTimes) {
     const size_t n = f.x.size();
     EXPECT_EQ(vtu["TimeValue"], std::vector<double>{f.time});
     EXPECT_EQ(vtu["Points"], flat(f.x));
-    EXPECT_EQ(vtu["velocity"], flat(f.v));
-    EXPECT_EQ(vtu["tau"], flat(f.tau));
+    EXPECT_EQ(vtu["v"], flat(f.v));
+    EXPECT_EQ(vtu["tau"], flat_sym(f.tau));
     EXPECT_EQ(vtu["F"], flat(f.F));
     EXPECT_EQ(vtu["speed"], flat(nsf::speeds(f.v)));
     EXPECT_EQ(vtu["von_mises"], flat(nsf::von_mises(f.tau)));
@@ -408,6 +428,152 @@ TEST_F(Export, BadInputFailsClearlyAndWritesNothing) {
     EXPECT_NE(output.find("error"), std::string::npos) << output;
     EXPECT_FALSE(fs::exists(out)) << c.args;
   }
+}
+
+// Every frame as its own datasets, so that readers without hyperslabs (meshio) read them; the XDMF
+// file names them frame by frame (read back by meshio and the Xdmf3 library in
+// tests/check_export_readers.py).
+TEST_F(Export, XdmfHoldsEveryFrameAsItsOwnDatasets) {
+  export_run("--format xdmf --frames 1: --out '" + (dir_ / "xdmf").string() + "'");
+  const fs::path h5 = dir_ / "xdmf" / "run.series.h5";
+  ASSERT_TRUE(fs::exists(h5));
+  EXPECT_FALSE(fs::exists(dir_ / "xdmf" / "run.series.h5.tmp"));
+  const hid_t file = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  const auto read = [&](const std::string& name) {
+    std::vector<double> v;
+    const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+    EXPECT_GE(set, 0) << name;
+    if (set < 0) return v;
+    size_t n = 1;
+    for (hsize_t d : nsf::h5::dataset_shape(file, name, h5.string())) n *= d;
+    v.resize(n);
+    EXPECT_GE(H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0) << name;
+    H5Dclose(set);
+    return v;
+  };
+  nsf::RunReader run(run_);
+  const size_t p = run.particle_count();
+  std::vector<double> connectivity(p);
+  for (size_t i = 0; i < p; ++i) connectivity[i] = double(i);
+  EXPECT_EQ(read("/connectivity"), connectivity);
+  EXPECT_EQ(read("/material"), flat(run.material()));
+  EXPECT_EQ(read("/object"), flat(run.object()));
+  EXPECT_EQ(H5Lexists(file, "/frames/0", H5P_DEFAULT), 0);  // not selected
+  for (size_t k = 1; k < run.frame_count(); ++k) {
+    const nsf::RunFrame f = run.read_frame(k);
+    const std::string g = "/frames/" + std::to_string(k) + "/";
+    EXPECT_EQ(read(g + "x"), flat(f.x));
+    EXPECT_EQ(read(g + "v"), flat(f.v));
+    EXPECT_EQ(read(g + "tau"), flat_sym(f.tau));
+    EXPECT_EQ(read(g + "F"), flat(f.F));
+    EXPECT_EQ(read(g + "speed"), flat(nsf::speeds(f.v)));
+    EXPECT_EQ(read(g + "von_mises"), flat(nsf::von_mises(f.tau)));
+  }
+  H5Fclose(file);
+  const std::string xml = slurp(dir_ / "xdmf" / "run.series.xdmf");
+  const std::regex time_re(R"re(<Time Value="([^"]+)"/>)re");
+  std::vector<double> times;
+  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), time_re);
+       it != std::sregex_iterator(); ++it)
+    times.push_back(std::stod((*it)[1]));
+  EXPECT_EQ(times, std::vector<double>(run.times().begin() + 1, run.times().end()));
+  EXPECT_EQ(xml.find("HyperSlab"), std::string::npos);
+  for (const char* name : {"x", "v", "speed", "von_mises", "tau", "F", "material", "object"})
+    EXPECT_NE(xml.find("<Attribute Name=\"" + std::string(name) + "\""), std::string::npos) << name;
+}
+
+// Several runs in one command, each with its own files and collection.
+TEST_F(Export, SeveralRunsInOneCommand) {
+  const std::string other = (dir_ / "other.h5").string();
+  nsf::testing::write_synthetic_run(other, 2);
+  export_run("'" + other + "' --format vtu --out '" + (dir_ / "both").string() + "'");
+  for (const char* file :
+       {"run_0000.vtu", "run_0003.vtu", "run.pvd", "other_0001.vtu", "other.pvd"})
+    EXPECT_TRUE(fs::exists(dir_ / "both" / file)) << file;
+}
+
+// The names of the files in a folder, with their contents.
+std::map<std::string, std::string> folder(const fs::path& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::directory_iterator(dir))
+    out[e.path().filename().string()] = slurp(e.path());
+  return out;
+}
+
+// Every sweep names its runs train_0.h5, test_0.h5, ...: exported into one folder, the second run's
+// files replaced the first one's with exit 0. A name in an export folder now belongs to one run
+// file; re-exporting that run replaces its files, another run of that name is refused.
+TEST_F(Export, ARunOfTheSameNameFromAnotherFolderIsRefusedNamingBoth) {
+  const std::string a = (dir_ / "a" / "train_0.h5").string(),
+                    b = (dir_ / "b" / "train_0.h5").string();
+  fs::create_directories(dir_ / "a");
+  fs::create_directories(dir_ / "b");
+  nsf::testing::write_synthetic_run(a, 3);
+  nsf::testing::write_synthetic_run(b, 5);
+  const fs::path out = dir_ / "out";
+  for (const char* format : {"vtu", "ply", "vtk", "xdmf"}) {
+    SCOPED_TRACE(format);
+    fs::remove_all(out);
+    std::string log;
+    ASSERT_EQ(run_cli("export '" + a + "' -q -f " + format + " -o '" + out.string() + "'", log), 0)
+        << log;
+    const auto before = folder(out);
+    for (const std::string& f :
+         {std::string("ply"), std::string("vtk"), std::string("vtu"), std::string("xdmf")}) {
+      EXPECT_EQ(run_cli("export '" + b + "' -q -f " + f + " -o '" + out.string() + "'", log), 1)
+          << log;
+      EXPECT_NE(log.find("nsf: error: "), std::string::npos) << log;
+      EXPECT_NE(log.find("'" + a + "'"), std::string::npos) << log;
+      EXPECT_NE(log.find("'" + b + "'"), std::string::npos) << log;
+      EXPECT_NE(log.find("another folder"), std::string::npos) << log;
+      EXPECT_EQ(folder(out), before) << "the refused export wrote into " << out;
+    }
+    // The same run again: its own files are replaced, as before.
+    EXPECT_EQ(run_cli("export '" + a + "' -q -f " + format + " -o '" + out.string() + "'", log), 0)
+        << log;
+    // Into another folder, b is fine.
+    EXPECT_EQ(
+        run_cli("export '" + b + "' -q -f " + format + " -o '" + (dir_ / "out_b").string() + "'",
+                log),
+        0)
+        << log;
+  }
+}
+
+TEST_F(Export, RunsOfTheSameNameInOneCommandAreRefusedBeforeAnythingIsWritten) {
+  const std::string a = (dir_ / "a" / "train_0.h5").string(),
+                    b = (dir_ / "b" / "train_0.h5").string();
+  fs::create_directories(dir_ / "a");
+  fs::create_directories(dir_ / "b");
+  nsf::testing::write_synthetic_run(a, 3);
+  nsf::testing::write_synthetic_run(b, 3);
+  const fs::path out = dir_ / "out";
+  std::string log;
+  EXPECT_EQ(run_cli("export '" + a + "' '" + b + "' -q -o '" + out.string() + "'", log), 1) << log;
+  EXPECT_NE(log.find("'" + a + "' and '" + b + "' have the same name 'train_0'"), std::string::npos)
+      << log;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(run_cli("export '" + a + "' '" + (dir_ / "a" / ".." / "a" / "train_0.h5").string() +
+                        "' -q -o '" + out.string() + "'",
+                    log),
+            1)
+      << log;
+  EXPECT_NE(log.find("is given twice"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// Files of the run's name whose origin nothing records (an older nsf wrote them, or a person):
+// never overwritten.
+TEST_F(Export, FilesOfTheSameNameFromAnUnknownRunAreNotOverwritten) {
+  const fs::path out = dir_ / "out";
+  fs::create_directories(out);
+  std::ofstream(out / "run_0002.vtu") << "someone else's frame";
+  std::string log;
+  EXPECT_EQ(run_cli("export '" + run_ + "' -q -o '" + out.string() + "'", log), 1) << log;
+  EXPECT_NE(log.find("run_0002.vtu', whose run is not recorded"), std::string::npos) << log;
+  EXPECT_EQ(folder(out),
+            (std::map<std::string, std::string>{{"run_0002.vtu", "someone else's frame"}}));
 }
 
 }  // namespace

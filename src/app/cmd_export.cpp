@@ -1,4 +1,5 @@
-// `nsf export run.h5 --format vtu --out dir/`: a run's frames for ParaView, Blender or Houdini.
+// `nsf export run.h5 ... --format vtu --out dir/`: runs' frames for ParaView, Blender, Houdini or
+// meshio.
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
@@ -10,6 +11,7 @@
 
 #include "app/commands.h"
 #include "app/common_options.h"
+#include "app/export_sources.h"
 #include "core/error.h"
 #include "core/path_clash.h"
 #include "core/progress.h"
@@ -18,6 +20,7 @@
 #include "io/position_check.h"
 #include "io/run_reader.h"
 #include "io/vtk_writer.h"
+#include "io/xdmf_series.h"
 
 namespace nsf::app {
 
@@ -26,14 +29,17 @@ namespace {
 namespace fs = std::filesystem;
 
 struct ExportArgs {
-  std::string run, out, format = "vtu", frames;
+  std::vector<std::string> runs;
+  std::string out, format = "vtu", frames;
   bool double_positions = false, quiet = false;
   int threads = 0;  // accepted, as by every command; export runs on one thread
 };
 
-// "<run>_0012.vtu.tmp", "<run>.pvd.tmp", "<run>.vtk.series.tmp" (not another run's).
+// "<run>_0012.vtu.tmp", "<run>.pvd.tmp", "<run>.vtk.series.tmp", "<run>.series.h5.tmp",
+// "<run>.series.xdmf.tmp" (not another run's).
 bool is_stale_temp_of(const std::string& name, const std::string& run) {
-  for (const char* collection : {".pvd.tmp", ".vtk.series.tmp"})
+  for (const char* collection :
+       {".pvd.tmp", ".vtk.series.tmp", ".series.h5.tmp", ".series.xdmf.tmp"})
     if (name == run + collection) return true;
   if (name.rfind(run + "_", 0) != 0) return false;
   const size_t digits = run.size() + 1, dot = name.find('.', digits);
@@ -55,32 +61,50 @@ void remove_stale_temp_files(const std::string& dir, const std::string& run_name
   }
 }
 
-// All checks come before anything is written, so a bad option leaves no half-made output.
-void run_export(const ExportArgs& a) {
-  if (a.format != "ply" && a.format != "vtk" && a.format != "vtu")
-    fail("--format '", a.format, "' is not an export format; use ply, vtk or vtu");
-  refuse_path_clash({{"--out", a.out}}, {{"the run", a.run}});
-  const RunReader run(a.run);
-  const std::vector<size_t> frames = parse_frame_range(a.frames, run.frame_count());
-  std::error_code ec;
-  fs::create_directories(a.out, ec);
-  if (ec) fail(a.out, ": cannot create the output directory: ", ec.message());
+std::string run_name(const std::string& run) {
+  return fs::path(run).stem().string();
+}
 
-  // Files are named after the run and numbered by run frame, so sand_0012.vtu is frame 12 of
-  // sand.h5 whatever --frames picked, and a second run exported into the same folder writes its
-  // own files and collection instead of overwriting the first one's.
-  const std::string run_name = fs::path(a.run).stem().string();
-  remove_stale_temp_files(a.out, run_name);
+// Two inputs whose files would carry the same names: sweeps name their runs alike in every folder.
+void refuse_same_names(const std::vector<std::string>& runs, const ExportArgs& a) {
+  for (size_t i = 0; i < runs.size(); ++i)
+    for (size_t j = 0; j < i; ++j) {
+      if (same_file(runs[i], runs[j]))
+        fail("the run '", runs[j], "' is given twice ('", runs[i], "')");
+      if (run_name(runs[i]) == run_name(runs[j]))
+        fail("the runs '", runs[j], "' and '", runs[i], "' have the same name '", run_name(runs[i]),
+             "', so their files in --out '", a.out,
+             "' would have the same names: export them into different folders");
+    }
+}
+
+struct Input {
+  std::string path;
+  RunReader run;
+  std::vector<size_t> frames;
+};
+
+// One run's frames, as files named after the run and numbered by run frame, so sand_0012.vtu is
+// frame 12 of sand.h5 whatever --frames picked, plus the collection file of the format.
+void export_run(const Input& in, const ExportArgs& a) {
+  const RunReader& run = in.run;
+  const std::string name = run_name(in.path);
+  remove_stale_temp_files(a.out, name);
+  const std::string stem = (fs::path(a.out) / name).string();
   const size_t last = run.frame_count() - 1;
   const int digits = std::max(4, static_cast<int>(std::to_string(last).size()));
   std::vector<SeriesEntry> series;
-  Progress progress("export", static_cast<long>(frames.size()), "frames");
-  for (size_t i = 0; i < frames.size(); ++i) {
-    const size_t k = frames[i];
+  std::unique_ptr<XdmfSeriesWriter> xdmf;
+  if (a.format == "xdmf")
+    xdmf = std::make_unique<XdmfSeriesWriter>(stem + ".series.xdmf", stem + ".series.h5",
+                                              run.material(), run.object());
+  Progress progress("export", static_cast<long>(in.frames.size()), "frames");
+  for (size_t i = 0; i < in.frames.size(); ++i) {
+    const size_t k = in.frames[i];
     char number[32];
     std::snprintf(number, sizeof number, "_%0*zu.", digits, k);
-    const std::string name = run_name + number + a.format;
-    const std::string path = (fs::path(a.out) / name).string();
+    const std::string file = name + number + a.format;
+    const std::string path = (fs::path(a.out) / file).string();
     const RunFrame f = run.read_frame(k);
     check_run_positions(f.x, run.path(), k);
     char title[160];
@@ -90,15 +114,23 @@ void run_export(const ExportArgs& a) {
       write_ply(path, f, run.material(), run.object(), {a.double_positions, title});
     } else if (a.format == "vtk") {
       write_vtk_legacy(path, f, run.material(), run.object(), {title, f.time});
-    } else {
+    } else if (a.format == "vtu") {
       write_vtu(path, f, run.material(), run.object(), {title, f.time});
+    } else {
+      xdmf->add_frame(k, f);
     }
-    series.push_back({name, f.time});
+    series.push_back({file, f.time});
     if (!a.quiet) progress.update(static_cast<long>(i + 1));
   }
   if (!a.quiet) progress.finish();
-  std::printf("wrote %zu %s files to %s\n", frames.size(), a.format.c_str(), a.out.c_str());
-  const std::string stem = (fs::path(a.out) / run_name).string();
+  if (a.format == "xdmf") {
+    xdmf->finish();
+    std::printf("wrote %zu frames of %s to %s.series.h5 and %s.series.xdmf (open this)\n",
+                in.frames.size(), in.path.c_str(), stem.c_str(), stem.c_str());
+    return;
+  }
+  std::printf("wrote %zu %s files of %s to %s\n", in.frames.size(), a.format.c_str(),
+              in.path.c_str(), a.out.c_str());
   if (a.format == "vtu") {
     write_pvd(stem + ".pvd", series);
     std::printf("wrote %s.pvd (open this in ParaView)\n", stem.c_str());
@@ -108,16 +140,47 @@ void run_export(const ExportArgs& a) {
   }
 }
 
+// All checks come before anything is written, so a bad option leaves no half-made output.
+void run_export(const ExportArgs& a) {
+  if (a.format != "ply" && a.format != "vtk" && a.format != "vtu" && a.format != "xdmf")
+    fail("--format '", a.format, "' is not an export format; use ply, vtk, vtu or xdmf");
+  for (const std::string& run : a.runs) refuse_path_clash({{"--out", a.out}}, {{"the run", run}});
+  refuse_same_names(a.runs, a);
+  if (a.format == "xdmf")
+    for (const std::string& run : a.runs)
+      if (run_name(run).find(':') != std::string::npos)
+        fail("the run '", run,
+             "': an XDMF file cannot name an HDF5 file whose name holds ':' "
+             "(it separates the file from the dataset); rename the run or use another --format");
+  std::vector<Input> inputs;
+  for (const std::string& path : a.runs) {
+    RunReader run(path);
+    std::vector<size_t> frames = parse_frame_range(a.frames, run.frame_count());
+    inputs.push_back({path, std::move(run), std::move(frames)});
+  }
+  ExportSources sources(a.out);
+  for (const std::string& run : a.runs) sources.check(run);
+
+  std::error_code ec;
+  fs::create_directories(a.out, ec);
+  if (ec) fail(a.out, ": cannot create the output directory: ", ec.message());
+  sources.record(a.runs);
+  for (const Input& in : inputs) export_run(in, a);
+}
+
 }  // namespace
 
 void add_export_command(CLI::App& app) {
   auto args = std::make_shared<ExportArgs>();
   CLI::App* cmd =
-      app.add_subcommand("export", "Write a run's frames as PLY, legacy VTK or VTU files");
-  cmd->add_option("run", args->run, "Run file written by `nsf simulate` (HDF5)")->required();
-  cmd->add_option("--format,-f", args->format, "ply, vtk or vtu")
+      app.add_subcommand("export", "Write runs' frames as PLY, legacy VTK, VTU or XDMF files");
+  cmd->add_option("runs", args->runs,
+                  "Run files written by `nsf simulate`, `nsf sweep` or `nsf rom` (HDF5); runs of "
+                  "the same name need different --out folders")
+      ->required();
+  cmd->add_option("--format,-f", args->format, "ply, vtk, vtu or xdmf (docs/VISUALISE.md)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"ply", "vtk", "vtu"}));
+      ->check(CLI::IsMember({"ply", "vtk", "vtu", "xdmf"}));
   cmd->add_option("--out,-o", args->out, "Output directory")->required();
   cmd->add_option("--frames", args->frames, "Frames a:b:step, Python slice rules (default: all)");
   cmd->add_flag("--double", args->double_positions, "PLY positions as double, not float");

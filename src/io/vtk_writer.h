@@ -1,11 +1,11 @@
 #pragma once
-// One run frame for ParaView / VisIt, as a point cloud with per-point data:
-//   velocity (3), speed, von_mises (Pa), tau (Kirchhoff stress, 3x3), F (elastic deformation
-//   gradient, 3x3), material, object.
-// Two flavours: legacy ".vtk" POLYDATA (one vertex cell per particle; big-endian binary, as the
-// legacy format prescribes) and XML ".vtu" UnstructuredGrid (raw appended little-endian data,
-// the more compact and faster-loading one). Collection files list the frames with their times so
-// ParaView loads the whole run as one time series. All files are written atomically.
+// One run frame for ParaView / VisIt / meshio, as a point cloud with one VTK_VERTEX cell per
+// particle and the arrays of io/frame_fields.h as point data: v, speed, von_mises, tau, F,
+// material, object. Two flavours: legacy ".vtk" UNSTRUCTURED_GRID (big-endian binary, as the legacy
+// format prescribes; the arrays as field data, which every legacy reader reads whole) and XML
+// ".vtu" UnstructuredGrid (raw appended little-endian data, the more compact and faster-loading
+// one). Collection files list the frames with their times so ParaView loads the whole run as one
+// time series. All files are written atomically.
 #include <cstdint>
 #include <string>
 #include <vector>

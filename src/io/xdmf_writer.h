@@ -1,7 +1,9 @@
 #pragma once
-// The XDMF sidecar of a run file: <run>.xdmf next to <run>.h5, a small XML file that tells
-// ParaView (and VisIt) how to read the HDF5 datasets as a time series of point clouds (one
-// Polyvertex grid per frame, the per-particle fields as attributes). Layout: docs/OUTPUT.md.
+// The XDMF sidecar of a run file: <run>.xdmf next to <run>.h5, an XML file that tells ParaView's
+// and VisIt's Xdmf (2) readers how to read the HDF5 datasets as a time series of point clouds (one
+// Polyvertex grid per frame, frame k of each dataset read by hyperslab, the per-particle fields as
+// attributes under the names of io/frame_fields.h). Layout and the readers that read it:
+// docs/OUTPUT.md. Readers without hyperslabs read io/xdmf_series.h's files instead.
 #include <cstddef>
 #include <string>
 #include <vector>
