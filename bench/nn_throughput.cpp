@@ -14,7 +14,7 @@
 #include "nn/latent_inversion.h"
 #include "nn/model.h"
 #include "nn/networks.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 
 namespace {
 

@@ -25,7 +25,7 @@
 #include "nn/config.h"
 #include "nn/model.h"
 #include "nn/neural_fields.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 #include "rom/field_source.h"
 
 namespace {
@@ -41,7 +41,7 @@ Spread spread_of(std::vector<double> v) {
 
 // A model of the scene's shapes with random weights (and random bases), saved and loaded as a
 // user's model would be.
-nsf::NeuralFields random_model(const nsf::Scene& scene, const std::string& decoder,
+nsf::NeuralFields random_model(const nsf::Scene& scene, nsf::DecoderFamily decoder,
                                const std::array<int, 3>& modes, const std::string& path) {
   nsf::NetConfig c = nsf::default_net_config(scene.name);
   c.decoder = decoder;
@@ -53,7 +53,7 @@ nsf::NeuralFields random_model(const nsf::Scene& scene, const std::string& decod
                             torch::kFloat64)
                .to(torch::kFloat32);
   const int64_t dims[3] = {3, 6, 9};
-  for (int f = 0; f < 3 && decoder == "basis"; ++f) {
+  for (int f = 0; f < 3 && decoder == nsf::DecoderFamily::basis; ++f) {
     m.basis[f].mean = 1e-3 * torch::randn({P, dims[f]});
     m.basis[f].modes = 1e-3 * torch::randn({P, dims[f], modes[f]});
     m.basis[f].scale = torch::ones({modes[f]});
@@ -141,8 +141,8 @@ int main(int argc, char** argv) {
       (std::filesystem::temp_directory_path() / ("nsf_rom_inference_" + std::to_string(::getpid())))
           .string();
   const std::array<int, 3> K = {modes[0], modes[1], modes[2]};
-  nsf::NeuralFields mlp = random_model(scene, "mlp", K, tmp + "_mlp.nsf");
-  nsf::NeuralFields basis = random_model(scene, "basis", K, tmp + "_basis.nsf");
+  nsf::NeuralFields mlp = random_model(scene, nsf::DecoderFamily::mlp, K, tmp + "_mlp.nsf");
+  nsf::NeuralFields basis = random_model(scene, nsf::DecoderFamily::basis, K, tmp + "_basis.nsf");
   std::filesystem::remove(tmp + "_mlp.nsf"), std::filesystem::remove(tmp + "_basis.nsf");
   std::vector<double> t_mlp = time_sources(mlp, scene, "network", ids, steps, repeats);
   std::vector<double> t_basis = time_sources(basis, scene, "basis", ids, steps, repeats);

@@ -40,7 +40,9 @@ inline CliResult run_cli(const std::string& args) {
 
 // A fresh, empty directory under the system temp dir.
 inline std::filesystem::path fresh_dir(const std::string& name) {
-  auto d = std::filesystem::temp_directory_path() / ("nsf_test_" + name);
+  // One per process: ctest -j runs the cases of one fixture side by side, each in its own.
+  auto d = std::filesystem::temp_directory_path() /
+           ("nsf_test_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;

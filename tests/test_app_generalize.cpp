@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "data/sweep.h"
 #include "error_matchers.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 #include "nn/trainer.h"
 #include "rom/eval/generalize.h"
 
@@ -33,7 +33,7 @@ class Generalize : public ::testing::Test {
     nsf::run_sweep(kTinyScene, so);
     nsf::TrainOptions o;
     nsf::TrainConfig& c = o.config;
-    c.net.decoder = "basis";
+    c.net.decoder = nsf::DecoderFamily::basis;
     c.net.latent_dim = 4;
     c.net.depth = 4;
     c.net.width_g = 64;

@@ -16,7 +16,7 @@
 #include "data/sweep.h"
 #include "nn/basis_decoders.h"
 #include "nn/neural_fields.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 #include "nn/trainer.h"
 #include "rom/latent_stepper.h"
 #include "rom/setup/rom_setup.h"
@@ -87,7 +87,7 @@ class ServeEndToEnd : public ::testing::Test {
     nsf::run_sweep(kScene, so);
     nsf::TrainOptions o;
     nsf::TrainConfig& c = o.config;
-    c.net.decoder = "basis";
+    c.net.decoder = nsf::DecoderFamily::basis;
     c.net.latent_dim = 3;
     c.net.depth = 2;
     c.net.width_g = c.net.width_h = c.net.width_l = 16;
@@ -306,7 +306,7 @@ TEST_F(ServeEndToEnd, RefusesABadAddressAndAnMlpModelAndStopsAfterItsFrames) {
   EXPECT_NE(bad.output.find("not an IPv4 address"), std::string::npos) << bad.output;
   // A model with MLP decoders has no coefficients to stream.
   nsf::TrainOptions o;
-  o.config.net.decoder = "mlp";
+  o.config.net.decoder = nsf::DecoderFamily::mlp;
   o.config.net.latent_dim = 2;
   o.config.net.depth = 2;
   o.config.net.width_g = o.config.net.width_h = o.config.net.width_l = 8;

@@ -25,7 +25,7 @@
 #include "nn/model.h"
 #include "nn/neural_fields.h"
 #include "nn/point_interpolation.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 #include "nn/trainer.h"
 #include "nn_fixtures.h"
 
@@ -208,7 +208,7 @@ nsf::TrainOptions basis_options() {
   nsf::TrainConfig& c = o.config;
   c.net.latent_dim = 2;
   c.net.encoder_hidden = 16;
-  c.net.decoder = "basis";
+  c.net.decoder = nsf::DecoderFamily::basis;
   c.net.modes = {4, 4, 4};
   c.net.coefficient_width = 32;
   c.net.coefficient_depth = 2;
@@ -390,7 +390,7 @@ TEST_F(BasisModel, ModesEncoderIsTheProjectionOnTheLeadingModes) {
   EXPECT_EQ(nsf::NeuralModel::load(copy).config.encoder, "modes");
   EXPECT_TRUE(bit_identical(outputs(m, data()), outputs(copy, data())));
   nsf::TrainOptions mlp = o;
-  mlp.config.net.decoder = "mlp";
+  mlp.config.net.decoder = nsf::DecoderFamily::mlp;
   nsf::testing::expect_contains(
       nsf::testing::error_of([&] { nsf::train_model(data(), (root_ / "no.nsf").string(), mlp); }),
       "the modes encoder needs the basis decoders");
@@ -433,7 +433,7 @@ TEST_F(BasisModel, StressMapThatReadsTheLatentVelocitySurvivesSaving) {
 TEST(ModesEncoder, LatentHasTheSameBitsAtEveryThreadCount) {
   const int64_t P = 71196, r = 6, K = 12;  // sand_paper's model
   nsf::NetConfig c;
-  c.decoder = "basis";
+  c.decoder = nsf::DecoderFamily::basis;
   c.encoder = "modes";
   c.latent_dim = int(r);
   c.modes = {int(K), 1, 1};

@@ -48,7 +48,7 @@ std::vector<nsf::Vec3> rest_positions() {
 // the same entries as in a trained one.
 nsf::NeuralModel small_model(const std::string& decoder) {
   nsf::NetConfig c;
-  c.decoder = decoder;
+  c.decoder = nsf::parse_family(decoder, "the test's decoder");
   c.latent_dim = 2;
   c.depth = 2;
   c.width_g = c.width_h = c.width_l = 8;
@@ -438,7 +438,7 @@ TEST(FuzzModel, MutatedModelFilesLoadOrAreRefusedWithANamedError) {
     const std::string path = (dir / ("base_" + std::to_string(k) + ".nsf")).string();
     models[k].save(path);
     ASSERT_EQ(run_bounded([&] { load_and_use(path); }, 60).outcome, Outcome::Accepted)
-        << models[k].config.decoder << " model does not load unchanged";
+        << nsf::family_name(models[k].config.decoder) << " model does not load unchanged";
     originals[k] = bytes_of(path);
   }
   Tally tally;
@@ -447,7 +447,7 @@ TEST(FuzzModel, MutatedModelFilesLoadOrAreRefusedWithANamedError) {
     std::mt19937_64 rng(seed ^ (0x9e3779b97f4a7c15ull * uint64_t(i + 1)));
     const int k = i % 2;
     const std::string path = (dir / ("case_" + std::to_string(i) + ".nsf")).string();
-    std::string what = models[k].config.decoder + " model: ";
+    std::string what = std::string(nsf::family_name(models[k].config.decoder)) + " model: ";
     if (rng() % 2 == 0) {
       what += write_with_hostile_entry(models[k], path, rng);
     } else {

@@ -4,7 +4,7 @@
 
 #include "nn/config.h"
 #include "nn/networks.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 
 using nsf::Encoder;
 using nsf::FieldMlp;

@@ -103,9 +103,9 @@ TEST(TrainSection, SetsTheDecoderFamilyUnlessTheCommandLineGivesOne) {
   EXPECT_EQ(recipe_taken(t, d), "");
   EXPECT_EQ(parse_train_section(json::object()).decoder, "");
   TrainConfig config;
-  config.net.decoder = "basis";
+  config.net.decoder = nsf::DecoderFamily::basis;
   app::apply_plan(with_train_section(TrainPlan(), t, {}), config);
-  EXPECT_EQ(config.net.decoder, "mlp");
+  EXPECT_EQ(config.net.decoder, nsf::DecoderFamily::mlp);
 }
 
 // The encoder of a basis model: the recipe's unless the command line gives one, and never on
@@ -127,7 +127,7 @@ TEST(TrainSection, SetsABasisModelsEncoderUnlessTheCommandLineGivesOne) {
   d.decoder = true;
   TrainConfig other;
   app::apply_plan(with_train_section(mlp, t, d), other);
-  EXPECT_EQ(other.net.decoder, "mlp");
+  EXPECT_EQ(other.net.decoder, nsf::DecoderFamily::mlp);
   EXPECT_EQ(other.net.encoder, "network");
 }
 
@@ -253,11 +253,11 @@ TEST(TrainSection, EachRecipeOfAListCalibratesTheKindOfRunItsSetMakes) {
   apply_calibration_recipe(second, {}, 1);
   EXPECT_EQ(first.grid, (std::vector<double>{0.001}));
   EXPECT_EQ(second.grid, (std::vector<double>{0.003}));
-  const SceneRomSettings plain = scene_rom_settings(first, "basis");
+  const SceneRomSettings plain = scene_rom_settings(first, nsf::DecoderFamily::basis);
   EXPECT_FALSE(plain.tracked);
   EXPECT_EQ(plain.latent_prior, 0.0);
   EXPECT_FALSE(plain.dt_ratio);
-  const SceneRomSettings tracked = scene_rom_settings(second, "basis");
+  const SceneRomSettings tracked = scene_rom_settings(second, nsf::DecoderFamily::basis);
   EXPECT_TRUE(tracked.tracked);
   EXPECT_EQ(tracked.latent_prior, 0.002);
   EXPECT_EQ(tracked.dt_ratio, 1.5);

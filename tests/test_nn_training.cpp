@@ -17,7 +17,7 @@
 #include "nn/latent_inversion.h"
 #include "nn/model.h"
 #include "nn/neural_fields.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 #include "nn/trainer.h"
 #include "nn_fixtures.h"
 
@@ -35,7 +35,7 @@ constexpr int kParticles = 300;
 nsf::TrainOptions tiny_options() {
   nsf::TrainOptions o;
   nsf::TrainConfig& c = o.config;
-  c.net.decoder = "mlp";
+  c.net.decoder = nsf::DecoderFamily::mlp;
   c.net.latent_dim = 2;
   c.net.depth = 3;
   c.net.width_g = c.net.width_h = c.net.width_l = 32;

@@ -126,11 +126,11 @@ TEST(RomSection, EachDecoderFamilyReadsItsOwnSettingsOverTheCommonOnes) {
     "samples": 200, "dt_ratio": 4, "latent_prior": 0.002, "fields": {"stress": "tracked"},
     "basis": {"samples": 500, "dt_ratio": null, "latent_prior": null, "fields": {"affine": "basis"}}
   })"));
-  const RomSection& mlp = s.for_family("mlp");
+  const RomSection& mlp = s.for_family(nsf::DecoderFamily::mlp);
   EXPECT_EQ(&mlp, &s);
   EXPECT_EQ(mlp.sampling.count, 200);
   EXPECT_EQ(mlp.dt_ratio, 4.0);
-  const RomSection& basis = s.for_family("basis");
+  const RomSection& basis = s.for_family(nsf::DecoderFamily::basis);
   EXPECT_EQ(basis.sampling.count, 500);
   EXPECT_FALSE(basis.dt_ratio);
   EXPECT_FALSE(basis.latent_prior);
@@ -146,7 +146,7 @@ TEST(RomSection, EachDecoderFamilyReadsItsOwnSettingsOverTheCommonOnes) {
   EXPECT_EQ(mlp_sources.dt_ratio, "command line");
   EXPECT_EQ(mlp_sources.latent_prior, "scene");
   const RomSection plain = parse_rom_section(json::parse(R"({"samples": 9})"));
-  EXPECT_EQ(&plain.for_family("basis"), &plain);
+  EXPECT_EQ(&plain.for_family(nsf::DecoderFamily::basis), &plain);
 
   // A --set of a common key that the family sets again does not reach the model: named.
   const json rom = json::parse(R"({"samples": 200, "basis": {"samples": 500, "dt_ratio": null}})");
@@ -172,28 +172,28 @@ TEST(RomSection, ARunWithTheTrackedStateReadsTheTrackedSettings) {
     "tracked": {"latent_prior": null, "dt_ratio": 1.4, "fields": {"affine": "tracked"}},
     "basis": {"samples": 500, "tracked": {"samples": 300}}
   })"));
-  EXPECT_FALSE(s.tracks_stress("mlp"));
-  EXPECT_TRUE(s.tracks_stress("mlp", "tracked"));
-  EXPECT_EQ(&s.for_run("mlp"), &s);
-  EXPECT_EQ(&s.for_run("mlp", "basis"), &s);
-  const RomSection& mlp = s.for_run("mlp", "tracked");
+  EXPECT_FALSE(s.tracks_stress(nsf::DecoderFamily::mlp));
+  EXPECT_TRUE(s.tracks_stress(nsf::DecoderFamily::mlp, "tracked"));
+  EXPECT_EQ(&s.for_run(nsf::DecoderFamily::mlp), &s);
+  EXPECT_EQ(&s.for_run(nsf::DecoderFamily::mlp, "basis"), &s);
+  const RomSection& mlp = s.for_run(nsf::DecoderFamily::mlp, "tracked");
   EXPECT_EQ(mlp.sampling.count, 200);
   EXPECT_EQ(mlp.quadrature, 1);
   EXPECT_FALSE(mlp.latent_prior);  // the model's calibration (of the tracked state) speaks
   EXPECT_EQ(mlp.dt_ratio, 1.4);
   EXPECT_EQ(mlp.fields.affine, "tracked");
-  EXPECT_EQ(s.for_run("basis").sampling.count, 500);
-  EXPECT_EQ(s.for_run("basis").latent_prior, 0.0);
-  const RomSection& basis = s.for_run("basis", "tracked");
+  EXPECT_EQ(s.for_run(nsf::DecoderFamily::basis).sampling.count, 500);
+  EXPECT_EQ(s.for_run(nsf::DecoderFamily::basis).latent_prior, 0.0);
+  const RomSection& basis = s.for_run(nsf::DecoderFamily::basis, "tracked");
   EXPECT_EQ(basis.sampling.count, 300);  // the family's tracked object over the common one
   EXPECT_EQ(basis.dt_ratio, 1.4);
   EXPECT_FALSE(basis.latent_prior);
   // The section's own stress source decides where the command line names none.
   const RomSection own = parse_rom_section(
       json::parse(R"({"fields": {"stress": "tracked"}, "tracked": {"samples": 40}})"));
-  EXPECT_TRUE(own.tracks_stress("basis"));
-  EXPECT_EQ(own.for_run("basis").sampling.count, 40);
-  EXPECT_FALSE(own.tracks_stress("basis", "network"));
+  EXPECT_TRUE(own.tracks_stress(nsf::DecoderFamily::basis));
+  EXPECT_EQ(own.for_run(nsf::DecoderFamily::basis).sampling.count, 40);
+  EXPECT_FALSE(own.tracks_stress(nsf::DecoderFamily::basis, "network"));
 
   expect_rejected(json::parse(R"({"tracked": 1})"), {"rom.tracked", "must be an object"});
   expect_rejected(json::parse(R"({"tracked": {"basis": {}}})"), {"rom.tracked.basis"});

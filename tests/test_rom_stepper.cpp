@@ -24,7 +24,7 @@
 #include "nn/latent_prior.h"
 #include "nn/model.h"
 #include "nn/neural_fields.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 #include "nn/trainer.h"
 #include "rom/calibration/latent_prior_calibration.h"
 #include "rom/eval/rom_evaluation.h"
@@ -54,7 +54,7 @@ struct RandomModel {
   torch::Tensor Xn;
   static nsf::NetConfig config() {
     nsf::NetConfig c;
-    c.decoder = "mlp";
+    c.decoder = nsf::DecoderFamily::mlp;
     c.latent_dim = 4;
     c.depth = 3;
     c.width_g = c.width_h = c.width_l = 32;
@@ -281,7 +281,7 @@ class RomEndToEnd : public ::testing::Test {
     nsf::run_sweep(kTinyScene, so);
     nsf::TrainOptions o;
     nsf::TrainConfig& c = o.config;
-    c.net.decoder = "mlp";
+    c.net.decoder = nsf::DecoderFamily::mlp;
     c.net.latent_dim = 4;
     c.net.depth = 4;
     c.net.width_g = 64;
@@ -293,7 +293,7 @@ class RomEndToEnd : public ::testing::Test {
     c.quiet = true;
     nsf::train_model((root_ / "data").string(), model(), o);
     // The same latent size with the per-point basis decoders (nn/basis_decoders.h).
-    c.net.decoder = "basis";
+    c.net.decoder = nsf::DecoderFamily::basis;
     c.net.modes = {16, 16, 16};
     c.net.coefficient_width = 64;
     c.net.coefficient_depth = 2;

@@ -28,8 +28,9 @@ struct CalibrateArgs {
 // A scene whose rom section sets latent_prior (or dt_ratio, where the step was calibrated) for
 // the model's decoder family, and the kind of run calibrated, overrides the model's calibration
 // in `nsf rom`.
-void warn_if_scene_overrides(const CalibrationOptions& o, const std::string& family, bool step) {
-  const SceneRomSettings scene = scene_rom_settings(o, family);
+void warn_if_scene_overrides(const CalibrationOptions& o, DecoderFamily decoders, bool step) {
+  const SceneRomSettings scene = scene_rom_settings(o, decoders);
+  const std::string family = family_name(decoders);
   const std::string where = scene.tracked ? "tracked object" : family + " object";
   const auto warn = [&](const char* key, double value, const char* unit) {
     std::fprintf(stderr,
@@ -101,7 +102,7 @@ void add_calibrate_command(CLI::App& app) {
                              size_t(a->recipe - 1));
     const CalibrationResult r = calibrate_latent_prior(a->opt);
     std::printf("%s%s", r.table().c_str(), r.summary().c_str());
-    warn_if_scene_overrides(a->opt, NeuralFields::load(a->opt.model_path).decoder(),
+    warn_if_scene_overrides(a->opt, NeuralFields::load(a->opt.model_path).family(),
                             !a->opt.dt_ratios.empty());
     if (!a->json.empty()) write_file_atomic(a->json, r.to_json().dump(2) + "\n");
     if (a->dry_run) return;

@@ -15,7 +15,7 @@
 #include "data/manifest.h"
 #include "io/run_comparison.h"
 #include "nn/dataset.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 #include "rom/eval/generalize.h"
 #include "rom/eval/rom_evaluation.h"
 #include "rom/setup/scene_file.h"

@@ -13,7 +13,7 @@
 #include "nn/basis_decoders.h"
 #include "nn/evaluate.h"
 #include "nn/neural_fields.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 
 namespace nsf::app {
 

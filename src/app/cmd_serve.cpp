@@ -15,7 +15,7 @@
 #include "mpm/colliders/rigid_collider.h"
 #include "net/ws_server.h"
 #include "nn/basis_decoders.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 #include "rom/latent_stepper.h"
 #include "rom/setup/rom_setup.h"
 #include "rom/setup/scene_file.h"

@@ -22,7 +22,7 @@
 #include "io/atomic_file.h"
 #include "nn/config.h"
 #include "nn/dataset.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 #include "nn/train_section.h"
 #include "nn/trainer.h"
 #include "rom/calibration/latent_prior_calibration.h"
@@ -159,13 +159,14 @@ void write_json(const TrainArgs& a, const TrainReport& r, int threads) {
   j["device"] = a.opt.device;
   j["threads"] = threads;
   j["cpu"] = cpu_model();
-  j["decoder"] = a.opt.config.net.decoder;
-  if (a.opt.config.net.decoder == "basis")
+  const bool basis = a.opt.config.net.decoder == DecoderFamily::basis;
+  j["decoder"] = family_name(a.opt.config.net.decoder);
+  if (basis)
     j["coefficients"] = {{"tau", a.opt.config.net.coefficients[0]},
                          {"C", a.opt.config.net.coefficients[1]},
                          {"affine_reads_velocity", a.opt.config.net.affine_reads_velocity()},
                          {"stress_reads_velocity", a.opt.config.net.stress_reads_velocity()}};
-  if (a.opt.config.net.decoder == "basis") j["encoder"] = a.opt.config.net.encoder;
+  if (basis) j["encoder"] = a.opt.config.net.encoder;
   j["peak_memory_mib"] = peak_rss_mib();
   for (int s = 0; s < kStageCount; ++s) {
     const StageReport& st = r.stages[s];
@@ -199,7 +200,7 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
     refuse_overwriting_inputs(a, data);
     c.net = default_net_config(data.scene_name(), &row);
     // Before the recipe, so that a basis recipe's encoder stays off an MLP model (apply_plan).
-    if (!a.decoder.empty()) c.net.decoder = a.decoder;
+    if (!a.decoder.empty()) c.net.decoder = parse_family(a.decoder, "--decoder");
     if (lead)
       std::fprintf(stderr,
                    "nsf train: %s, scene '%s', %zu particles, %zu training runs, %zu test "
@@ -255,7 +256,7 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
   const bool basis_flags = !a.modes.empty() || a.coefficient_width > 0 || a.coefficient_depth > 0 ||
                            !a.coefficients.empty() || !a.affine_input.empty() ||
                            !a.stress_input.empty() || a.encoder == "modes";
-  if (basis_flags && c.net.decoder != "basis")
+  if (basis_flags && c.net.decoder != DecoderFamily::basis)
     fail(
         "--modes, --coefficient-*, --coefficients, --affine-input, --stress-input and --encoder "
         "modes shape the per-point bases: give --decoder basis");
@@ -273,7 +274,7 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
            " fixes the networks' shapes: drop -r, --depth, --widths, --encoder*, --no-mu, "
            "--decoder, --modes and --coefficient-width/depth");
     if (lead) std::fprintf(stderr, "  networks: those of %s\n", a.opt.base_model.c_str());
-  } else if (c.net.decoder == "basis") {
+  } else if (c.net.decoder == DecoderFamily::basis) {
     if (lead)
       std::fprintf(stderr,
                    "  decoders: per-point bases of K = %d (x), %d (tau), %d (C) modes, coefficient "

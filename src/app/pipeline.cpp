@@ -48,26 +48,28 @@ TrainPlan with_scene_recipe(TrainPlan plan, const std::string& scene, bool steps
 
 std::string scene_decoder(const std::string& scene) {
   const std::optional<TrainSection> train = read_scene_file(scene).sections.train;
-  return train && !train->decoder.empty() ? train->decoder : NetConfig().decoder;
+  return train && !train->decoder.empty() ? train->decoder : family_name(NetConfig().decoder);
 }
 
 DecoderRows decoder_rows(const std::string& name, const std::string& own,
                          const std::string& asked) {
   if (asked.empty() || asked == own) return {"models/" + name + ".nsf", "", ""};
-  return {"models/" + name + "_" + asked + ".nsf", "_" + asked,
-          asked == "mlp" ? "MLP fields" : "per-point bases"};
+  return {
+      "models/" + name + "_" + asked + ".nsf", "_" + asked,
+      parse_family(asked, "--decoder") == DecoderFamily::mlp ? "MLP fields" : "per-point bases"};
 }
 
 void apply_plan(const TrainPlan& plan, TrainConfig& config) {
   config.steps = plan.steps;
-  if (!plan.decoder.empty()) config.net.decoder = plan.decoder;
+  if (!plan.decoder.empty()) config.net.decoder = parse_family(plan.decoder, "decoder");
   int* widths[3] = {&config.net.width_g, &config.net.width_h, &config.net.width_l};
   for (int n = 0; n < 3; ++n)
     if (plan.widths[n] > 0) *widths[n] = plan.widths[n];
   if (plan.encoder_max_length > 0) config.net.encoder_max_length = plan.encoder_max_length;
   if (plan.latent_dim > 0) config.net.latent_dim = plan.latent_dim;
   // A recipe's encoder is a basis model's: with --decoder mlp over a basis recipe it stays out.
-  if (!plan.encoder.empty() && config.net.decoder == "basis") config.net.encoder = plan.encoder;
+  if (!plan.encoder.empty() && config.net.decoder == DecoderFamily::basis)
+    config.net.encoder = plan.encoder;
   for (int s = 0; s < kStageCount; ++s) {
     if (plan.frames_per_batch[s] > 0) config.frames_per_batch[s] = plan.frames_per_batch[s];
     if (plan.particles_per_frame[s] > 0)
@@ -82,11 +84,13 @@ bool ensure_model(const std::string& data, const std::string& model, const Train
     try {
       NeuralFields f = NeuralFields::load(model);
       f.check_scene(dataset.scene_name(), dataset.rest_positions(), "dataset " + data);
-      const std::string wanted = plan.decoder.empty() ? NetConfig().decoder : plan.decoder;
-      if (f.decoder() != wanted)
-        fail("it holds ", f.decoder(), " decoders, not ", wanted, " (--decoder)");
-      const std::string encoder =
-          wanted == "basis" && !plan.encoder.empty() ? plan.encoder : NetConfig().encoder;
+      const DecoderFamily wanted =
+          plan.decoder.empty() ? NetConfig().decoder : parse_family(plan.decoder, "--decoder");
+      if (f.family() != wanted)
+        fail("it holds ", f.decoder(), " decoders, not ", family_name(wanted), " (--decoder)");
+      const std::string encoder = wanted == DecoderFamily::basis && !plan.encoder.empty()
+                                      ? plan.encoder
+                                      : NetConfig().encoder;
       if (f.model().config.encoder != encoder)
         fail("its encoder is '", f.model().config.encoder, "', the scene's recipe asks for '",
              encoder, "'");

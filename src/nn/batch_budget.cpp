@@ -21,7 +21,7 @@ constexpr double kBasisRows = 256;
 double step_bytes(const TrainConfig& c, int stage, size_t particles) {
   const double P = double(particles), B = double(c.frames_per_batch[stage]);
   const NetConfig& n = c.net;
-  if (n.decoder == "basis") {
+  if (n.decoder == DecoderFamily::basis) {
     const double K = n.modes[stage];
     if (stage == 0) return 4.0 * B * (kFrameCopies * 3 * P + 4 * n.coefficient_width);
     return 4.0 * kBasisRows * (K + 4.0 * n.coefficient_width * n.coefficient_depth);
@@ -36,7 +36,7 @@ double step_bytes(const TrainConfig& c, int stage, size_t particles) {
 
 void check_batch_sizes(const TrainConfig& c, size_t training_frames, size_t particles,
                        double budget_gib) {
-  const bool basis = c.net.decoder == "basis";
+  const bool basis = c.net.decoder == DecoderFamily::basis;
   for (int s = 0; s < kStageCount; ++s) {
     const int B = c.frames_per_batch[s];
     if (B < 1) fail("--frames-per-batch must be at least 1, got ", B, " (stage ", s + 1, ")");

@@ -1,9 +1,21 @@
 #include "nn/config.h"
 
+#include "core/error.h"
+
 #include <algorithm>
 #include <cctype>
 
 namespace nsf {
+
+const char* family_name(DecoderFamily family) {
+  return family == DecoderFamily::mlp ? "mlp" : "basis";
+}
+
+DecoderFamily parse_family(const std::string& name, const std::string& what) {
+  if (name == "basis") return DecoderFamily::basis;
+  if (name == "mlp") return DecoderFamily::mlp;
+  fail(what, ": unknown decoder family '", name, "' (known: basis, mlp)");
+}
 
 const char* const kStageNames[kStageCount] = {"deformation", "stress", "affine"};
 
@@ -52,7 +64,7 @@ double learning_rate(long step, long total_steps) {
 }
 
 void apply_family_defaults(TrainConfig& c, bool steps_given, bool noise_given) {
-  if (c.net.decoder != "basis") return;
+  if (c.net.decoder != DecoderFamily::basis) return;
   if (!steps_given) c.steps[1] = c.steps[2] = kBasisCoefficientSteps;
   if (!noise_given) c.latent_noise = kBasisLatentNoise;
 }

@@ -6,6 +6,13 @@
 
 namespace nsf {
 
+// The decoder families (docs/TRAINING.md, "Decoder families"), named "basis" and "mlp" in scenes,
+// options and model files.
+enum class DecoderFamily { basis, mlp };
+const char* family_name(DecoderFamily family);
+// The family named `name`; throws nsf::Error naming `what` (an option, a key) and the families.
+DecoderFamily parse_family(const std::string& name, const std::string& what);
+
 // Shape of the three decoders and the encoder. Each decoder is an ELU MLP with `depth` hidden
 // layers of width β·d (d = 3 for g, 6 for h, 9 for l), input (X, ẑ[, μ]).
 struct NetConfig {
@@ -18,11 +25,10 @@ struct NetConfig {
   int encoder_channels = 3;     // output channels of each encoder convolution (App. E: 3)
   int encoder_max_length = 12;  // convolutions continue while the length exceeds this (App. E: 12)
   bool stress_uses_mu = true;   // h(X, ẑ, μ) when the dataset has a parameter μ
-  // The decoder family (docs/TRAINING.md, "Decoder families"): "basis", per-point bases of the
-  // training frames times coefficients from small networks of the latent (nn/basis_decoders.h),
-  // the default: more accurate and ~60x cheaper per point than "mlp", the paper's coordinate
-  // networks f(X, ẑ), on every scene measured.
-  std::string decoder = "basis";
+  // The decoder family: basis, per-point bases of the training frames times coefficients from
+  // small networks of the latent (nn/basis_decoders.h), the default: more accurate and cheaper
+  // per point than mlp, the paper's coordinate networks f(X, ẑ), on every scene measured.
+  DecoderFamily decoder = DecoderFamily::basis;
   // The encoder of a basis model: "network", App. E's convolutions trained with c_u in stage 1,
   // or "modes", no training: ẑ_i is the training frames' i-th coefficient of x − X (its
   // projection on the i-th mode of B_u, over that coefficient's spread), so the latent is the
@@ -41,7 +47,7 @@ struct NetConfig {
   // ż carries it (docs/TRAINING.md, "Coefficient maps").
   bool stress_uses_velocity = false;
   bool uses_map(int field) const {
-    return decoder == "basis" && field > 0 && coefficients[size_t(field - 1)] == "map";
+    return decoder == DecoderFamily::basis && field > 0 && coefficients[size_t(field - 1)] == "map";
   }
   bool uses_maps() const { return uses_map(1) || uses_map(2); }
   bool affine_reads_velocity() const { return uses_map(2) && affine_uses_velocity; }

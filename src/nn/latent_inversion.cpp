@@ -12,10 +12,10 @@
 #include <exception>
 
 #include "core/error.h"
-#include "nn/basis_runtime.h"
+#include "nn/basis_export.h"
 #include "nn/latent_prior.h"
 #include "nn/model.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 
 namespace nsf {
 

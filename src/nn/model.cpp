@@ -152,23 +152,21 @@ NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
   encoder = Encoder(s.particles, r, c.encoder_hidden, c.encoder_channels, c.encoder_max_length);
   if (c.encoder != "network" && c.encoder != "modes")
     fail("unknown encoder '", c.encoder, "' (known: network, modes)");
-  if (c.encoder == "modes" && c.decoder != "basis")
+  if (c.encoder == "modes" && c.decoder != DecoderFamily::basis)
     fail("the modes encoder needs the basis decoders (--decoder basis): it projects on B_u");
   if (c.encoder == "modes" && c.latent_dim > c.modes[0])
     fail("the modes encoder takes the first r = ", c.latent_dim, " of the ", c.modes[0],
          " modes of x - X: r must not exceed K");
-  if (c.decoder == "basis") {
+  if (c.decoder == DecoderFamily::basis) {
     for (int f = 0; f < 3; ++f) {
       if (c.modes[f] < 1) fail("a basis model needs at least one mode per field, got ", c.modes[f]);
       const int64_t in = r + (f == 1 && stress_has_mu() ? 1 : 0);
       basis[f].net = FieldMlp(in, c.modes[f], c.coefficient_width, c.coefficient_depth);
     }
-  } else if (c.decoder == "mlp") {
+  } else {
     g = FieldMlp(3 + r, 3, c.width_g, c.depth);
     h = FieldMlp(3 + r + (stress_has_mu() ? 1 : 0), 6, c.width_h, c.depth);
     l = FieldMlp(3 + r, 9, c.width_l, c.depth);
-  } else {
-    fail("unknown decoder family '", c.decoder, "' (known: mlp, basis)");
   }
   norm_X = Normalizer::identity(3);
   norm_x = Normalizer::identity(3);
@@ -222,7 +220,7 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   }
   std::vector<std::pair<std::string, const torch::nn::Module*>> nets = {{"encoder", encoder.get()}};
   if (is_basis()) {
-    a.write("decoder", c10::IValue(config.decoder));
+    a.write("decoder", c10::IValue(std::string(family_name(config.decoder))));
     a.write("coefficient_width", c10::IValue(int64_t(config.coefficient_width)));
     a.write("coefficient_depth", c10::IValue(int64_t(config.coefficient_depth)));
     if (config.encoder == "modes" || config.stress_reads_velocity())
@@ -318,7 +316,8 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
     c.encoder_max_length = model_size_entry(max_length.toInt(), "encoder_max_length", path);
   c.stress_uses_mu = read_value(a, "stress_uses_mu", path).toBool();
   if (version >= kBasisFormatVersion) {
-    c.decoder = read_value(a, "decoder", path).toStringRef();
+    c.decoder = parse_family(read_value(a, "decoder", path).toStringRef(),
+                             "model file " + path + ": damaged entry 'decoder'");
     c.coefficient_width = integer("coefficient_width");
     c.coefficient_depth = integer("coefficient_depth");
     for (int f = 0; f < 3; ++f)
@@ -347,7 +346,7 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
       fail("model file ", path,
            ": damaged entry 'stress_uses_velocity' (set, but tau's coefficients are no map)");
   } else {
-    c.decoder = "mlp";  // the only family before format version 4
+    c.decoder = DecoderFamily::mlp;  // the only family before format version 4
   }
   SceneFingerprint s;
   s.scene_name = read_value(a, "scene_name", path).toStringRef();

@@ -78,7 +78,7 @@ class NeuralModel {
   static NeuralModel read(torch::serialize::InputArchive& a, const std::string& path);
 
   bool stress_has_mu() const { return has_mu && config.stress_uses_mu; }
-  bool is_basis() const { return config.decoder == "basis"; }
+  bool is_basis() const { return config.decoder == DecoderFamily::basis; }
   int64_t latent_dim() const { return config.latent_dim; }
 
   // ---- batched evaluation, physical units in and out (float32) ----

@@ -45,7 +45,7 @@ void check_model_fits_file(const NetConfig& c, int64_t particles, bool stress_us
   const double r = c.latent_dim, mu = stress_uses_mu ? 1 : 0;
   // The encoder's last two layers, whatever its convolutions.
   double numbers = (c.encoder_hidden + 1.0) * (r + 1);
-  if (c.decoder == "basis") {
+  if (c.decoder == DecoderFamily::basis) {
     const double dims[3] = {3, 6, 9};
     for (int f = 0; f < 3; ++f)
       numbers +=

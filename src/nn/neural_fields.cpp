@@ -1,7 +1,7 @@
 #include "nn/neural_fields.h"
 
 #include "core/error.h"
-#include "nn/basis_runtime.h"
+#include "nn/basis_export.h"
 #include "nn/model.h"
 #include "nn/point_interpolation.h"
 
@@ -93,8 +93,11 @@ NeuralFields NeuralFields::load(const std::string& path) {
   return f;
 }
 
-const std::string& NeuralFields::decoder() const {
+DecoderFamily NeuralFields::family() const {
   return model_->config.decoder;
+}
+std::string NeuralFields::decoder() const {
+  return family_name(model_->config.decoder);
 }
 const BasisDecoders* NeuralFields::bases() const {
   return bases_.get();

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "nn/config.h"
 
 namespace nsf {
 
@@ -28,8 +29,9 @@ class NeuralFields {
   size_t particle_count() const;  // |P| of the scene it was trained for
   const std::string& scene_name() const;
   bool stress_uses_mu() const;
-  // "mlp" (the paper's coordinate networks) or "basis" (per-point bases, nn/basis_decoders.h).
-  const std::string& decoder() const;
+  // The decoder family: mlp (the paper's coordinate networks) or basis (per-point bases).
+  DecoderFamily family() const;
+  std::string decoder() const;  // its name: "basis" or "mlp"
   // A basis model's decoders at run time; null for an MLP model.
   const BasisDecoders* bases() const;
   double mu_min() const;  // the training runs' μ range (extrapolation beyond it is risky)

@@ -20,8 +20,8 @@
 #include "io/atomic_file.h"
 #include "io/run_reader.h"
 #include "nn/basis_decoders.h"
+#include "nn/basis_export.h"
 #include "nn/basis_fit.h"
-#include "nn/basis_runtime.h"
 #include "nn/batch_budget.h"
 #include "nn/checked_archive.h"
 #include "nn/dataset.h"
@@ -29,7 +29,7 @@
 #include "nn/loss_plot.h"
 #include "nn/model.h"
 #include "nn/rbf_map.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 
 #include <torch/cuda.h>
 #include <torch/optim/adam.h>
@@ -109,7 +109,7 @@ double checked_budget(const Dataset& data, const TrainConfig& c) {
   for (const SimulationFile& r : data.train()) frames += r.frames;
   const double budget = memory_budget_gib(c.memory_budget_gib);
   check_batch_sizes(c, frames, data.particle_count(), budget);
-  if (!c.quiet && c.net.decoder != "basis")
+  if (!c.quiet && c.net.decoder != DecoderFamily::basis)
     for (int s = 0; s < kStageCount; ++s)
       if (size_t(c.particles_per_frame[s]) > data.particle_count())
         std::fprintf(stderr,
@@ -132,7 +132,7 @@ class Trainer {
         // x alone for a fresh basis model; with a base model the family is the base's, and the
         // store keeps every field as before.
         store_(data_, checked_budget(data_, cfg_), team_rank(), team_size(),
-               cfg_.net.decoder == "basis" && o.base_model.empty()),
+               cfg_.net.decoder == DecoderFamily::basis && o.base_model.empty()),
         model_(cfg_.net, SceneFingerprint::of(data_.scene_name(), data_.rest_positions()),
                data_.has_mu()),
         rng_(cfg_.seed) {
@@ -236,9 +236,10 @@ std::string Trainer::config_key() const {
   if (n.encoder_max_length != EncoderImpl::kMaxLength)
     os << " encoder_max_length=" << n.encoder_max_length;
   if (n.encoder != "network") os << " encoder=" << n.encoder;
-  if (n.decoder != "mlp")
-    os << " decoder=" << n.decoder << " modes=" << n.modes[0] << "," << n.modes[1] << ","
-       << n.modes[2] << " coefficients=" << n.coefficient_width << "x" << n.coefficient_depth;
+  if (n.decoder != DecoderFamily::mlp)
+    os << " decoder=" << family_name(n.decoder) << " modes=" << n.modes[0] << "," << n.modes[1]
+       << "," << n.modes[2] << " coefficients=" << n.coefficient_width << "x"
+       << n.coefficient_depth;
   if (!opt_.base_model.empty()) os << " base=" << opt_.base_model;
   return os.str();
 }

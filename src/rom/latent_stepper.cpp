@@ -14,7 +14,7 @@
 #include "nn/latent_inversion.h"
 #include "nn/latent_prior.h"
 #include "nn/model.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 #include "rom/field_source.h"
 #include "rom/integration_set.h"
 #include "rom/quadrature.h"

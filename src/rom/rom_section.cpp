@@ -108,30 +108,30 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
   }
   for (const char* family : kFamilies)
     if (rom.contains(family))
-      (std::string(family) == "mlp" ? s.mlp : s.basis) =
+      (parse_family(family, "rom") == DecoderFamily::mlp ? s.mlp : s.basis) =
           overlay(common, rom.at(family), family,
                   std::string("a model with ") + family + " decoders", {"mlp", "basis"});
   return s;
 }
 
-const RomSection& RomSection::for_family(const std::string& family) const {
-  if (family == "mlp" && mlp) return *mlp;
-  if (family == "basis" && basis) return *basis;
+const RomSection& RomSection::for_family(DecoderFamily family) const {
+  if (family == DecoderFamily::mlp && mlp) return *mlp;
+  if (family == DecoderFamily::basis && basis) return *basis;
   return *this;
 }
 
-bool RomSection::tracks_stress(const std::string& family, const std::string& stress) const {
+bool RomSection::tracks_stress(DecoderFamily family, const std::string& stress) const {
   return (stress.empty() ? for_family(family).fields.stress : stress) == "tracked";
 }
 
-const RomSection& RomSection::for_run(const std::string& family, const std::string& stress) const {
+const RomSection& RomSection::for_run(DecoderFamily family, const std::string& stress) const {
   const RomSection& f = for_family(family);
   return f.tracked && tracks_stress(family, stress) ? *f.tracked : f;
 }
 
 ModelCalibration calibration_of(const NeuralFields& fields, const RomSection& rom,
                                 const std::string& stress) {
-  if (rom.tracks_stress(fields.decoder(), stress) && fields.calibrated_latent_prior(true) >= 0)
+  if (rom.tracks_stress(fields.family(), stress) && fields.calibrated_latent_prior(true) >= 0)
     return {fields.calibrated_latent_prior(true), fields.calibrated_dt_ratio(true)};
   return {fields.calibrated_latent_prior(), fields.calibrated_dt_ratio()};
 }

@@ -29,13 +29,13 @@ struct RomSection {
   // bound, no h to drift from), so its best step and prior are its own. Null where not given.
   std::shared_ptr<const RomSection> tracked;
 
-  // The section as a model of `family` ("mlp" or "basis": NeuralFields::decoder()) reads it.
-  const RomSection& for_family(const std::string& family) const;
+  // The section as a model of `family` (NeuralFields::family()) reads it.
+  const RomSection& for_family(DecoderFamily family) const;
   // Whether a run of such a model carries the tracked state: `stress`, a command line's choice of
   // stress source, else the family's fields.stress, is "tracked".
-  bool tracks_stress(const std::string& family, const std::string& stress = "") const;
+  bool tracks_stress(DecoderFamily family, const std::string& stress = "") const;
   // What that run reads: the family's settings, with the tracked ones over them where it tracks.
-  const RomSection& for_run(const std::string& family, const std::string& stress = "") const;
+  const RomSection& for_run(DecoderFamily family, const std::string& stress = "") const;
 };
 
 // Reads the whole section; missing keys keep their defaults, a null section gives all defaults.

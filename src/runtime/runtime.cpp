@@ -9,7 +9,7 @@
 
 #include "core/error.h"
 #include "mpm/colliders/rigid_collider.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 #include "rom/latent_stepper.h"
 #include "rom/setup/rom_setup.h"
 #include "rom/step_guard.h"

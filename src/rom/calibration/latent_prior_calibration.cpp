@@ -231,7 +231,7 @@ void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& giv
   }
 }
 
-SceneRomSettings scene_rom_settings(const CalibrationOptions& o, const std::string& family) {
+SceneRomSettings scene_rom_settings(const CalibrationOptions& o, DecoderFamily family) {
   const std::string scene = o.scene_path.empty() ? dataset_scene_file(o.data_dir) : o.scene_path;
   if (scene.empty()) return {};
   const SceneFile file = read_scene_file(scene, calibration_overrides(o));
@@ -277,7 +277,7 @@ CalibrationResult calibrate_latent_prior(const CalibrationOptions& o) {
 
   CalibrationResult r;
   r.grid = o.grid;
-  r.tracked = scene_rom_settings(o, NeuralFields::load(o.model_path).decoder()).tracked;
+  r.tracked = scene_rom_settings(o, NeuralFields::load(o.model_path).family()).tracked;
   const std::vector<SimulationFile> runs = spread_runs(data.train(), o.runs);
   for (const SimulationFile& f : runs) {
     r.runs.push_back(std::filesystem::path(f.path).filename().string());
@@ -419,7 +419,7 @@ bool calibrate_trained_model(const std::string& model_path, const std::string& d
         why.c_str());
     return false;
   };
-  if (NeuralFields::load(model_path).decoder() != "basis")
+  if (NeuralFields::load(model_path).family() != DecoderFamily::basis)
     return skip("an MLP model: nsf calibrate " + model_path + " " + data_dir + " does it");
   CalibrationOptions o;
   o.model_path = model_path;
@@ -443,7 +443,7 @@ bool calibrate_trained_model(const std::string& model_path, const std::string& d
     CalibrationResult r;
     try {  // the model is written and whole: a ROM that cannot run here does not undo the training
       apply_calibration_recipe(one, {}, i);
-      const SceneRomSettings scene = scene_rom_settings(one, "basis");
+      const SceneRomSettings scene = scene_rom_settings(one, DecoderFamily::basis);
       if (scene.latent_prior) {
         skip("scene " + o.scene_path +
              " sets rom.latent_prior = " + millimetres(*scene.latent_prior) +

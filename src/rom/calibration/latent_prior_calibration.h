@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nn/config.h"
+
 namespace nsf {
 
 struct CalibrationOptions {
@@ -99,7 +101,7 @@ struct SceneRomSettings {
   bool tracked = false;
   std::optional<double> latent_prior, dt_ratio;
 };
-SceneRomSettings scene_rom_settings(const CalibrationOptions& o, const std::string& family);
+SceneRomSettings scene_rom_settings(const CalibrationOptions& o, DecoderFamily family);
 
 // Runs the ROM grid × runs times. Throws nsf::Error for a missing scene or dataset, a model of
 // another scene, or any failure of a run other than divergence.

@@ -21,7 +21,7 @@
 #include "mpm/simulation.h"
 #include "nn/checked_archive.h"
 #include "nn/field_checks.h"
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 #include "rom/eval/baseline_inputs.h"
 
 namespace nsf {

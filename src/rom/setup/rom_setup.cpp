@@ -42,7 +42,7 @@ void choose_settings(const NeuralFields& fields, const SceneFile& file,
                      const RomSettingChoices& given, RomSetup& s) {
   const RomSection& scene_rom = file.sections.rom;
   const ModelCalibration calibrated = calibration_of(fields, scene_rom, given.rom.fields.stress);
-  const RomSection& section = scene_rom.for_run(fields.decoder(), given.rom.fields.stress);
+  const RomSection& section = scene_rom.for_run(fields.family(), given.rom.fields.stress);
   if (file.json.contains("rom"))
     for (std::string& w :
          overrides_hidden_by_family(file.json.at("rom"), fields.decoder(), file.overrides))

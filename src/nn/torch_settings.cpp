@@ -1,4 +1,4 @@
-#include "nn/runtime.h"
+#include "nn/torch_settings.h"
 
 #include <ATen/Context.h>
 #include <ATen/Parallel.h>

@@ -1,4 +1,4 @@
-#include "nn/basis_runtime.h"
+#include "nn/basis_export.h"
 
 #include <torch/torch.h>
 
