@@ -62,12 +62,13 @@ TEST(ServeProtocol, FrameLayoutRoundTrips) {
   c << 1, 2, 3, 4;
   std::vector<nsf::app::StreamPose> poses(2);
   poses[1][5] = 7;
-  const std::string m = nsf::app::frame_message(12, 0.5, 1e9, z, c, poses);
+  const std::string m = nsf::app::frame_message(12, 0.5, 1e9, z, c, poses, 0.25f);
   EXPECT_EQ(m.size(), 40u + 8 * 3 + 4 * 4 + 48 * 2);
   const auto f = decode_frame(m);
   ASSERT_TRUE(f);
   EXPECT_EQ(f->frame, 12u);
   EXPECT_EQ(f->time, 0.5);
+  EXPECT_EQ(f->indicator, 0.25f);
   EXPECT_EQ(f->z, (std::vector<double>{0.25, -1.5, 3}));
   EXPECT_EQ(f->c, (std::vector<float>{1, 2, 3, 4}));
   EXPECT_EQ(f->poses[1][5], 7.f);

@@ -19,6 +19,7 @@
 #include "rom/latent_stepper.h"
 #include "rom/setup/rom_setup.h"
 #include "rom/setup/scene_file.h"
+#include "rom/step_guard.h"
 
 namespace nsf::app {
 
@@ -90,9 +91,9 @@ class Server {
     const double start = mono_now();
     double last_status = start, stepping = 0;
     for (long frame = 0;; ++frame) {
-      last_ =
-          net::WsServer::binary_message(frame_message(uint32_t(frame), stepper_->time(), wall_now(),
-                                                      stepper_->latent(), coefficients(), poses()));
+      last_ = net::WsServer::binary_message(
+          frame_message(uint32_t(frame), stepper_->time(), wall_now(), stepper_->latent(),
+                        coefficients(), poses(), float(guard_->health().indicator)));
       net_.broadcast(last_);
       if (a_.frames > 0 && frame >= a_.frames) break;
       // Serve the sockets until the next frame is due (at once, with --fps 0).
@@ -104,7 +105,12 @@ class Server {
       commands_this_frame_.clear();
       const double t0 = mono_now();
       try {
-        stepper_->advance_frame();
+        const long recovered = guard_->health().recoveries;
+        guard_->advance_frame();  // a step that would diverge is redone (rom/step_guard.h)
+        if (guard_->health().recoveries > recovered && !a_.quiet)
+          std::cerr << "nsf serve: " << guard_->health().recoveries - recovered
+                    << " step(s) redone in frame " << frame + 1 << ": "
+                    << guard_->health().last_recovery << std::endl;
       } catch (const Error& e) {
         std::cerr << "nsf serve: the reduced-order model failed at t = " << stepper_->time()
                   << " s (" << e.what() << "); starting the scene again" << std::endl;
@@ -141,7 +147,9 @@ class Server {
     frame_time_ = s.scene.settings.substeps * s.scene.settings.dt;
     mu_ = s.mu;
     stepper_.reset();
+    guard_.reset();
     stepper_ = std::make_unique<LatentStepper>(fields_, std::move(s.scene), s.mu, s.options);
+    guard_ = std::make_unique<StepGuard>(*stepper_);
     moving_.clear();
   }
 
@@ -204,6 +212,7 @@ class Server {
   NeuralFields fields_;
   net::WsServer net_;
   std::unique_ptr<LatentStepper> stepper_;
+  std::unique_ptr<StepGuard> guard_;  // holds a reference to stepper_
   int frames_ = 0;
   double frame_time_ = 0, mu_ = 0;
   net::Message model_, last_;

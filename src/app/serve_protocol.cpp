@@ -66,7 +66,8 @@ std::string model_message(const BasisDecoders& b, const nlohmann::json& info) {
 }
 
 std::string frame_message(uint32_t frame, double time, double sent, const Eigen::VectorXd& z,
-                          const Eigen::VectorXf& c, const std::vector<StreamPose>& poses) {
+                          const Eigen::VectorXf& c, const std::vector<StreamPose>& poses,
+                          float indicator) {
   std::string out = "NSFF";
   out.reserve(kFrameHeaderBytes + 8 * size_t(z.size()) + 4 * size_t(c.size()) + 48 * poses.size());
   put(out, frame);
@@ -75,7 +76,7 @@ std::string frame_message(uint32_t frame, double time, double sent, const Eigen:
   put(out, uint32_t(z.size()));
   put(out, uint32_t(c.size()));
   put(out, uint32_t(poses.size()));
-  put(out, uint32_t(0));
+  put(out, indicator);
   for (Eigen::Index i = 0; i < z.size(); ++i) put(out, z[i]);
   for (Eigen::Index i = 0; i < c.size(); ++i) put(out, c[i]);
   for (const StreamPose& p : poses)
@@ -112,9 +113,10 @@ std::optional<StreamFrame> decode_frame(const std::string& bytes) {
   if (bytes.compare(0, 4, "NSFF") != 0) return std::nullopt;
   size_t at = 4;
   StreamFrame f;
-  uint32_t r = 0, K = 0, nc = 0, zero = 0;
+  uint32_t r = 0, K = 0, nc = 0;
   if (!get(bytes, at, f.frame) || !get(bytes, at, f.time) || !get(bytes, at, f.sent) ||
-      !get(bytes, at, r) || !get(bytes, at, K) || !get(bytes, at, nc) || !get(bytes, at, zero))
+      !get(bytes, at, r) || !get(bytes, at, K) || !get(bytes, at, nc) ||
+      !get(bytes, at, f.indicator))
     return std::nullopt;
   if (bytes.size() != kFrameHeaderBytes + 8 * size_t(r) + 4 * size_t(K) + 48 * size_t(nc))
     return std::nullopt;

@@ -28,10 +28,12 @@ std::string model_message(const BasisDecoders& bases, const nlohmann::json& info
 using StreamPose = std::array<float, 12>;
 
 // "NSFF", uint32 frame, float64 time, float64 sent (the server's wall clock, Unix seconds),
-// uint32 r, uint32 K, uint32 colliders, uint32 0; then r float64 ẑ, K float32 c = c_x(ẑ), and
-// 12 float32 per collider (position, rotation). 40 + 8r + 4K + 48·colliders bytes.
+// uint32 r, uint32 K, uint32 colliders, float32 the error indicator of the frame's last step
+// (rom/step_guard.h: below 1 fine); then r float64 ẑ, K float32 c = c_x(ẑ), and 12 float32 per
+// collider (position, rotation). 40 + 8r + 4K + 48·colliders bytes.
 std::string frame_message(uint32_t frame, double time, double sent, const Eigen::VectorXd& z,
-                          const Eigen::VectorXf& c, const std::vector<StreamPose>& poses);
+                          const Eigen::VectorXf& c, const std::vector<StreamPose>& poses,
+                          float indicator = 0);
 constexpr size_t kFrameHeaderBytes = 40;
 
 // What a client decodes (the reference client: tests, tools).
@@ -43,6 +45,7 @@ struct StreamModel {
 struct StreamFrame {
   uint32_t frame = 0;
   double time = 0, sent = 0;
+  float indicator = 0;
   std::vector<double> z;
   std::vector<float> c;
   std::vector<StreamPose> poses;
