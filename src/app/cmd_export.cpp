@@ -61,7 +61,9 @@ void run_export(const ExportArgs& a) {
     fail("--format '", a.format, "' is not an export format; use ply, vtk or vtu");
   refuse_path_clash({{"--out", a.out}}, {{"the run", a.run}});
   const RunReader run(a.run);
-  const std::vector<size_t> frames = parse_frame_range(a.frames, run.frame_count());
+  if (run.frame_count() == 0) fail(a.run, ": the run has no frames");
+  const std::vector<size_t> frames =  // a malformed --frames is a usage error (exit status 2)
+      parse_option_value([&] { return parse_frame_range(a.frames, run.frame_count()); });
   std::error_code ec;
   fs::create_directories(a.out, ec);
   if (ec) fail(a.out, ": cannot create the output directory: ", ec.message());
