@@ -4,13 +4,16 @@
 // stop with a message naming the problem and a non-zero exit, and leave the files it was given
 // alone.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/resource.h>
 
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 
 #include "app/exit_codes.h"
 #include "cli_child.h"
@@ -193,6 +196,61 @@ TEST_F(HostileTraining, AnIncompleteDatasetIsRefusedUnlessAllowed) {
   r = run_cli("eval " + quoted(model()) + " " + quoted(data()) + " -j 1");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   expect_contains(r.output, "is incomplete");
+}
+
+// Issue #54 item 17: a run that fails on its input (a dataset too small for the coefficient map,
+// found after the first stage's checkpoint was written) leaves no checkpoint, so its retry says
+// the same thing again instead of refusing "an interrupted training run". A run killed by a
+// signal keeps its checkpoint.
+TEST_F(HostileTraining, ARunThatFailsOnItsInputLeavesNoCheckpoint) {
+  const fs::path small = dir_ / "small";
+  nsf::test::write_synthetic_dataset(small, nsf::testing::kTinyParticles, 7, 2, {0.5, 1.0});
+  const fs::path ckpt = model().string() + ".ckpt";
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    SCOPED_TRACE(attempt);
+    const nsf::testing::CliResult r = train_tiny(small, model());
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    expect_contains(r.output, "a coefficient map needs more training rows");
+    EXPECT_EQ(r.output.find("interrupted training run"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(ckpt));
+    EXPECT_FALSE(fs::exists(model()));
+  }
+  // SIGTERM once the first checkpoint is there: it stays, for --resume.
+  const std::string log = (dir_ / "killed.log").string();
+  const pid_t pid = nsf::testing::spawn_cli({"train",
+                                             data().string(),
+                                             "--out",
+                                             model().string(),
+                                             "-r",
+                                             "2",
+                                             "--depth",
+                                             "2",
+                                             "--widths",
+                                             "64,8,8",
+                                             "--encoder-hidden",
+                                             "8",
+                                             "--steps",
+                                             "100000,5,5",
+                                             "--refine-latents",
+                                             "0",
+                                             "-j",
+                                             "1",
+                                             "-q",
+                                             "--checkpoint-every",
+                                             "1",
+                                             "--frames-per-batch",
+                                             "2",
+                                             "--particles-per-frame",
+                                             "16"},
+                                            log);
+  ASSERT_GT(pid, 0);
+  for (int i = 0; i < 600 && !fs::exists(ckpt); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(fs::exists(ckpt)) << nsf::testing::read_text(log);
+  ::kill(pid, SIGTERM);
+  const int status = nsf::testing::wait_child(pid);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << nsf::testing::read_text(log);
+  EXPECT_TRUE(fs::exists(ckpt));
 }
 
 // Item 9: without --resume, a checkpoint left by a killed run is kept and the command refused

@@ -8,7 +8,9 @@ reduced-order model while moving its colliders. docs/PYTHON.md.
     x = rom.trajectory()                      # the ROM: frames x P x 3, float32
 """
 
+import operator
 import os
+import stat
 import sys
 import tempfile
 
@@ -30,13 +32,35 @@ Scene = _nsf.Scene
 __all__ = ["Scene", "Run", "Rom", "load_scene", "simulate", "read_run", "__version__"]
 
 
+_KINDS = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+          (stat.S_ISSOCK, "a socket"), (stat.S_ISFIFO, "a FIFO"))
+
+
 def _existing_file(path, what):
+    """`path` if it is a regular file, else FileNotFoundError, IsADirectoryError or OSError
+    saying what it is (a device would be read without end, a pipe's open wait for a writer)."""
     path = os.fspath(path)
-    if not os.path.isfile(path):
-        raise FileNotFoundError(
-            "%s %s: %s" % (what, path, "is a directory" if os.path.isdir(path) else "no such file")
-        )
-    return path
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        raise FileNotFoundError("%s %s: no such file" % (what, path)) from None
+    if stat.S_ISDIR(mode):
+        raise IsADirectoryError("%s %s is a directory" % (what, path))
+    if stat.S_ISREG(mode):
+        return path
+    kind = next((name for test, name in _KINDS if test(mode)), "not a file")
+    raise OSError("%s %s is not a regular file (it is %s)" % (what, path, kind))
+
+
+def _count(value, what):
+    """`value` as a whole number of at least 0, else TypeError or ValueError naming `what`."""
+    try:
+        n = operator.index(value)
+    except TypeError:
+        raise TypeError("%s must be a whole number, got %r" % (what, value)) from None
+    if n < 0:
+        raise ValueError("%s must be 0 or more, got %d" % (what, n))
+    return n
 
 
 def load_scene(path, mu=None, overrides=()):
@@ -123,6 +147,8 @@ def _vector(value, n, what):
     if a.size != n or not (a.ndim == 1 or (n == 9 and a.shape == (3, 3))):
         raise ValueError("%s must be %s, got shape %s" % (
             what, "a 3x3 matrix" if n == 9 else "%d numbers" % n, a.shape))
+    if not np.isfinite(a).all():
+        raise ValueError("%s must be finite numbers, got %s" % (what, a.reshape(n).tolist()))
     return [float(v) for v in a.reshape(n)]
 
 
@@ -151,7 +177,7 @@ class Rom:
 
     def advance_frame(self, frames=1):
         """Advances `frames` frames (steps_per_frame ROM steps each)."""
-        for _ in range(frames):
+        for _ in range(_count(frames, "frames")):
             self._rt.advance_frame()
 
     def step(self):
@@ -182,9 +208,12 @@ class Rom:
         """The positions now and after each of the next `frames` frames (default: the scene's
         frame_count): (frames + 1, P, 3) float32, each frame written in place into `out` or a new
         array, as read_run(...).x holds a full-order run."""
-        frames = self.frame_count if frames is None else frames
+        frames = self.frame_count if frames is None else _count(frames, "frames")
         if out is None:
             out = np.empty((frames + 1, self.particle_count, 3), np.float32)
+        elif not isinstance(out, np.ndarray):
+            raise TypeError("out must be a numpy array of shape (frames + 1, %d, 3), got %s"
+                            % (self.particle_count, type(out).__name__))
         elif out.shape[:1] != (frames + 1,):
             raise ValueError("out must hold frames + 1 = %d frames, its shape is %s"
                              % (frames + 1, out.shape))

@@ -41,6 +41,7 @@ py::object attribute(const RunReader& r, const std::string& name) {
 
 // `fields`: which of x, v, C, F, tau to read (all the others are small and always read).
 py::dict read_run(const std::string& path, const std::vector<std::string>& fields) {
+  check_input_path(path, "run file");
   const RunReader r(path);
   const std::size_t F = r.frame_count(), P = r.particle_count();
   py::dict out;

@@ -19,12 +19,18 @@ namespace nsf::python {
 namespace {
 
 std::unique_ptr<Runtime> make_runtime(const std::string& model, const std::string& scene,
-                                      std::optional<double> mu, int samples, int threads,
+                                      std::optional<double> mu, long long samples,
+                                      long long threads,
                                       const std::vector<std::string>& overrides) {
+  check_input_path(model, "model file");
+  check_input_path(scene, "scene file");
+  check_mu(mu);
+  check_samples(samples);
+  check_threads(threads);
   RuntimeOptions options;
   options.mu = mu;
-  options.samples = samples;
-  options.threads = threads;
+  options.samples = int(samples);
+  options.threads = int(threads);
   options.overrides = overrides;
   py::gil_scoped_release nogil;
   return std::make_unique<Runtime>(model, scene, options);

@@ -39,6 +39,8 @@ struct LoadedScene {
 
 std::unique_ptr<LoadedScene> load(const std::string& path, std::optional<double> mu,
                                   const std::vector<std::string>& overrides) {
+  check_input_path(path, "scene file");
+  check_mu(mu);
   auto s = std::make_unique<LoadedScene>();
   s->path = path, s->mu = mu, s->overrides = overrides;
   s->json = read_scene_json(path, overrides);  // errors name the file
@@ -59,10 +61,10 @@ std::unique_ptr<LoadedScene> load(const std::string& path, std::optional<double>
 // Runs the scene from its initial state to its last frame, writing every frame to `out` (under a
 // temporary name until complete). The GIL stays held: HDF5 is not thread-safe, and h5py shares
 // the library. Ctrl-C stops it between frames, leaving no file.
-void simulate(const LoadedScene& s, const std::string& out, int threads) {
-  if (threads < 0) throw py::value_error("threads must be 0 (all cores) or more");
+void simulate(const LoadedScene& s, const std::string& out, long long threads) {
+  check_threads(threads);  // before OpenMP sees it: 10**9 made libgomp abort the interpreter
   const int before = omp_get_max_threads();
-  if (threads > 0) omp_set_num_threads(threads);
+  if (threads > 0) omp_set_num_threads(int(threads));
   try {
     Simulation sim(build_scene(s.json, s.dir()));
     RunAttributes attributes;

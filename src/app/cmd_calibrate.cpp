@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -61,7 +62,9 @@ void add_calibrate_command(CLI::App& app) {
   CLI::Option* set =
       cmd->add_option("--set", a->opt.overrides,
                       "Override a scene value for the ROM runs, e.g. --set rom.quadrature=1 (the "
-                      "setting the model will run with; default: the scene's train.calibrate.set)");
+                      "setting the model will run with; default: the scene's train.calibrate.set)")
+          ->type_name("KEY=VALUE")
+          ->check(override_syntax());
   CLI::Option* grid =
       add_list_option(cmd, "--grid", a->opt.grid,
                       "Latent prior lengths to try, metres, comma-separated (0: none; default: the "
@@ -79,10 +82,10 @@ void add_calibrate_command(CLI::App& app) {
   cmd->add_option("--dt-tolerance", a->opt.dt_tolerance,
                   "How much larger than the best ratio's mean delta a ratio's may be")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 100.0));
+      ->check(in_range(1.0, 100.0));
   cmd->add_option("--dt-budget", a->opt.dt_budget,
                   "Or at most this mean delta (e.g. 0.01 for 1 %; 0: only --dt-tolerance)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(in_range(0.0, 1.0));
   cmd->add_option("--runs", a->opt.runs, "Training runs to measure on, spread over the sweep")
       ->capture_default_str()
       ->check(in_range(1, 1000));
@@ -97,6 +100,14 @@ void add_calibrate_command(CLI::App& app) {
   add_threads_option(cmd, a->opt.threads);
   add_quiet_flag(cmd, a->opt.quiet);
   cmd->callback([a, grid, dt_ratios, set] {
+    // Checked here, before anything is read, as a usage error: the list's values are in range.
+    for (size_t i = 1; i < a->opt.dt_ratios.size() && dt_ratios->count() > 0; ++i)
+      if (!(a->opt.dt_ratios[i] > a->opt.dt_ratios[i - 1])) {
+        std::ostringstream why;
+        why << "must be ascending (the first is the reference), got " << a->opt.dt_ratios[i]
+            << " after " << a->opt.dt_ratios[i - 1];
+        throw CLI::ValidationError("--dt-ratios", why.str());
+      }
     // The scene's train.calibrate recipe where the command line gives none of its own.
     apply_calibration_recipe(a->opt, {grid->count() > 0, dt_ratios->count() > 0, set->count() > 0},
                              size_t(a->recipe - 1));

@@ -29,7 +29,7 @@ void add_contact_sheet_command(CLI::App& app) {
   cmd->add_option("runs", a->runs, "Run files (HDF5)")->required();
   cmd->add_option("--out,-o", a->out, "Output PNG")->required();
   cmd->add_option("--columns", a->columns, "Frames per run, first to last")
-      ->check(CLI::Range(1, 32))
+      ->check(in_range(1, 32))
       ->capture_default_str();
   cmd->add_option("--color,-c", a->color, "Colour by material, object, speed or stress")
       ->capture_default_str()
@@ -44,9 +44,12 @@ void add_contact_sheet_command(CLI::App& app) {
     RunRenderOptions o;
     o.color = parse_color_by(a->color);
     o.colliders = !a->no_colliders;
-    if (std::sscanf(a->size.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 16 ||
-        o.height < 16 || o.width > 8192 || o.height > 8192)
-      fail("--size must be WIDTHxHEIGHT between 16 and 8192, got '", a->size, "'");
+    char x = 0, extra = 0;
+    if (std::sscanf(a->size.c_str(), "%d%c%d%c", &o.width, &x, &o.height, &extra) != 3 ||
+        (x != 'x' && x != 'X') || o.width < 16 || o.height < 16 || o.width > 8192 ||
+        o.height > 8192)
+      throw CLI::ValidationError("--size",
+                                 "must be WIDTHxHEIGHT between 16 and 8192, got '" + a->size + "'");
     std::vector<NamedPath> runs;
     for (const std::string& r : a->runs) runs.push_back({"the run", r});
     refuse_path_clash({{"--out", a->out}}, runs);

@@ -12,6 +12,7 @@
 #include "app/commands.h"
 #include "app/common_options.h"
 #include "app/export_sources.h"
+#include "app/option_checks.h"
 #include "core/error.h"
 #include "core/path_clash.h"
 #include "core/progress.h"
@@ -155,7 +156,8 @@ void run_export(const ExportArgs& a) {
   std::vector<Input> inputs;
   for (const std::string& path : a.runs) {
     RunReader run(path);
-    std::vector<size_t> frames = parse_frame_range(a.frames, run.frame_count());
+    std::vector<size_t> frames =  // a malformed --frames is a usage error (exit status 2)
+        parse_option_value([&] { return parse_frame_range(a.frames, run.frame_count()); });
     inputs.push_back({path, std::move(run), std::move(frames)});
   }
   ExportSources sources(a.out);

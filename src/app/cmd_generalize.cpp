@@ -98,7 +98,8 @@ void add_generalize_command(CLI::App& app) {
                   "scene_file)");
   cmd->add_option("--set", a->opt.overrides,
                   "Override a scene value for every draw, e.g. --set rom.latent_prior=0")
-      ->type_name("KEY=VALUE");
+      ->type_name("KEY=VALUE")
+      ->check(override_syntax());
   cmd->add_option("--draws", a->opt.draws, "How many draws (default: the scene's generalize.draws)")
       ->check(in_range(1, 10000));
   cmd->add_option("--seed", a->seed, "Seed of the draws (default: the scene's generalize.seed)")

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -39,13 +40,15 @@ void parse_size(const std::string& s, int& w, int& h) {
   char x = 0, extra = 0;
   if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
     fail("--size '", s, "' must look like WIDTHxHEIGHT, e.g. 960x720");
+  if (w < 16 || h < 16 || w > 8192 || h > 8192)
+    fail("--size ", s, " is outside 16x16 to 8192x8192");
 }
 
 void parse_range(const std::string& s, double& lo, double& hi) {
   char colon = 0, extra = 0;
   if (std::sscanf(s.c_str(), "%lf%c%lf%c", &lo, &colon, &hi, &extra) != 3 || colon != ':' ||
-      !(lo < hi))
-    fail("--range '", s, "' must be LO:HI with LO < HI, e.g. 0:2.5");
+      !(lo < hi) || !std::isfinite(lo) || !std::isfinite(hi))
+    fail("--range '", s, "' must be LO:HI with finite LO < HI, e.g. 0:2.5");
 }
 
 // All argument checks and the plan come before anything is written, so a bad option leaves no
@@ -54,16 +57,21 @@ void run_render(const RenderArgs& a) {
   refuse_path_clash({{"--out", a.out}}, {{"the run", a.run}});
   const int threads = set_threads(a.threads);
   RunRenderOptions o;
-  o.color = parse_color_by(a.color);
-  parse_size(a.size, o.width, o.height);
-  if (!a.range.empty()) parse_range(a.range, o.range_lo, o.range_hi);
-  if (!a.camera.empty() && !a.view.empty()) fail("give either --camera or --view, not both");
-  if (!a.camera.empty()) o.camera = parse_camera_spec(a.camera);
-  if (!a.view.empty()) o.view_dir = parse_view(a.view);
+  // A malformed value is a usage error (exit status 2), as CLI11's own checks are.
+  parse_option_value([&] {
+    o.color = parse_color_by(a.color);
+    parse_size(a.size, o.width, o.height);
+    if (!a.range.empty()) parse_range(a.range, o.range_lo, o.range_hi);
+    if (!a.camera.empty() && !a.view.empty()) fail("give either --camera or --view, not both");
+    if (!a.camera.empty()) o.camera = parse_camera_spec(a.camera);
+    if (!a.view.empty()) o.view_dir = parse_view(a.view);
+  });
   o.fov_deg = a.fov;
   o.colliders = !a.no_colliders;
   const RunReader run(a.run);
-  const std::vector<size_t> frames = parse_frame_range(a.frames, run.frame_count());
+  if (run.frame_count() == 0) fail(a.run, ": the run has no frames");
+  const std::vector<size_t> frames =
+      parse_option_value([&] { return parse_frame_range(a.frames, run.frame_count()); });
   const RenderPlan plan = plan_render(run, frames, o);
 
   std::error_code ec;
@@ -112,7 +120,12 @@ void run_render(const RenderArgs& a) {
     return;
   }
   VideoJob job;
-  job.pattern = (fs::path(a.out) / ("frame_%0" + std::to_string(digits) + "d.png")).string();
+  // ffmpeg reads its input name as a pattern: a '%' of the directory (or of the working
+  // directory, once made absolute) is written "%%", so that it names that directory.
+  std::string dir;
+  for (char c : fs::absolute(a.out).string())
+    dir += c == '%' ? std::string("%%") : std::string(1, c);
+  job.pattern = (fs::path(dir) / ("frame_%0" + std::to_string(digits) + "d.png")).string();
   job.frame_count = n;
   job.fps = a.fps;
   job.gif = a.gif;
@@ -152,7 +165,7 @@ void add_render_command(CLI::App& app) {
       "--range", args->range,
       "Fixed colour scale LO:HI for speed (m/s) or stress (Pa) (default: from the run)");
   cmd->add_option("--fps", args->fps, "Video frame rate")
-      ->check(CLI::Range(1, 240))
+      ->check(in_range(1, 240))
       ->capture_default_str();
   cmd->add_flag("--no-video", args->no_video, "Only the PNGs");
   cmd->add_flag("--no-colliders", args->no_colliders,

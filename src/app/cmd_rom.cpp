@@ -43,7 +43,8 @@ void add_rom_command(CLI::App& app) {
                              "through its \"sweep\" templates")
                  ->check(in_range(-1e300, 1e300));
   cmd->add_option("--set", a->opt.overrides, "Override a scene value, e.g. --set material.E=5")
-      ->type_name("KEY=VALUE");
+      ->type_name("KEY=VALUE")
+      ->check(override_syntax());
   auto* samples = cmd->add_option("--samples,-k", a->samples,
                                   "Sample particles |S| (default: the scene's rom.samples, or 256)")
                       ->check(in_range(1, 100000000));

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <iterator>
 #include <map>
 #include <memory>
 
@@ -12,6 +13,7 @@
 #include "app/serve_page.h"
 #include "app/serve_protocol.h"
 #include "core/error.h"
+#include "mpm/colliders/collider_limits.h"
 #include "mpm/colliders/rigid_collider.h"
 #include "net/ws_server.h"
 #include "nn/basis_decoders.h"
@@ -45,13 +47,20 @@ double mono_now() {
 
 class Server {
  public:
-  explicit Server(const ServeArgs& a) : a_(a), fields_(NeuralFields::load(a.model)), net_(a.net) {
+  // The scene file is read once: a reset starts the scene the server started with, whatever
+  // happens to the file on disk meanwhile (an edit used to end the server at the next reset).
+  explicit Server(const ServeArgs& a)
+      : a_(a),
+        fields_(NeuralFields::load(a.model)),
+        file_(read_scene_file(a.scene, a.overrides)),
+        net_(a.net) {
     if (!fields_.bases())
       fail(a.model,
            ": nsf serve streams the coefficients of a per-point basis model; this one has "
            "MLP decoders (train it with --decoder basis, the default)");
-    restart();
-    const SceneFile file = read_scene_file(a.scene, a.overrides);
+    if (a.samples > 0) choices_.samples = a.samples;
+    stepper_ = start_scene();  // errors name the file and end the command, before serving
+    guard_ = std::make_unique<StepGuard>(*stepper_);
     nlohmann::json info;
     info["scene"] = fields_.scene_name();
     info["latent_dim"] = fields_.latent_dim();
@@ -59,9 +68,12 @@ class Server {
     info["frames"] = frames_;
     info["steps_per_frame"] = stepper_->steps_per_frame();
     info["mu"] = mu_;
-    info["colliders"] = file.json.value("colliders", nlohmann::json::array());
-    info["domain"] = {file.json["simulation"].value("domain_lo", nlohmann::json()),
-                      file.json["simulation"].value("domain_hi", nlohmann::json())};
+    info["colliders"] = file_.json.value("colliders", nlohmann::json::array());
+    info["domain"] = {file_.json["simulation"].value("domain_lo", nlohmann::json()),
+                      file_.json["simulation"].value("domain_hi", nlohmann::json())};
+    info["collider_bounds"] = {{limits_.lo[0], limits_.lo[1], limits_.lo[2]},
+                               {limits_.hi[0], limits_.hi[1], limits_.hi[2]}};
+    info["collider_speed_limit"] = limits_.speed;
     model_ = net::WsServer::binary_message(model_message(*fields_.bases(), info));
     net_.set_page(serve_page());
     net_.on_open = [this](int id) {
@@ -73,15 +85,26 @@ class Server {
       if (++commands_this_frame_[id] > kMaxCommandsPerFrame)
         return "over " + std::to_string(kMaxCommandsPerFrame) + " commands in one frame";
       try {
-        pending_.push_back(parse_command(text, stepper_->colliders().size()));
+        ServeCommand c = parse_command(text, stepper_->colliders().size());
+        if (c.kind == ServeCommand::move) {
+          const std::string far =
+              collider_motion_problem(limits_, c.collider, c.position, Vec3::Zero(), Vec3::Zero());
+          if (!far.empty()) return far;
+        } else if (!reset_allowed(id)) {
+          return "";  // ignored: this client reset the scene less than a second ago
+        }
+        pending_.push_back(std::move(c));
         return "";
       } catch (const Error& e) {
         return e.what();
       }
     };
-    net_.log = [this](const std::string& line) {
-      if (!a_.quiet) std::cerr << line << std::endl;
-    };
+    net_.log = [this](const std::string& line) { say(line); };
+    if (net_.max_clients() < a.net.max_clients)
+      say("nsf serve: --max-clients " + std::to_string(a.net.max_clients) + " lowered to " +
+          std::to_string(net_.max_clients()) +
+          ", what the process's descriptor limit leaves free (ulimit -n " +
+          std::to_string(net_.fd_limit()) + "); more clients are answered 503");
   }
 
   int port() const { return net_.port(); }
@@ -107,13 +130,20 @@ class Server {
       try {
         const long recovered = guard_->health().recoveries;
         guard_->advance_frame();  // a step that would diverge is redone (rom/step_guard.h)
-        if (guard_->health().recoveries > recovered && !a_.quiet)
-          std::cerr << "nsf serve: " << guard_->health().recoveries - recovered
-                    << " step(s) redone in frame " << frame + 1 << ": "
-                    << guard_->health().last_recovery << std::endl;
+        // Said once; the status line counts the others.
+        if (guard_->health().recoveries > recovered && redone_ == 0)
+          say("nsf serve: a step that would have diverged was redone in frame " +
+              std::to_string(frame + 1) + " (" + guard_->health().last_recovery +
+              "); later ones are counted in the status line");
+        redone_ += uint64_t(guard_->health().recoveries - recovered);
       } catch (const Error& e) {
-        std::cerr << "nsf serve: the reduced-order model failed at t = " << stepper_->time()
-                  << " s (" << e.what() << "); starting the scene again" << std::endl;
+        // Said once, with why; every failure is counted in the status and the last line.
+        if (failures_++ == 0)
+          std::cerr << "nsf serve: the reduced-order model failed at t = " << stepper_->time()
+                    << " s (" << e.what()
+                    << "); starting the scene again (and again whenever it fails: counted in the "
+                       "status line)"
+                    << std::endl;
         restart();
       }
       stepping += mono_now() - t0;
@@ -130,27 +160,72 @@ class Server {
 
  private:
   std::string status(long frames, double stepping, double wall) const {
-    char b[256];
-    std::snprintf(b, sizeof b,
-                  "%.1f frames/s over %.1f s (the ROM alone: %.1f frames/s, %.1f steps/s), "
-                  "%llu messages dropped, %llu clients dropped",
-                  double(frames) / wall, wall, double(frames) / stepping,
-                  double(frames) * stepper_->steps_per_frame() / stepping,
-                  static_cast<unsigned long long>(net_.messages_dropped()),
-                  static_cast<unsigned long long>(net_.clients_dropped()));
+    char b[448];
+    std::snprintf(
+        b, sizeof b,
+        "%.1f frames/s over %.1f s (the ROM alone: %.1f frames/s, %.1f steps/s), "
+        "%llu messages dropped, %llu clients dropped, %llu resets (%llu more ignored), "
+        "%llu restarts after the model failed, %llu steps redone",
+        double(frames) / wall, wall, double(frames) / stepping,
+        double(frames) * stepper_->steps_per_frame() / stepping,
+        static_cast<unsigned long long>(net_.messages_dropped()),
+        static_cast<unsigned long long>(net_.clients_dropped()),
+        static_cast<unsigned long long>(resets_), static_cast<unsigned long long>(resets_ignored_),
+        static_cast<unsigned long long>(failures_), static_cast<unsigned long long>(redone_));
     return b;
   }
 
-  void restart() {
-    RomSetup s = rom_setup(fields_, a_.scene, a_.mu, a_.overrides, a_.samples);
+  // A log line, unless -q.
+  void say(const std::string& line) const {
+    if (!a_.quiet) std::cerr << line << std::endl;
+  }
+
+  // The scene at its start, from the file as read when the server started.
+  std::unique_ptr<LatentStepper> start_scene() {
+    RomSetup s = rom_setup(fields_, "the model", file_, a_.mu, choices_);
     frames_ = s.scene.settings.frames;
     frame_time_ = s.scene.settings.substeps * s.scene.settings.dt;
     mu_ = s.mu;
-    stepper_.reset();
-    guard_.reset();
-    stepper_ = std::make_unique<LatentStepper>(fields_, std::move(s.scene), s.mu, s.options);
-    guard_ = std::make_unique<StepGuard>(*stepper_);
-    moving_.clear();
+    limits_ = collider_limits(s.scene.settings);
+    return std::make_unique<LatentStepper>(fields_, std::move(s.scene), s.mu, s.options);
+  }
+
+  // Back to the scene's start. A failure (a mesh file the scene names, changed on disk) is said
+  // and the scene goes on as it is: nothing a client does ends the server.
+  void restart() {
+    try {
+      std::unique_ptr<LatentStepper> fresh = start_scene();
+      guard_.reset();
+      stepper_ = std::move(fresh);
+      guard_ = std::make_unique<StepGuard>(*stepper_);
+      moving_.clear();
+      targets_.clear();
+    } catch (const Error& e) {
+      if (!restart_failed_)
+        std::cerr << "nsf serve: could not start the scene again (" << e.what()
+                  << "); it goes on from where it is" << std::endl;
+      restart_failed_ = true;
+    }
+  }
+
+  // A client's reset is applied at most once a second; more are ignored (said once per client),
+  // so a client resetting every frame cannot make the server restart the scene every frame.
+  bool reset_allowed(int id) {
+    const double now = mono_now();
+    ResetClock& r = reset_clock_[id];
+    if (r.applied > 0 && now - r.applied < kResetInterval) {
+      ++resets_ignored_;
+      if (!r.warned)
+        say("nsf serve: client " + std::to_string(id) +
+            " resets more often than once a second; those resets are ignored");
+      r.warned = true;
+      return false;
+    }
+    r.applied = now;
+    // Forget clients that have not reset for a while (they may have gone).
+    for (auto it = reset_clock_.begin(); it != reset_clock_.end();)
+      it = now - it->second.applied > 60 ? reset_clock_.erase(it) : std::next(it);
+    return true;
   }
 
   Eigen::VectorXf coefficients() const {
@@ -177,50 +252,71 @@ class Server {
     return out;
   }
 
-  // The commands received since the last frame, in order: a collider asked to move goes there
-  // over the next frame (its velocity is what the material feels) and stops the frame after.
+  // The commands received since the last frame, merged: the resets into one restart (moves
+  // before the last reset are dropped with the scene they were for), the moves of a collider into
+  // its last. A moved collider takes its rotation at once and travels to its position at the
+  // scene's speed limit at most: over the next frame when it can, else over as many as that takes
+  // (its velocity is what the material feels); it stops the frame after it arrives.
   void apply_commands() {
-    std::map<size_t, ServeCommand> moves;
-    for (const ServeCommand& c : pending_) {
-      if (c.kind == ServeCommand::reset) {
-        restart();
-        moves.clear();
-      } else {
-        moves[c.collider] = c;
-      }
+    size_t first = 0;
+    for (size_t k = 0; k < pending_.size(); ++k)
+      if (pending_[k].kind == ServeCommand::reset) first = k + 1;
+    if (first > 0) {
+      ++resets_;
+      restart();
     }
-    pending_.clear();
+    std::map<size_t, const ServeCommand*> moves;
+    for (size_t k = first; k < pending_.size(); ++k) moves[pending_[k].collider] = &pending_[k];
     const double t = stepper_->time();
     for (size_t i = 0; i < stepper_->colliders().size(); ++i) {
       RigidCollider* c = rigid(i);
       const auto m = moves.find(i);
-      if (!c || (m == moves.end() && !moving_[i])) continue;
+      if (m != moves.end()) targets_[i] = m->second->position;
+      const auto target = targets_.find(i);
+      if (!c || (target == targets_.end() && !moving_[i])) continue;
       c->set_time(t);
       RigidPose p = c->pose();
       p.angular_velocity.setZero();
       p.velocity.setZero();
-      if (m != moves.end()) {
-        p.velocity = (m->second.position - p.center) / frame_time_;
-        if (m->second.rotation) p.rotation = *m->second.rotation;
+      if (m != moves.end() && m->second->rotation) p.rotation = *m->second->rotation;
+      moving_[i] = target != targets_.end();
+      if (moving_[i]) {
+        const Vec3 way = target->second - p.center;
+        p.velocity = way / frame_time_;
+        if (p.velocity.norm() > limits_.speed) p.velocity *= limits_.speed / p.velocity.norm();
+        if (way.norm() <= limits_.speed * frame_time_) targets_.erase(target);  // there this frame
       }
       c->drive(p, t);
-      moving_[i] = m != moves.end();
     }
+    pending_.clear();
   }
+
+  struct ResetClock {
+    double applied = 0;  // when its last reset was applied (the monotonic clock)
+    bool warned = false;
+  };
 
   const ServeArgs& a_;
   NeuralFields fields_;
+  const SceneFile file_;
+  RomSettingChoices choices_;
   net::WsServer net_;
   std::unique_ptr<LatentStepper> stepper_;
   std::unique_ptr<StepGuard> guard_;  // holds a reference to stepper_
   int frames_ = 0;
   double frame_time_ = 0, mu_ = 0;
+  ColliderLimits limits_;
   net::Message model_, last_;
   std::vector<ServeCommand> pending_;
   std::map<size_t, bool> moving_;
+  std::map<size_t, Vec3> targets_;  // where a client sent a collider that is not there yet
   // A client sending more commands than this between two frames is flooding: it is dropped.
   static constexpr int kMaxCommandsPerFrame = 64;
+  static constexpr double kResetInterval = 1.0;  // seconds between a client's resets, at least
   std::map<int, int> commands_this_frame_;
+  std::map<int, ResetClock> reset_clock_;
+  uint64_t resets_ = 0, resets_ignored_ = 0, failures_ = 0, redone_ = 0;
+  bool restart_failed_ = false;  // said once
   size_t max_clients_ = 0;
 };
 
@@ -238,7 +334,8 @@ void add_serve_command(CLI::App& app) {
       cmd->add_option("--mu", a->mu, "The scene's sweep parameter")->check(in_range(-1e300, 1e300));
   (void)mu;
   cmd->add_option("--set", a->overrides, "Override a scene value, e.g. --set material.E=5")
-      ->type_name("KEY=VALUE");
+      ->type_name("KEY=VALUE")
+      ->check(override_syntax());
   cmd->add_option("--samples,-k", a->samples, "Sample particles |S| (default: the scene's)")
       ->check(in_range(1, 100000000));
   cmd->add_option("--bind", a->net.bind,
@@ -263,7 +360,8 @@ void add_serve_command(CLI::App& app) {
                   "Messages waiting for one client; a client this far behind loses frames")
       ->capture_default_str()
       ->check(in_range<size_t>(2, 100000));
-  cmd->add_option("--max-clients", a->net.max_clients, "Open connections at most")
+  cmd->add_option("--max-clients", a->net.max_clients,
+                  "Open connections at most (lowered to what ulimit -n leaves free)")
       ->capture_default_str()
       ->check(in_range<size_t>(1, 10000));
   cmd->add_option("--allow-origin", a->net.allow_origins,
@@ -276,7 +374,9 @@ void add_serve_command(CLI::App& app) {
                   "[::1]; 0.0.0.0: localhost and any IP address) with the server's port")
       ->type_name("HOST");
   add_threads_option(cmd, a->threads, "Threads of the model");
-  add_quiet_flag(cmd, a->quiet, "No log lines (clients dropped, status every 10 s)");
+  add_quiet_flag(cmd, a->quiet,
+                 "Only the address, errors (each once) and the last line: no log lines about "
+                 "clients, no status every 10 s");
   cmd->callback([a] {
     set_threads(a->threads);
     set_nn_threads(a->threads);

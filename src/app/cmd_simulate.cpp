@@ -94,6 +94,12 @@ void write_filmstrip(const Simulation& sim, const std::vector<std::vector<Vec3>>
 }
 
 void run_simulate(const SimulateArgs& a) {
+  // The clash below would name "--out 'o.xdmf'", a path the user never gave as --out.
+  if (same_file(xdmf_path_for(a.out), a.scene))
+    fail("the scene argument '", a.scene, "' is the XDMF file nsf simulate writes beside --out '",
+         a.out,
+         "': writing it would destroy that input; give the scene's JSON file as the scene "
+         "argument, or another --out");
   refuse_path_clash(
       {{"--out", a.out}, {"the XDMF sidecar of --out", xdmf_path_for(a.out)}, {"--png", a.png}},
       {{"the scene", a.scene}});
@@ -145,7 +151,8 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("scene", args->scene, "Scene JSON file")->required();
   cmd->add_option("--out,-o", args->out, "Output HDF5 file (docs/OUTPUT.md)")->required();
   cmd->add_option("--set", args->overrides, "Override a scene value, e.g. --set material.E=5")
-      ->type_name("KEY=VALUE");
+      ->type_name("KEY=VALUE")
+      ->check(override_syntax());
   cmd->add_option("--png", args->png, "Also write a picture: snapshots from start to end");
   add_threads_option(cmd, args->threads, "OpenMP threads");
   add_gzip_option(cmd, args->gzip);

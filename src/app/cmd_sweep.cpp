@@ -80,7 +80,8 @@ void add_sweep_command(CLI::App& app) {
   add_threads_option(cmd, args->threads, "OpenMP threads per simulation", "cores / jobs");
   cmd->add_option("--only", args->only, "Only this split")->check(CLI::IsMember({"train", "test"}));
   cmd->add_option("--set", args->overrides, "Override a scene value, e.g. --set material.E=5")
-      ->type_name("KEY=VALUE");
+      ->type_name("KEY=VALUE")
+      ->check(override_syntax());
   add_gzip_option(cmd, args->gzip);
   add_quiet_flag(cmd, args->quiet);
   cmd->callback([args, old_jobs] {

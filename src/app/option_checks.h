@@ -10,6 +10,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/error.h"
+
 namespace nsf::app {
 
 template <typename T>
@@ -57,6 +59,31 @@ CLI::Option* add_list_option(CLI::App* cmd, const std::string& name, std::vector
           },
           help)
       ->type_name(std::is_integral_v<T> ? "INT[,INT,INT]" : "NUM[,NUM,NUM]");
+}
+
+// --set KEY=VALUE: a value without '=' or without a key is a usage error (exit status 2); what the
+// key names and the value are the scene's to check (an error naming the override, exit 1).
+inline CLI::Validator override_syntax() {
+  return CLI::Validator(
+      [](std::string& input) -> std::string {
+        const size_t eq = input.find('=');
+        if (eq == std::string::npos || eq == 0)
+          return "'" + input + "' must look like KEY=VALUE, e.g. simulation.dt=1e-4";
+        return std::string();
+      },
+      "");
+}
+
+// A value the command parses itself (--size 960x720, --frames 0:40:2, --camera eye=...): the
+// parser's nsf::Error becomes a usage error (exit status 2, "nsf: usage error: "), as CLI11's own
+// checks are. Its message names the option.
+template <typename Parse>
+auto parse_option_value(Parse&& parse) -> decltype(parse()) {
+  try {
+    return parse();
+  } catch (const Error& e) {
+    throw CLI::ValidationError(std::string(e.what()));
+  }
 }
 
 }  // namespace nsf::app

@@ -166,6 +166,10 @@ std::vector<std::string> expand_templates(const std::vector<std::string>& templa
 }
 
 std::vector<std::string> sweep_overrides(const SweepSpec& spec, double mu) {
+  // NaN would reach the scene as null ("'objects[0].velocity[0]' must be a number, got null").
+  if (!std::isfinite(mu))
+    fail("mu must be a finite number (it sets the sweep's parameter '", spec.parameter, "'), got ",
+         mu);
   return expand_templates(spec.set, "mu", mu);
 }
 

@@ -1,6 +1,8 @@
 #include "io/run_reader.h"
 
 #include <array>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <string_view>
 #include <system_error>
@@ -29,6 +31,25 @@ std::string shape_text(const std::vector<hsize_t>& dims) {
   return dims.empty() ? "scalar" : s;
 }
 
+// A dataset's declared shape against the bytes the file holds of it, before anything of that size
+// is allocated: a file of a few kilobytes may declare 2^40 frames (chunks never written read as
+// fill values), which used to end in std::bad_alloc naming no file. Deflate inflates its input
+// at most 1032 times; nsf writes every chunk of every dataset.
+void check_declared_size(hid_t set, const std::string& name, const std::vector<hsize_t>& dims,
+                         size_t element_bytes, const std::string& path) {
+  constexpr double kMaxInflation = 1100, kSlackBytes = 1 << 20;
+  double values = 1;
+  for (hsize_t d : dims) values *= double(d);
+  const double declared = values * double(element_bytes);
+  const double stored = double(H5Dget_storage_size(set));
+  if (declared <= kMaxInflation * stored + kSlackBytes) return;
+  char what[160];
+  std::snprintf(what, sizeof what, "%.0f values (%.3g bytes)", values, declared);
+  nsf::fail(path, ": dataset ", name, " declares ", what, ", more than the file holds (",
+            std::uint64_t(stored), " bytes of it are stored, which inflate to at most ",
+            kMaxInflation, " times as many): the file is damaged or was not written by nsf");
+}
+
 Handle open_dataset(hid_t file, const std::string& name, const std::vector<hsize_t>& expected,
                     H5T_class_t cls, const std::string& path) {
   const std::vector<hsize_t> dims = h5::dataset_shape(file, name, path);
@@ -43,6 +64,7 @@ Handle open_dataset(hid_t file, const std::string& name, const std::vector<hsize
     nsf::fail(path, ": dataset ", name, " has the wrong element type (expected ",
               cls == H5T_FLOAT ? "floating point" : "integer", ")");
   }
+  check_declared_size(set.get(), name, dims, H5Tget_size(type.get()), path);
   return set;
 }
 

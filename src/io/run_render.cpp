@@ -49,6 +49,12 @@ Vec3 parse_vec3(const std::string& key, const std::string& text) {
     v.push_back(d);
   }
   if (v.size() != 3) fail("--camera: ", key, "=", text, " must be three numbers x,y,z");
+  // Beyond this the view's directions overflow (a camera at 1e300 m used to be reported as "up is
+  // parallel to the view direction"); it is also as far as a rendered position may be.
+  for (double d : v)
+    if (std::abs(d) > kMaxRunCoordinate)
+      fail("--camera: ", key, "=", text, " is out of range: each coordinate must lie within ",
+           kMaxRunCoordinate, " m of the origin, as every position nsf renders does");
   return Vec3(v[0], v[1], v[2]);
 }
 
@@ -151,6 +157,7 @@ Camera parse_camera_spec(const std::vector<std::string>& words) {
   }
   if (!eye || !target) fail("--camera needs both eye=x,y,z and target=x,y,z");
   if (!((cam.target - cam.eye).norm() > 0)) fail("--camera: eye and target must differ");
+  if (!(cam.up.norm() > 0)) fail("--camera: up must not be zero");
   if (cam.up.normalized().cross((cam.target - cam.eye).normalized()).norm() < 1e-6)
     fail("--camera: up is parallel to the view direction");
   return cam;

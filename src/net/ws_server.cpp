@@ -1,12 +1,16 @@
 #include "net/ws_server.h"
 
 #include <arpa/inet.h>
+#include <dirent.h>
+#include <fcntl.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -52,6 +56,20 @@ std::string seconds(double s) {
   return b;
 }
 
+// Descriptors this process has open now (/proc/self/fd), or -1 where that cannot be read.
+long open_descriptors() {
+  DIR* d = ::opendir("/proc/self/fd");
+  if (!d) return -1;
+  long n = 0;
+  while (const dirent* e = ::readdir(d)) n += e->d_name[0] != '.';
+  ::closedir(d);
+  return n - 1;  // the directory's own
+}
+
+// Descriptors kept free beyond the clients': the spare, one to answer a refused connection, and
+// the files the host opens while it serves.
+constexpr long kReservedDescriptors = 8;
+
 // Answers a connection not taken (an HTTP error) and closes it.
 void refuse_now(int fd, int status, const std::string& body) {
   const std::string r = http_response(status, reason_phrase(status), "text/plain", body);
@@ -84,6 +102,14 @@ WsServer::WsServer(const ServerOptions& options) : options_(options) {
   socklen_t len = sizeof sa;
   ::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&sa), &len);
   port_ = ntohs(sa.sin_port);
+  rlimit limit{};
+  const long open = open_descriptors();
+  if (::getrlimit(RLIMIT_NOFILE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY && open >= 0) {
+    fd_limit_ = long(limit.rlim_cur);
+    const long room = fd_limit_ - open - 1 - kReservedDescriptors;  // 1: the spare below
+    if (long(options_.max_clients) > room) options_.max_clients = size_t(std::max(1L, room));
+  }
+  spare_fd_ = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
   policy_.bind = options.bind;
   policy_.port = port_;
   policy_.allow_hosts = options.allow_hosts;
@@ -93,6 +119,7 @@ WsServer::WsServer(const ServerOptions& options) : options_(options) {
 WsServer::~WsServer() {
   for (auto& [id, c] : clients_) ::close(c.fd);
   if (listen_fd_ >= 0) ::close(listen_fd_);
+  if (spare_fd_ >= 0) ::close(spare_fd_);
 }
 
 void WsServer::emit(const std::string& line) const {
@@ -159,8 +186,10 @@ void WsServer::broadcast(const Message& m) {
 void WsServer::poll(int timeout_ms) {
   std::vector<pollfd> fds;
   std::vector<int> ids;
-  fds.push_back({listen_fd_, POLLIN, 0});
+  const bool accepting = now_s() >= accept_paused_until_;
+  fds.push_back({listen_fd_, short(accepting ? POLLIN : 0), 0});
   ids.push_back(0);
+  if (!accepting) timeout_ms = std::min(timeout_ms, 100);
   for (const auto& [id, c] : clients_) {
     // A client whose queue is full is not read from: what it sends waits in its own socket.
     short ev = c.state == State::closing || backed_up(c) ? 0 : POLLIN;
@@ -197,8 +226,22 @@ void WsServer::accept_all() {
   for (;;) {
     sockaddr_in sa{};
     socklen_t len = sizeof sa;
-    const int fd =
+    int fd =
         ::accept4(listen_fd_, reinterpret_cast<sockaddr*>(&sa), &len, SOCK_NONBLOCK | SOCK_CLOEXEC);
+    if (fd < 0 && (errno == EMFILE || errno == ENFILE)) {
+      // No descriptor left (other files of the process, or the system's): take the connection
+      // with the spare one, refuse it, and keep the spare for the next time.
+      const std::string why = std::strerror(errno);
+      if (spare_fd_ >= 0) {
+        ::close(spare_fd_);
+        fd = ::accept4(listen_fd_, reinterpret_cast<sockaddr*>(&sa), &len, SOCK_CLOEXEC);
+        if (fd >= 0) refuse_now(fd, 503, "nsf serve: too many clients\n");
+        spare_fd_ = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+      }
+      emit("nsf serve: refused a connection: no file descriptor left (" + why + ")");
+      if (fd < 0 || spare_fd_ < 0) accept_paused_until_ = now_s() + 0.1;  // do not spin on it
+      return;
+    }
     if (fd < 0) return;  // EAGAIN, or a connection that went away before we took it
     char ip[INET_ADDRSTRLEN] = "?";
     ::inet_ntop(AF_INET, &sa.sin_addr, ip, sizeof ip);
@@ -263,6 +306,10 @@ void WsServer::handle_http(int id, Client& c) {
     return;
   }
   if (p == Parse::error) return drop(id, c, 400, "a malformed HTTP request: " + why);
+  // A head over the cap that arrived whole (in one read) is refused as one arriving piecemeal.
+  if (used > options_.max_request)
+    return drop(id, c, 431,
+                "an HTTP request head over " + std::to_string(options_.max_request) + " bytes");
   c.in.erase(0, used);
   const bool wants_upgrade = !req.header("Upgrade").empty();
   if (const std::string refusal = origin_refusal(req, policy_, wants_upgrade); !refusal.empty())

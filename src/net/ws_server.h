@@ -35,7 +35,9 @@ struct ServerOptions {
   size_t max_request = 8192;                 // bytes of an HTTP request head
   size_t max_queue = 64;                     // messages waiting to be sent to one client
   size_t max_queue_bytes = size_t(4) << 20;  // their bytes (messages sent with bypass_cap aside)
-  size_t max_clients = 256;                  // open connections; more are refused with 503
+  // Open connections; more are refused with 503. Lowered at start to what the process's
+  // descriptor limit (ulimit -n) leaves: WsServer::max_clients says what it is.
+  size_t max_clients = 256;
   // Before its upgrade (or its page) a connection must send its whole request head within
   // header_timeout_s of connecting and may not go idle_timeout_s without a byte: else 408.
   double header_timeout_s = 10;
@@ -56,6 +58,11 @@ class WsServer {
   WsServer& operator=(const WsServer&) = delete;
 
   int port() const { return port_; }
+  // ServerOptions::max_clients, or less where the descriptor limit (`ulimit -n`, fd_limit())
+  // leaves fewer descriptors free: a client the process could not have opened would have ended
+  // it later, the scene file or the model unreadable for want of a descriptor.
+  size_t max_clients() const { return options_.max_clients; }
+  long fd_limit() const { return fd_limit_; }
 
   // What GET / answers (text/html).
   void set_page(std::string html) { page_ = std::move(html); }
@@ -126,6 +133,12 @@ class WsServer {
   OriginPolicy policy_;
   int listen_fd_ = -1;
   int port_ = 0;
+  // A descriptor held in reserve: when accept() finds none left (EMFILE), it is closed to take the
+  // connection and answer it 503, then opened again. Without it the connection would wait in the
+  // listen queue and poll() would wake for it at once, forever.
+  int spare_fd_ = -1;
+  long fd_limit_ = -1;
+  double accept_paused_until_ = 0;
   std::string page_;
   std::map<int, Client> clients_;
   int next_id_ = 1;

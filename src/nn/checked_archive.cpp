@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "io/atomic_file.h"
 #include "nn/zip_entries.h"
 
@@ -65,7 +66,9 @@ void save_checked_archive(torch::serialize::OutputArchive& a, const std::string&
 bool load_checked_archive(torch::serialize::InputArchive& a, const std::string& path,
                           const std::string& what) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) fail(what, " ", path, " is not a file");
+  if (const std::string kind = non_regular_kind(path); !kind.empty())
+    fail(what, " ", path, " is not a regular file (it is ", kind, ")");
+  if (!std::filesystem::is_regular_file(path, ec)) fail(what, " ", path, " does not exist");
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) fail("cannot open ", what, " ", path);
   // One read into a buffer of the file's size (a character-wise copy took ~1 s per 400 MB).

@@ -8,6 +8,7 @@
 #include <regex>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "mpm/scene/settings_json.h"
 #include "nn/dataset_gaps.h"
 
@@ -59,10 +60,10 @@ std::string entry_file(const nlohmann::json& e, const std::string& manifest) {
 
 void read_manifest(const fs::path& path, std::vector<std::string>& train,
                    std::vector<std::string>& test, PlannedRuns& planned) {
-  std::ifstream in(path);
+  const std::string text = read_input_file(path.string(), "dataset manifest");
   nlohmann::json j;
   try {
-    in >> j;
+    j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     fail(path.string(), ": not valid JSON (", e.what(), ")");
   }
@@ -118,7 +119,8 @@ std::string joined(const std::vector<std::string>& names) {
 
 Dataset::Dataset(const std::string& dir, bool allow_incomplete) : dir_(dir) {
   const fs::path root(dir);
-  if (!fs::is_directory(root)) fail("dataset directory ", dir, " does not exist");
+  if (!fs::is_directory(root))
+    fail("dataset directory ", dir, fs::exists(root) ? " is not a directory" : " does not exist");
   std::vector<std::string> train, test;
   PlannedRuns planned;
   const fs::path manifest = root / "manifest.json";

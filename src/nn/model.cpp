@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "nn/checked_archive.h"
 #include "nn/model_file_checks.h"
 
@@ -439,6 +440,8 @@ void NeuralModel::save(const std::string& path) const {
 }
 
 NeuralModel NeuralModel::load(const std::string& path) {
+  if (const std::string kind = non_regular_kind(path); !kind.empty())
+    fail("model file ", path, " is not a regular file (it is ", kind, ")");
   if (!std::filesystem::is_regular_file(path)) fail("model file ", path, " does not exist");
   torch::serialize::InputArchive a;
   const bool checked = load_checked_archive(a, path, "model file");

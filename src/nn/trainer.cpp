@@ -144,9 +144,12 @@ class Trainer {
     }
   }
 
+  // run_stages, and after a failure on the input (not while writing a file), the checkpoint it
+  // wrote removed: resuming would fail the same way.
   TrainReport run();
 
  private:
+  TrainReport run_stages();
   // Particles drawn per batch frame (at most all of them), and points per optimiser step.
   int64_t particles_per_batch_frame(int s) const {
     return std::min<int64_t>(int64_t(data_.particle_count()), cfg_.particles_per_frame[s]);
@@ -193,6 +196,8 @@ class Trainer {
   void load_checkpoint();
   void write_loss_curves(TrainReport& report) const;
 
+  // Set while a file is written: a failure then (a full disk) is not one of the input.
+  mutable bool writing_ = false;
   TrainOptions opt_;
   TrainConfig cfg_;
   std::string out_, ckpt_;
@@ -741,7 +746,9 @@ void Trainer::save_checkpoint() const {
   }
   a.write("history", h, true);
   // Atomic (a kill mid-write leaves the previous checkpoint intact), with a checksum.
+  writing_ = true;
   save_checked_archive(a, ckpt_, "checkpoint");
+  writing_ = false;
 }
 
 void Trainer::load_checkpoint() {
@@ -823,6 +830,22 @@ void Trainer::write_loss_curves(TrainReport& report) const {
 }
 
 TrainReport Trainer::run() {
+  std::error_code ec;
+  const bool checkpoint_before = fs::exists(ckpt_, ec);
+  try {
+    return run_stages();
+  } catch (const Error&) {
+    // A run that failed on its input (a dataset too small for a coefficient map, a loss that
+    // diverged) fails the same way when resumed: the checkpoint it wrote would only make its
+    // retry refuse "an interrupted training run". One that failed writing a file (a full disk)
+    // keeps it for --resume, as does a run resumed from it, and one a signal ends (its process
+    // dies of the signal, and never gets here).
+    if (!writing_ && !checkpoint_before && team_rank() == 0) fs::remove(ckpt_, ec);
+    throw;
+  }
+}
+
+TrainReport Trainer::run_stages() {
   TrainReport report;
   report.model_path = out_;
   report.checkpoint_path = ckpt_;
@@ -954,8 +977,10 @@ TrainReport Trainer::run() {
   if (team_rank() != 0) return report;  // process 0 writes the model and the loss curves
   model_.to(torch::kCPU);
   if (latents_.defined()) store_trajectories();
+  writing_ = true;
   model_.save(out_);
   write_loss_curves(report);
+  writing_ = false;
   fs::remove(ckpt_);
   return report;
 }

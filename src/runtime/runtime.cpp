@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "mpm/colliders/collider_limits.h"
 #include "mpm/colliders/rigid_collider.h"
 #include "nn/torch_settings.h"
 #include "rom/latent_stepper.h"
@@ -48,6 +49,7 @@ struct Runtime::Impl {
   NeuralFields fields;
   int frames = 0;
   double frame_time = 0;
+  ColliderLimits limits;                   // of set_collider_pose
   std::unique_ptr<LatentStepper> stepper;  // holds a reference to `fields`
   std::unique_ptr<StepGuard> guard;        // and this one to `stepper`
 
@@ -56,6 +58,7 @@ struct Runtime::Impl {
     RomSetup s = rom_setup(fields, scene_path, o.mu, o.overrides, o.samples);
     frames = s.scene.settings.frames;
     frame_time = s.scene.settings.substeps * s.scene.settings.dt;
+    limits = collider_limits(s.scene.settings);
     stepper = std::make_unique<LatentStepper>(fields, std::move(s.scene), s.mu, s.options);
     GuardOptions g;
     g.residual_cells = o.indicator_misfit_cells;
@@ -169,6 +172,9 @@ void Runtime::set_collider_pose(std::size_t i, const ColliderPose& pose) {
     if ((p.rotation.transpose() * p.rotation - Mat3::Identity()).norm() > 1e-4 ||
         p.rotation.determinant() < 0)
       fail("the rotation of collider ", i, " is not a rotation matrix (orthonormal, det +1)");
+    const std::string out_of_bounds =
+        collider_motion_problem(impl_->limits, i, p.center, p.velocity, p.angular_velocity);
+    if (!out_of_bounds.empty()) fail(out_of_bounds);
     impl_->collider(i).drive(p, time());
   });
 }

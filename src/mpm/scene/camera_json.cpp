@@ -1,5 +1,7 @@
 #include "mpm/scene/camera_json.h"
 
+#include <utility>
+
 #include "core/error.h"
 #include "core/json_util.h"
 
@@ -18,6 +20,14 @@ std::optional<SceneCamera> parse_camera(const nlohmann::json& scene) {
   cam.up = js::get_vec3(j, path, "up", cam.up);
   // Open at both ends: 0 would be a pinhole with no picture, 180 an infinitely wide one.
   cam.fov_deg = js::get_number(j, path, "fov_deg", cam.fov_deg, {0, 180, true, true});
+  // Beyond 1e6 m (as far as nsf render draws a particle, io/position_check.h) the view's
+  // directions overflow: a camera at 1e300 m used to be "parallel to the view direction".
+  constexpr double kMaxCoordinate = 1e6;
+  for (const auto& [key, v] :
+       {std::pair{"eye", cam.eye}, std::pair{"target", cam.target}, std::pair{"up", cam.up}})
+    if (!(v.cwiseAbs().maxCoeff() <= kMaxCoordinate))
+      fail("scene: 'camera.", key, "' = [", v.transpose(),
+           "] is out of range: each coordinate must lie within 1e6 m of the origin");
   if (!((cam.target - cam.eye).norm() > 0))
     fail("scene: 'camera.eye' and 'camera.target' must differ");
   if (!(cam.up.norm() > 0)) fail("scene: 'camera.up' must not be zero");

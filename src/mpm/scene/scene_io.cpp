@@ -1,9 +1,8 @@
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <system_error>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/json_parse.h"
 #include "mpm/scene/scene.h"
 
@@ -39,11 +38,8 @@ nlohmann::json read_scene_json(const std::string& path, const std::vector<std::s
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     fail("scene file '", path, "' is a directory, not a JSON file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail("scene file '", path, "' cannot be opened (missing or unreadable)");
-  std::stringstream buf;
-  buf << in.rdbuf();
-  const std::string text = buf.str();
+  // A regular file or a pipe, at most 64 MiB (core/input_file.h): not /dev/zero read to the end.
+  const std::string text = read_input_file(path, "scene file");
 
   nlohmann::json j;
   try {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/progress.h"
 #include "core/timer.h"
 #include "nn/dataset.h"
@@ -27,9 +28,10 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 nlohmann::json read_manifest(const std::string& data_dir) {
   const std::filesystem::path p = std::filesystem::path(data_dir) / "manifest.json";
-  std::ifstream in(p);
-  if (!in) return nlohmann::json::object();
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  std::error_code ec;
+  if (!std::filesystem::exists(p, ec)) return nlohmann::json::object();
+  const nlohmann::json j =
+      nlohmann::json::parse(read_input_file(p.string(), "dataset manifest"), nullptr, false);
   return j.is_object() ? j : nlohmann::json::object();
 }
 
