@@ -1,5 +1,7 @@
 #include "io/h5_util.h"
 
+#include "core/exclusive_file.h"
+
 #include <atomic>
 #include <cstdlib>
 
@@ -161,6 +163,12 @@ std::vector<hsize_t> dataset_shape(hid_t file_id, const std::string& name,
   std::vector<hsize_t> dims(static_cast<size_t>(rank));
   H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
   return dims;
+}
+
+hid_t create_exclusive(const std::string& tmp) {
+  clear_stale_temp(tmp);
+  return check(H5Fcreate(tmp.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT), tmp,
+               "cannot create file");
 }
 
 }  // namespace nsf::h5

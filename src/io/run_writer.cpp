@@ -258,13 +258,8 @@ RunWriter::RunWriter(const std::string& path, const Particles& p, const SimSetti
     if (ec)
       nsf::fail(path, ": cannot create the directory ", dir.string(), " (", ec.message(), ")");
   }
-  // Created exclusively (O_CREAT | O_EXCL: never through a link planted at tmp), after removing
-  // a stale one (core/exclusive_file.h).
-  clear_stale_temp(w.tmp);
+  w.file = Handle(h5::create_exclusive(w.tmp), H5Fclose);
   w.registration = TempFileRegistration(w.tmp);
-  w.file = Handle(h5::check(H5Fcreate(w.tmp.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT), w.tmp,
-                            "cannot create file"),
-                  H5Fclose);
   w.created = true;
   w.write_attributes(s, scene_name, scene_json);
   w.write_static_data(p, options.gzip_level);

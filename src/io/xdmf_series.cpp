@@ -140,11 +140,8 @@ XdmfSeriesWriter::XdmfSeriesWriter(std::string xdmf_path, std::string h5_path,
   if (p == 0 || w.object.size() != p)
     fail(w.h5_path, ": no particles, or arrays of different lengths");
   h5::QuietErrors quiet;
-  clear_stale_temp(w.tmp);
+  w.file = Handle(h5::create_exclusive(w.tmp), H5Fclose);
   w.registration = TempFileRegistration(w.tmp);
-  w.file = Handle(h5::check(H5Fcreate(w.tmp.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT), w.tmp,
-                            "cannot create file"),
-                  H5Fclose);
   w.created = true;
   std::vector<int64_t> connectivity(p);
   for (size_t i = 0; i < p; ++i) connectivity[i] = static_cast<int64_t>(i);
