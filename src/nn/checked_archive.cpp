@@ -23,15 +23,6 @@ constexpr const char kEndSignature[] = "PK\x05\x06";
 constexpr const char kTag[] = "nsf-crc32 ";
 constexpr size_t kCommentLength = sizeof(kTag) - 1 + 8;
 
-uint32_t crc_of(const std::string& bytes, size_t count) {
-  uLong crc = crc32(0L, Z_NULL, 0);
-  const auto* p = reinterpret_cast<const Bytef*>(bytes.data());
-  constexpr size_t kChunk = size_t(1) << 30;  // crc32 takes a uInt length
-  for (size_t done = 0; done < count; done += kChunk)
-    crc = crc32(crc, p + done, static_cast<uInt>(std::min(kChunk, count - done)));
-  return static_cast<uint32_t>(crc);
-}
-
 std::string hex32(uint32_t v) {
   char buf[9];
   std::snprintf(buf, sizeof buf, "%08x", static_cast<unsigned>(v));
@@ -56,7 +47,7 @@ void save_checked_archive(torch::serialize::OutputArchive& a, const std::string&
       bytes[bytes.size() - 2] != 0 || bytes[bytes.size() - 1] != 0)
     fail("internal error: the archive for ", what, " ", path,
          " does not end in a zip end record without comment");
-  const std::string comment = kTag + hex32(crc_of(bytes, bytes.size() - 2));
+  const std::string comment = kTag + hex32(crc32_of(bytes.data(), bytes.size() - 2));
   bytes[bytes.size() - 2] = static_cast<char>(kCommentLength & 0xff);
   bytes[bytes.size() - 1] = static_cast<char>(kCommentLength >> 8);
   bytes += comment;
@@ -87,7 +78,7 @@ bool load_checked_archive(torch::serialize::InputArchive& a, const std::string& 
       bytes.compare(n - kCommentLength, sizeof(kTag) - 1, kTag) == 0;
   if (checked) {
     const std::string stored = bytes.substr(n - 8);
-    const std::string actual = hex32(crc_of(bytes, n - kCommentLength - 2));
+    const std::string actual = hex32(crc32_of(bytes.data(), n - kCommentLength - 2));
     if (stored != actual)
       fail(what, " ", path, " is damaged: its checksum does not match (stored CRC-32 ", stored,
            ", the bytes give ", actual,

@@ -22,16 +22,6 @@ uint32_t u32(const std::string& b, size_t at) {
   return u16(b, at) | u16(b, at + 2) << 16;
 }
 
-uint32_t crc_of(const char* p, size_t n) {
-  uLong crc = crc32(0L, Z_NULL, 0);
-  constexpr size_t kChunk = size_t(1) << 30;  // crc32 takes a uInt length
-  for (size_t done = 0; done < n; done += kChunk) {
-    const size_t len = n - done < kChunk ? n - done : kChunk;
-    crc = crc32(crc, reinterpret_cast<const Bytef*>(p + done), static_cast<uInt>(len));
-  }
-  return static_cast<uint32_t>(crc);
-}
-
 // The CRC-32 of a deflated entry's `size` bytes once inflated; false when they do not inflate to
 // exactly that many.
 bool inflated_crc(const char* p, size_t packed, size_t size, uint32_t& crc) {
@@ -45,11 +35,21 @@ bool inflated_crc(const char* p, size_t packed, size_t size, uint32_t& crc) {
   const int r = inflate(&z, Z_FINISH);
   const bool whole = r == Z_STREAM_END && z.total_out == size;
   inflateEnd(&z);
-  if (whole) crc = crc_of(out.data(), size);
+  if (whole) crc = crc32_of(out.data(), size);
   return whole;
 }
 
 }  // namespace
+
+uint32_t crc32_of(const char* p, size_t n) {
+  uLong crc = crc32(0L, Z_NULL, 0);
+  constexpr size_t kChunk = size_t(1) << 30;  // crc32 takes a uInt length
+  for (size_t done = 0; done < n; done += kChunk) {
+    const size_t len = n - done < kChunk ? n - done : kChunk;
+    crc = crc32(crc, reinterpret_cast<const Bytef*>(p + done), static_cast<uInt>(len));
+  }
+  return static_cast<uint32_t>(crc);
+}
 
 void check_zip_entries(const std::string& b, size_t comment, const std::string& what,
                        const std::string& path) {
@@ -88,7 +88,7 @@ void check_zip_entries(const std::string& b, size_t comment, const std::string& 
     if (data + packed > dir_at) bad("its entry '" + entry + "' runs past the data");
     uint32_t actual = 0;
     if (method == 0)
-      actual = crc_of(b.data() + data, size);
+      actual = crc32_of(b.data() + data, size);
     else if (!inflated_crc(b.data() + data, packed, size, actual))
       bad("its entry '" + entry + "' does not inflate to its stated size");
     if (actual != crc) bad("its entry '" + entry + "' does not match its CRC-32");
