@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 
@@ -57,6 +58,66 @@ TEST(Interrupt, SignalDuringSimulateRemovesTheTempFileAndEndsByTheSignal) {
     EXPECT_FALSE(fs::exists(tmp));
     EXPECT_FALSE(fs::exists(out));
   }
+  fs::remove_all(dir);
+}
+
+// A sweep over several axes and collider paths (issue #55 item 4), killed with SIGKILL (nothing
+// cleans up) after its first run: run again, it keeps the finished runs, redoes the others with
+// the same values and paths, and lists every run with its values.
+TEST(Interrupt, AMultiAxisSweepKilledMidwayResumesWithTheSameRuns) {
+  const fs::path dir = nsf::testing::fresh_dir("interrupt_sweep");
+  std::ofstream(dir / "scene.json") << R"({
+    "name": "plates",
+    "simulation": { "dx": 0.03125, "dt": 1e-3, "frames": 40, "substeps": 5 },
+    "objects": [ { "shape": { "type": "box", "min": [0.375, 0.1, 0.375], "max": [0.625, 0.3, 0.625] },
+                   "material": { "type": "fixed_corotated", "E": 1000, "nu": 0.3 } } ],
+    "colliders": [
+      { "type": "plane", "point": [0, 0.1, 0], "normal": [0, 1, 0], "contact": "sticky" },
+      { "type": "box", "center": [0.3, 0.2, 0.5], "size": [0.05, 0.3, 0.3],
+        "motion": { "keyframes": [ { "t": 0, "center": [0.3, 0.2, 0.5] },
+                                   { "t": 0.1, "center": [0.36, 0.2, 0.5] } ] } } ],
+    "sweep": { "parameter": "stiffness", "set": ["material.E={mu*1000}"], "range": [1, 3],
+               "train": 4, "test": 1, "design": "sobol",
+               "vary": [ { "name": "depth", "range": [0.34, 0.38],
+                           "set": ["colliders[1].motion.keyframes[1].center=[{v},0.2,0.5]"] } ],
+               "paths": [ { "name": "wander", "collider": 1, "start": 0.02, "end": 0.15,
+                            "offset": [0.01, 0.02, 0.0], "max_speed": 2.0 } ] }
+  })";
+  const fs::path data = dir / "data", log = dir / "log.txt";
+  const std::vector<std::string> args = {
+      "sweep", (dir / "scene.json").string(), "--out", data.string(), "-q", "-j", "1", "--jobs",
+      "1"};
+  const pid_t pid = nsf::testing::spawn_cli(args, log.string());
+  ASSERT_GT(pid, 0);
+  const bool first_done = wait_for(data / "train_0.h5", 120);
+  ::kill(pid, SIGKILL);
+  nsf::testing::wait_child(pid);
+  ASSERT_TRUE(first_done) << nsf::testing::read_text(log.string());
+  ASSERT_FALSE(fs::exists(data / "test_0.h5")) << "the sweep finished before it was killed";
+  const auto kept = fs::last_write_time(data / "train_0.h5");
+
+  std::string out;
+  std::vector<std::string> again(args.begin(), args.end());
+  std::string line;
+  for (const std::string& a : again) line += "'" + a + "' ";
+  ASSERT_EQ(nsf::testing::run_cli(line, out), 0) << out;
+  EXPECT_EQ(fs::last_write_time(data / "train_0.h5"), kept);  // not redone
+  EXPECT_NE(out.find("already complete"), std::string::npos) << out;
+  for (const char* f : {"train_0.h5", "train_1.h5", "train_2.h5", "train_3.h5", "test_0.h5"})
+    EXPECT_TRUE(fs::exists(data / f)) << f;
+  for (const auto& e : fs::directory_iterator(data))  // the killed run's temp file is gone too
+    EXPECT_NE(e.path().extension(), ".tmp") << e.path();
+  const nlohmann::json manifest =
+      nlohmann::json::parse(nsf::testing::read_text((data / "manifest.json").string()));
+  ASSERT_EQ(manifest["runs"].size(), 5u);
+  EXPECT_EQ(manifest["design"], "sobol");
+  for (const auto& r : manifest["runs"]) {
+    EXPECT_TRUE(r["values"].contains("depth")) << r.dump();
+    EXPECT_TRUE(r.contains("path_seed")) << r.dump();
+  }
+  // A third run redoes nothing: every file is the run its plan asks for.
+  ASSERT_EQ(nsf::testing::run_cli(line, out), 0) << out;
+  EXPECT_NE(out.find("0 simulated, 5 already complete"), std::string::npos) << out;
   fs::remove_all(dir);
 }
 

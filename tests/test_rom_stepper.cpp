@@ -18,6 +18,7 @@
 #include "data/sweep.h"
 #include "error_matchers.h"
 #include "io/run_reader.h"
+#include "mpm/colliders/rigid_collider.h"
 #include "mpm/simulation.h"
 #include "nn/dataset.h"
 #include "nn/latent_inversion.h"
@@ -803,6 +804,54 @@ TEST_F(RomEndToEnd, AGuardedRunRecoversFromADivergenceAndSaysSo) {
   EXPECT_LT(worst, 1.0);
   EXPECT_EQ(plain.latent(), watched.latent());
   std::printf("healthy run: indicator at most %.3g\n", worst);
+}
+
+// Issue #55 item 4: the model keeps the box its training runs spanned (μ, and where the floor
+// was), and a guarded run says when a collider leaves it, and goes on.
+TEST_F(RomEndToEnd, TheModelKeepsItsTrainingBoxAndAGuardSaysWhenAColliderLeavesIt) {
+  nsf::NeuralFields f = nsf::NeuralFields::load(basis_model());
+  const nsf::TrainingBox& box = f.training_box();
+  ASSERT_EQ(box.parameters.size(), 1u);
+  EXPECT_EQ(box.parameters[0].name, "speed");
+  EXPECT_DOUBLE_EQ(box.parameters[0].lo, 0.5);
+  EXPECT_DOUBLE_EQ(box.parameters[0].hi, 1.5);
+  ASSERT_EQ(box.colliders.size(), 1u);  // the floor, which never moved
+  EXPECT_EQ(box.colliders[0].lo, Vec3(0, 0.12, 0));
+  EXPECT_EQ(box.colliders[0].hi, Vec3(0, 0.12, 0));
+  EXPECT_EQ(box.colliders[0].max_speed, 0.0);
+
+  nsf::RomOptions o;
+  o.sampling.count = 64;
+  nsf::LatentStepper rom(f, nsf::load_scene(kTinyScene), test_mu(), o);
+  nsf::StepGuard guard(rom);
+  guard.advance_frame();
+  EXPECT_FALSE(guard.health().outside_training);
+  EXPECT_EQ(guard.health().steps_outside, 0);
+  auto* floor = dynamic_cast<nsf::RigidCollider*>(rom.colliders()[0].get());
+  ASSERT_NE(floor, nullptr);
+  // Half a cell up: within the tolerance of a cell.
+  nsf::RigidPose pose = floor->pose();
+  pose.center.y() = 0.14;
+  floor->drive(pose, rom.time());
+  guard.step();
+  EXPECT_FALSE(guard.health().outside_training) << guard.health().training_note;
+  // Three cells down: outside, said once, and the run goes on.
+  pose.center.y() = 0.0;
+  floor->drive(pose, rom.time());
+  guard.step();
+  EXPECT_TRUE(guard.health().outside_training);
+  EXPECT_THAT(guard.health().training_note, HasSubstr("collider 0's centre is"));
+  EXPECT_THAT(guard.health().training_note, HasSubstr("in y"));
+  const std::string first = guard.health().training_note;
+  guard.step();
+  EXPECT_EQ(guard.health().steps_outside, 2);
+  EXPECT_EQ(guard.health().training_note, first);
+  // Back in place but moving: faster than the training runs moved it.
+  pose.center.y() = 0.12;
+  pose.velocity = Vec3(0.5, 0, 0);
+  floor->drive(pose, rom.time());
+  guard.step();
+  EXPECT_TRUE(guard.health().outside_training);
 }
 
 TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {

@@ -100,7 +100,9 @@ TEST(SweepSection, NamesTheKeyAtFault) {
       EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
     }
   };
-  fails_with("seed", 1, "seed");
+  fails_with("seeds", 1, "seeds");
+  fails_with("design", "grid3", "sweep.design");
+  fails_with("vary", json::array(), "sweep.vary");
   fails_with("range", json::array({3, 1}), "sweep.range");
   fails_with("train", 1, "sweep.train");
   fails_with("test", 3, "sweep.test");  // only 2 intervals between 3 training values

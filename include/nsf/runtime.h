@@ -50,6 +50,11 @@ struct RuntimeHealth {
   bool flagged = false;       // the last step's indicator was 1 or more, or it was redone
   long recoveries = 0;        // steps redone so far
   std::string last_recovery;  // what the last one did, when and why ("" for none)
+  // A collider has left the model's training box (more than a cell beyond where its training runs
+  // moved it, or faster): the latent space may not hold what follows.
+  bool outside_training = false;  // in the last step
+  long steps_outside = 0;         // steps so far
+  std::string training_note;      // what lay outside, the first time ("" while nothing has)
 };
 
 // A rigid collider's pose in the world frame.

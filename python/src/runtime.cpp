@@ -90,6 +90,9 @@ py::dict health(const Runtime& rt) {
   d["flagged"] = h.flagged;
   d["recoveries"] = h.recoveries;
   d["last_recovery"] = h.last_recovery;
+  d["outside_training"] = h.outside_training;
+  d["steps_outside"] = h.steps_outside;
+  d["training_note"] = h.training_note;
   return d;
 }
 

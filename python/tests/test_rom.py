@@ -102,7 +102,8 @@ def test_a_run_thrown_into_the_wall_recovers_and_reports_its_health(tiny_model, 
     rom = nsf.Rom(tiny_model, tiny_scene, mu=8.0, threads=2)
     healthy = rom.health
     assert set(healthy) == {"indicator", "misfit_cells", "courant", "grid_margin", "flagged",
-                            "recoveries", "last_recovery"}
+                            "recoveries", "last_recovery", "outside_training", "steps_outside",
+                            "training_note"}
     worst = 0.0
     for _ in range(rom.frame_count):
         rom.advance_frame()
@@ -112,3 +113,15 @@ def test_a_run_thrown_into_the_wall_recovers_and_reports_its_health(tiny_model, 
     h = rom.health
     assert worst >= 1.0
     assert h["recoveries"] > 0 and "redone" in h["last_recovery"]
+
+
+def test_a_floor_moved_beyond_where_training_kept_it_is_reported(tiny_model, tiny_scene):
+    # The model keeps the box its training runs spanned; the floor never moved in them.
+    rom = nsf.Rom(tiny_model, tiny_scene, mu=1.0, threads=2)
+    rom.advance_frame()
+    assert not rom.health["outside_training"] and rom.health["training_note"] == ""
+    rom.set_collider_pose(0, position=[0, 0.02, 0])
+    rom.step()
+    h = rom.health
+    assert h["outside_training"] and h["steps_outside"] == 1
+    assert "collider 0's centre" in h["training_note"] and "in y" in h["training_note"]

@@ -136,6 +136,12 @@ class Server {
               std::to_string(frame + 1) + " (" + guard_->health().last_recovery +
               "); later ones are counted in the status line");
         redone_ += uint64_t(guard_->health().recoveries - recovered);
+        if (!guard_->health().training_note.empty() && !said_outside_) {
+          say("nsf serve: the run left the model's training box in frame " +
+              std::to_string(frame + 1) + " (" + guard_->health().training_note +
+              "): the model may not hold what follows");
+          said_outside_ = true;
+        }
       } catch (const Error& e) {
         // Said once, with why; every failure is counted in the status and the last line.
         if (failures_++ == 0)
@@ -316,6 +322,7 @@ class Server {
   std::map<int, int> commands_this_frame_;
   std::map<int, ResetClock> reset_clock_;
   uint64_t resets_ = 0, resets_ignored_ = 0, failures_ = 0, redone_ = 0;
+  bool said_outside_ = false;    // the first step outside the training box was said
   bool restart_failed_ = false;  // said once
   size_t max_clients_ = 0;
 };

@@ -10,6 +10,10 @@ namespace nsf {
 
 Mat3 rotation_from_euler_deg(const Vec3& deg);
 
+// The inverse: angles in degrees with ry in [−90, 90] (at ±90, rx = 0), so that
+// rotation_from_euler_deg of them gives `rotation` back.
+Vec3 euler_deg_from_rotation(const Mat3& rotation);
+
 // Index 0/1/2 of an axis name "x"/"y"/"z"; throws nsf::Error naming `path` otherwise.
 int axis_index(const std::string& name, const std::string& path);
 

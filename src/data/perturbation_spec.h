@@ -6,22 +6,19 @@
 // templates in one value v, like the sweep's templates in μ:
 //   {"name": "plates squeeze deeper", "range": [0.355, 0.38],
 //    "set": ["colliders[1].motion.keyframes[1].center=[{v},0.3,0.5]", ...]}
-// A draw takes one perturbation (in turn), v uniform in its range and μ uniform in the sweep's
-// range, from a seeded generator: the same seed gives the same draws on every machine.
+// A draw takes one perturbation (in turn), v uniform in its range, μ and the sweep's other axes
+// uniform in theirs, from a seeded generator: the same seed gives the same draws on every machine.
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "data/parameter_axis.h"
 #include "data/sweep_spec.h"
 
 namespace nsf {
 
-struct Perturbation {
-  std::string name;              // what it does, for tables: "plates squeeze deeper"
-  double lo = 0, hi = 0;         // range of v, lo < hi
-  std::vector<std::string> set;  // override templates with {v} expressions
-};
+using Perturbation = ParameterAxis;
 
 struct GeneralizeSpec {
   std::vector<Perturbation> perturbations;
@@ -34,6 +31,7 @@ struct PerturbationDraw {
   std::string perturbation;            // its name
   double value = 0;                    // v
   double mu = 0;                       // μ (0 where the scene has no sweep)
+  std::vector<double> values;          // the sweep's "vary" axes, each uniform in its range
   std::vector<std::string> overrides;  // the perturbation's templates at v (μ not included)
 };
 
@@ -45,7 +43,7 @@ struct PerturbationDraw {
 GeneralizeSpec parse_generalize(const nlohmann::json& section, const nlohmann::json& scene,
                                 const SweepSpec* sweep);
 
-// `count` draws from `seed`; μ uniform in the sweep's range where `sweep` is given.
+// `count` draws from `seed`; μ and the "vary" axes uniform in their ranges where `sweep` is given.
 std::vector<PerturbationDraw> plan_draws(const GeneralizeSpec& spec, const SweepSpec* sweep,
                                          int count, uint64_t seed);
 

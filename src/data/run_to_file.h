@@ -1,6 +1,7 @@
 #pragma once
 // Runs a simulation to the end and writes every frame (initial state included) to one run file:
-// the frame loop shared by `nsf simulate` and `nsf sweep`.
+// the frame loop shared by `nsf simulate` and `nsf sweep`. The file also records where the
+// colliders went (attribute collider_envelope, data/training_box.h).
 #include <functional>
 #include <map>
 #include <string>

@@ -44,7 +44,7 @@ struct Pool {
   std::string error;
 };
 
-void simulate_job(const Job& job, const std::string& parameter, Pool& pool, int total_runs) {
+void simulate_job(const Job& job, const SweepSpec& spec, Pool& pool, int total_runs) {
   Scene scene;
   try {
     scene = build_scene(job.scene, job.scene_dir);
@@ -55,7 +55,8 @@ void simulate_job(const Job& job, const std::string& parameter, Pool& pool, int 
   RunAttributes attributes;
   attributes.numbers["mu"] = job.run.mu;
   attributes.strings["split"] = job.run.split;
-  attributes.strings["sweep_parameter"] = parameter;
+  attributes.strings["sweep_parameter"] = spec.parameter;
+  attributes.strings["sweep_values"] = sweep_values(spec, job.run).dump();
   run_to_file(
       sim, job.path, attributes,
       [&](int) {
@@ -71,14 +72,14 @@ void simulate_job(const Job& job, const std::string& parameter, Pool& pool, int 
   pool.done.push_back(job.plan_index);
 }
 
-void worker(const std::vector<Job>& jobs, const std::string& parameter, int threads, Pool& pool) {
+void worker(const std::vector<Job>& jobs, const SweepSpec& spec, int threads, Pool& pool) {
   // OpenMP's thread count is per calling thread, so each job slot sets its own.
   omp_set_num_threads(threads);
   for (;;) {
     const size_t i = pool.next++;
     if (i >= jobs.size() || pool.failed) return;
     try {
-      simulate_job(jobs[i], parameter, pool, int(jobs.size()));
+      simulate_job(jobs[i], spec, pool, int(jobs.size()));
     } catch (const std::exception& e) {
       // Other slots finish their current run (it is valid data) but take no new one.
       std::lock_guard<std::mutex> lock(pool.mutex);
@@ -164,7 +165,7 @@ SweepSummary run_sweep(const nlohmann::json& base, const std::optional<SweepSpec
     ++summary.planned;
     Job job{i, run, base, (fs::path(opt.out_dir) / run.file()).string(), 0, scene_dir};
     try {
-      apply_overrides(job.scene, sweep_overrides(spec, run.mu));
+      apply_sweep_run(spec, run, job.scene);
       job.frames = parse_settings(job.scene.at("simulation"), "simulation").frames;
     } catch (const Error& e) {
       fail(scene_path, ": sweep run ", run.file(), " (mu = ", run.mu, "): ", e.what());
@@ -187,8 +188,7 @@ SweepSummary run_sweep(const nlohmann::json& base, const std::optional<SweepSpec
   std::vector<std::thread> slots;
   const int jobs = std::min<int>(opt.jobs, std::max<int>(1, int(pending.size())));
   for (int j = 0; j < jobs; ++j)
-    slots.emplace_back(worker, std::cref(pending), std::cref(spec.parameter), opt.threads,
-                       std::ref(pool));
+    slots.emplace_back(worker, std::cref(pending), std::cref(spec), opt.threads, std::ref(pool));
   for (std::thread& t : slots) t.join();
   summary.ran = pool.runs_done;
   summary.seconds = now_seconds() - start;
@@ -205,7 +205,7 @@ SweepSummary run_sweep(const nlohmann::json& base, const std::optional<SweepSpec
     for (int i = 0; i < int(plan.size()); ++i) {
       const SweepRun& run = plan[i];
       nlohmann::json j = base;
-      apply_overrides(j, sweep_overrides(spec, run.mu));
+      apply_sweep_run(spec, run, j);
       const int frames = parse_settings(j.at("simulation"), "simulation").frames;
       if (listed[i] ||
           is_complete_run((fs::path(opt.out_dir) / run.file()).string(), j.dump(), frames))

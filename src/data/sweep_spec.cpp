@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/json_util.h"
+#include "data/design.h"
 #include "mpm/scene/scene.h"
 
 namespace nsf {
@@ -87,7 +88,8 @@ SweepSpec parse_sweep(const nlohmann::json& j, const nlohmann::json& scene) {
   namespace js = nsf::json;
   const std::string path = "sweep";
   js::require_object(j, path);
-  js::check_keys(j, path, {"parameter", "set", "range", "train", "test"});
+  js::check_keys(j, path,
+                 {"parameter", "set", "range", "train", "test", "vary", "paths", "design", "seed"});
   SweepSpec s;
   s.parameter = js::get_string(j, path, "parameter");
   if (s.parameter.empty()) fail("scene: '", path, ".parameter' must not be empty");
@@ -96,19 +98,84 @@ SweepSpec parse_sweep(const nlohmann::json& j, const nlohmann::json& scene) {
 
   std::tie(s.lo, s.hi) = parse_range(j, path);
   s.train = js::get_int(j, path, "train", 2, 100000);
-  // Each test value needs its own interval between training values.
-  s.test = js::get_int(j, path, "test", 0, 0, s.train - 1);
 
   // Try the templates at both ends, on a copy without the sweep (no recursion).
+  nlohmann::json base = scene;
+  base.erase("sweep");
+  base.erase("generalize");
   for (double mu : {s.lo, s.hi}) {
-    nlohmann::json probe = scene;
-    probe.erase("sweep");
+    nlohmann::json probe = base;
     try {
       apply_overrides(probe, sweep_overrides(s, mu));
     } catch (const Error& e) {
       fail("scene: '", path, ".set' does not apply at mu = ", mu, ": ", e.what());
     }
   }
+
+  if (j.contains("vary")) {
+    const nlohmann::json& list = j.at("vary");
+    if (!list.is_array() || list.empty())
+      fail("scene: '", path, ".vary' must be a non-empty array of axes, got ", list.dump());
+    if (list.size() + 1 > size_t(kSobolMaxDimensions))
+      fail("scene: '", path, ".vary' has ", list.size(), " axes; at most ", kSobolMaxDimensions - 1,
+           " besides mu");
+    // Each axis is checked after μ's templates at either end, as runs apply them.
+    for (size_t i = 0; i < list.size(); ++i) {
+      const std::string where = js::child(js::child(path, "vary"), i);
+      for (double mu : {s.hi, s.lo}) {
+        nlohmann::json at_mu = base;
+        apply_overrides(at_mu, sweep_overrides(s, mu));
+        if (mu == s.hi) s.vary.emplace_back();
+        s.vary.back() = parse_parameter_axis(
+            list[i], where, at_mu, {{}},
+            " once mu's templates are applied: an axis must change what mu leaves as it is");
+      }
+      for (size_t k = 0; k + 1 < s.vary.size(); ++k)
+        if (s.vary[k].name == s.vary.back().name)
+          fail("scene: '", where, ".name' = \"", s.vary[k].name, "\" is already an axis");
+      if (s.vary.back().name == s.parameter)
+        fail("scene: '", where, ".name' = \"", s.parameter, "\" is the sweep's parameter");
+      // Applied after μ's templates, an axis must not undo them.
+      for (double v : {s.vary.back().lo, s.vary.back().hi}) {
+        nlohmann::json a = base, b = base;
+        apply_overrides(a, sweep_overrides(s, s.lo));
+        apply_overrides(b, sweep_overrides(s, s.hi));
+        for (nlohmann::json* x : {&a, &b})
+          apply_overrides(*x, expand_templates(s.vary.back().set, "v", v));
+        if (a == b)
+          fail("scene: '", where, "' (\"", s.vary.back().name,
+               "\") overwrites what mu sets at v = ", v, ": mu would then change nothing");
+      }
+    }
+  }
+  if (j.contains("paths")) {
+    const nlohmann::json& list = j.at("paths");
+    if (!list.is_array() || list.empty())
+      fail("scene: '", path, ".paths' must be a non-empty array of collider paths, got ",
+           list.dump());
+    nlohmann::json at_lo = base;
+    apply_overrides(at_lo, sweep_corner_overrides(s, false));
+    for (size_t i = 0; i < list.size(); ++i)
+      s.paths.push_back(
+          parse_collider_path(list[i], js::child(js::child(path, "paths"), i), at_lo));
+  }
+
+  const std::string design = js::get_string(j, path, "design", s.vary.empty() ? "grid" : "lhs");
+  if (design == "grid")
+    s.design = SweepDesign::grid;
+  else if (design == "lhs")
+    s.design = SweepDesign::lhs;
+  else if (design == "sobol")
+    s.design = SweepDesign::sobol;
+  else
+    fail("scene: '", path, ".design' = \"", design, "\" is not a design (grid, lhs, sobol)");
+  if (s.design == SweepDesign::grid && !s.vary.empty())
+    fail("scene: '", path, ".design' = \"grid\" spaces mu alone; a sweep with 'vary' axes ",
+         "needs \"lhs\" or \"sobol\"");
+  // A grid's test runs each need their own interval between training values.
+  s.test = s.design == SweepDesign::grid ? js::get_int(j, path, "test", 0, 0, s.train - 1)
+                                         : js::get_int(j, path, "test", 0, 0, 100000);
+  s.seed = uint64_t(js::get_int(j, path, "seed", 1, 0, 1 << 30));
   return s;
 }
 
@@ -141,21 +208,91 @@ std::pair<double, double> parse_range(const nlohmann::json& j, const std::string
   return {(*range)[0].get<double>(), (*range)[1].get<double>()};
 }
 
+namespace {
+
+// A seed per run and purpose, from the sweep's: splitmix64 of the parts.
+uint64_t mix(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+uint64_t run_seed(uint64_t seed, const std::string& split, int index) {
+  return mix(mix(seed) ^ mix(split == "train" ? 1 : 2) ^ mix(uint64_t(index) + 3));
+}
+
+// Runs of one split from design points u (n × d, in [0, 1)).
+void add_runs(const SweepSpec& s, const std::string& split, const std::vector<double>& u, int n,
+              std::vector<SweepRun>& runs) {
+  const size_t d = 1 + s.vary.size();
+  for (int i = 0; i < n; ++i) {
+    SweepRun r;
+    r.split = split, r.index = i, r.mu = s.lo + (s.hi - s.lo) * u[size_t(i) * d];
+    for (size_t k = 0; k < s.vary.size(); ++k)
+      r.values.push_back(s.vary[k].lo + (s.vary[k].hi - s.vary[k].lo) * u[size_t(i) * d + k + 1]);
+    runs.push_back(std::move(r));
+  }
+}
+
+}  // namespace
+
 std::vector<SweepRun> plan_sweep(const SweepSpec& s) {
   std::vector<SweepRun> runs;
-  std::vector<double> train(s.train);
-  for (int i = 0; i < s.train; ++i) {
-    // The last value is exactly hi, not lo + (n-1)·step with rounding.
-    train[i] = i + 1 == s.train ? s.hi : s.lo + (s.hi - s.lo) * i / (s.train - 1);
-    runs.push_back({"train", i, train[i]});
+  const int d = 1 + int(s.vary.size());
+  if (s.design == SweepDesign::lhs) {
+    add_runs(s, "train", latin_hypercube(s.train, d, s.seed), s.train, runs);
+    if (s.test > 0) add_runs(s, "test", latin_hypercube(s.test, d, mix(s.seed)), s.test, runs);
+  } else if (s.design == SweepDesign::sobol) {
+    add_runs(s, "train", sobol_points(1, s.train, d, s.seed), s.train, runs);
+    add_runs(s, "test", sobol_points(1 + s.train, s.test, d, s.seed), s.test, runs);
+  } else {
+    std::vector<double> train(s.train);
+    for (int i = 0; i < s.train; ++i) {
+      // The last value is exactly hi, not lo + (n-1)·step with rounding.
+      train[i] = i + 1 == s.train ? s.hi : s.lo + (s.hi - s.lo) * i / (s.train - 1);
+      runs.push_back({"train", i, train[i], {}, 0});
+    }
+    const int intervals = s.train - 1;
+    for (int k = 0; k < s.test; ++k) {
+      // Interval floor((k + ½)·intervals/test): evenly spread, distinct because test ≤ intervals.
+      const int j = int((k + 0.5) * intervals / s.test);
+      runs.push_back({"test", k, 0.5 * (train[j] + train[j + 1]), {}, 0});
+    }
   }
-  const int intervals = s.train - 1;
-  for (int k = 0; k < s.test; ++k) {
-    // Interval floor((k + ½)·intervals/test): evenly spread, distinct because test ≤ intervals.
-    const int j = int((k + 0.5) * intervals / s.test);
-    runs.push_back({"test", k, 0.5 * (train[j] + train[j + 1])});
-  }
+  if (!s.paths.empty())
+    for (SweepRun& r : runs) r.path_seed = run_seed(s.seed, r.split, r.index);
   return runs;
+}
+
+void apply_sweep_run(const SweepSpec& spec, const SweepRun& run, nlohmann::json& scene) {
+  if (run.values.size() != spec.vary.size())
+    fail("sweep run ", run.file(), " has ", run.values.size(), " values for ", spec.vary.size(),
+         " axes");
+  apply_overrides(scene, sweep_overrides(spec, run.mu));
+  for (size_t k = 0; k < spec.vary.size(); ++k) {
+    if (!std::isfinite(run.values[k]))
+      fail("the value of axis '", spec.vary[k].name, "' must be a finite number, got ",
+           run.values[k]);
+    apply_overrides(scene, expand_templates(spec.vary[k].set, "v", run.values[k]));
+  }
+  for (size_t k = 0; k < spec.paths.size(); ++k)
+    apply_overrides(scene, {collider_path_override(spec.paths[k], scene, mix(run.path_seed + k))});
+}
+
+std::vector<std::string> sweep_corner_overrides(const SweepSpec& spec, bool high) {
+  std::vector<std::string> out = sweep_overrides(spec, high ? spec.hi : spec.lo);
+  for (const ParameterAxis& a : spec.vary)
+    for (std::string& o : expand_templates(a.set, "v", high ? a.hi : a.lo))
+      out.push_back(std::move(o));
+  return out;
+}
+
+nlohmann::json sweep_values(const SweepSpec& spec, const SweepRun& run) {
+  nlohmann::json j = nlohmann::json::object();
+  j[spec.parameter] = run.mu;
+  for (size_t k = 0; k < spec.vary.size() && k < run.values.size(); ++k)
+    j[spec.vary[k].name] = run.values[k];
+  return j;
 }
 
 std::vector<std::string> expand_templates(const std::vector<std::string>& templates,

@@ -109,6 +109,32 @@ size_t planned_frames(const RunReader& r) {
   return f.is_number_integer() && f.get<long>() > 0 ? size_t(f.get<long>()) + 1 : 0;
 }
 
+// A run's part of the training box, from the attributes `nsf sweep` writes (none in older files).
+TrainingBox run_box(const RunReader& r, const SimulationFile& s) {
+  nlohmann::json j = {{"parameters", nlohmann::json::array()},
+                      {"colliders", nlohmann::json::array()}};
+  const auto parsed = [&](const char* name) {
+    const nlohmann::json v = nlohmann::json::parse(r.attribute_string(name), nullptr, false);
+    if (v.is_discarded()) fail(s.path, ": attribute '", name, "' is not valid JSON");
+    return v;
+  };
+  if (r.has_attribute("sweep_values")) {
+    const nlohmann::json v = parsed("sweep_values");
+    if (!v.is_object()) fail(s.path, ": attribute 'sweep_values' must be a JSON object");
+    for (const auto& [name, value] : v.items()) {
+      if (!value.is_number())
+        fail(s.path, ": attribute 'sweep_values' holds '", name, "' = ", value.dump(),
+             ", not a number");
+      j["parameters"].push_back({{"name", name}, {"range", {value, value}}});
+    }
+  } else if (s.has_mu && r.has_attribute("sweep_parameter")) {
+    j["parameters"].push_back(
+        {{"name", r.attribute_string("sweep_parameter")}, {"range", {s.mu, s.mu}}});
+  }
+  if (r.has_attribute("collider_envelope")) j["colliders"] = parsed("collider_envelope");
+  return TrainingBox::from_json(j, s.path + ": the training box its attributes give");
+}
+
 std::string joined(const std::vector<std::string>& names) {
   std::string out;
   for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
@@ -167,6 +193,7 @@ Dataset::Dataset(const std::string& dir, bool allow_incomplete) : dir_(dir) {
     }
     s.has_mu = r->has_attribute("mu");
     if (s.has_mu) s.mu = r->attribute_double("mu");
+    s.box = run_box(*r, s);
     if (readers_.empty()) {
       first = s.path;
       X_ = r->rest_positions();

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "data/training_box.h"
 #include "io/run_reader.h"
 
 namespace nsf {
@@ -16,6 +17,9 @@ struct SimulationFile {
   bool has_mu = false;
   double mu = 0;
   size_t frames = 0;
+  // Its swept values (μ by the sweep's parameter name, and the "vary" axes) as one-point ranges,
+  // and where its colliders went: this run's part of a model's training box.
+  TrainingBox box;
 };
 
 // One frame in single precision, the networks' precision. Row-major per particle:

@@ -204,6 +204,7 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
   a.write("mu_min", c10::IValue(mu_min));
   a.write("mu_max", c10::IValue(mu_max));
   a.write("train_seconds", c10::IValue(train_seconds));
+  a.write("training_box", c10::IValue(training_box.to_json().dump()));
   write_calibration(a, "", calibration);
   write_calibration(a, "tracked_", tracked_calibration);
   write_normalizer(a, "X", norm_X);
@@ -363,6 +364,13 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   m.mu_max = read_value(a, "mu_max", path).toDouble();
   c10::IValue seconds;  // absent before nsf recorded it
   if (a.try_read("train_seconds", seconds)) m.train_seconds = seconds.toDouble();
+  c10::IValue box;  // absent before nsf recorded it
+  if (a.try_read("training_box", box)) {
+    if (!box.isString()) fail("model file ", path, ": damaged entry 'training_box' (not text)");
+    const nlohmann::json j = nlohmann::json::parse(box.toStringRef(), nullptr, false);
+    if (j.is_discarded()) fail("model file ", path, ": damaged entry 'training_box' (not JSON)");
+    m.training_box = TrainingBox::from_json(j, "model file " + path + ": entry 'training_box'");
+  }
   m.calibration = read_calibration(a, "", path);
   m.tracked_calibration = read_calibration(a, "tracked_", path);
   m.norm_X = read_normalizer(a, "X", 3, path);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "data/training_box.h"
 #include "nn/config.h"
 #include "nn/networks.h"
 
@@ -110,6 +111,9 @@ class NeuralModel {
   SceneFingerprint scene;
   bool has_mu = false;
   double mu_min = 0, mu_max = 0;
+  // The swept values' ranges and the colliders' envelopes over the training runs
+  // (data/training_box.h); empty in files written before nsf recorded it.
+  TrainingBox training_box;
   Encoder encoder{nullptr};
   FieldMlp g{nullptr}, h{nullptr}, l{nullptr};  // mlp models
   BasisField basis[3];                          // basis models: x − X, τ, C

@@ -127,6 +127,9 @@ double NeuralFields::mu_min() const {
 double NeuralFields::mu_max() const {
   return model_->mu_max;
 }
+const TrainingBox& NeuralFields::training_box() const {
+  return model_->training_box;
+}
 double NeuralFields::train_seconds() const {
   return model_->train_seconds;
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "data/training_box.h"
 #include "nn/config.h"
 
 namespace nsf {
@@ -36,6 +37,9 @@ class NeuralFields {
   const BasisDecoders* bases() const;
   double mu_min() const;  // the training runs' μ range (extrapolation beyond it is risky)
   double mu_max() const;
+  // The swept values' ranges and the colliders' envelopes of the training runs (empty for a
+  // model written before nsf recorded them).
+  const TrainingBox& training_box() const;
   double train_seconds() const;  // wall time of the training that made it (0: not recorded)
   // ε of the latent prior `nsf calibrate` chose for it (metres; 0: none), or < 0 where it was
   // never calibrated: for the ROM whose stress the decoders give, or (`tracked`) for the one

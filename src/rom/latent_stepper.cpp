@@ -585,6 +585,12 @@ const GaussNewtonOptions& LatentStepper::inversion_options() const {
 std::vector<std::unique_ptr<Collider>>& LatentStepper::colliders() {
   return impl_->sim->colliders();
 }
+const TrainingBox& LatentStepper::training_box() const {
+  return impl_->fields.training_box();
+}
+double LatentStepper::grid_dx() const {
+  return impl_->dx;
+}
 const Latent& LatentStepper::previous_latent() const {
   return impl_->z_prev;
 }

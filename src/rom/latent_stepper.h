@@ -106,6 +106,9 @@ class LatentStepper {
   // The scene's colliders, which the MPM step on N sets to its time: a host moves one between
   // steps with RigidCollider::drive.
   std::vector<std::unique_ptr<Collider>>& colliders();
+  // The model's training box (data/training_box.h) and the grid's cell size.
+  const TrainingBox& training_box() const;
+  double grid_dx() const;
 
  private:
   struct Impl;

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "core/error.h"
+#include "mpm/colliders/rigid_collider.h"
 #include "rom/rom_diverged.h"
 
 namespace nsf {
@@ -27,6 +28,27 @@ double StepGuard::indicator() {
   return health_.indicator;
 }
 
+void StepGuard::check_training_box() {
+  const TrainingBox& box = rom_.training_box();
+  health_.outside_training = false;
+  if (box.colliders.empty()) return;
+  auto& colliders = rom_.colliders();
+  for (size_t i = 0; i < colliders.size(); ++i) {
+    const auto* rigid = dynamic_cast<const RigidCollider*>(colliders[i].get());
+    if (!rigid) continue;
+    const RigidPose& p = rigid->pose();
+    const std::string why = box.collider_outside(i, p.center, p.velocity.norm(), rom_.grid_dx());
+    if (why.empty()) continue;
+    health_.outside_training = true;
+    if (health_.training_note.empty()) {
+      char when[80];
+      std::snprintf(when, sizeof when, "step %ld (t = %.4g s): ", rom_.step_count(), rom_.time());
+      health_.training_note = when + why;
+    }
+  }
+  if (health_.outside_training) ++health_.steps_outside;
+}
+
 bool StepGuard::attempt(std::string& why) {
   try {
     rom_.step();
@@ -48,6 +70,11 @@ bool StepGuard::attempt(std::string& why) {
 }
 
 void StepGuard::step() {
+  step_or_recover();
+  check_training_box();
+}
+
+void StepGuard::step_or_recover() {
   const LatentStepper::Checkpoint before = rom_.checkpoint();
   std::string why, again;
   if (attempt(why)) {

@@ -15,6 +15,9 @@
 // inside): from the state before it with the latent velocity set to zero (the run loses its
 // momentum there and keeps its pose), else at rest from the pose a step earlier, else from the
 // scene's initial pose at rest, always at the same time. Each recovery is counted and described.
+// Apart from the indicator, each step checks the colliders against the model's training box
+// (data/training_box.h): a collider more than a cell outside where the training runs moved it, or
+// faster than they moved it, marks the run as outside the training box; the step goes on.
 #include <string>
 
 #include "rom/latent_stepper.h"
@@ -29,13 +32,16 @@ struct GuardOptions {
 };
 
 struct RomHealth {
-  double indicator = 0;       // of the last step kept (≥ 1: past a limit)
-  double residual_cells = 0;  // its misfit at S, in cells
-  double courant = 0;         // its Courant number on N
-  double grid_margin = 0;     // its cells left before the grid's edge
-  bool flagged = false;       // the last step's indicator was 1 or more, or it was redone
-  long recoveries = 0;        // steps redone so far
-  std::string last_recovery;  // what the last one did, when and why; "" for none
+  double indicator = 0;           // of the last step kept (≥ 1: past a limit)
+  double residual_cells = 0;      // its misfit at S, in cells
+  double courant = 0;             // its Courant number on N
+  double grid_margin = 0;         // its cells left before the grid's edge
+  bool flagged = false;           // the last step's indicator was 1 or more, or it was redone
+  long recoveries = 0;            // steps redone so far
+  std::string last_recovery;      // what the last one did, when and why; "" for none
+  bool outside_training = false;  // the last step's colliders left the model's training box
+  long steps_outside = 0;         // steps so far that did
+  std::string training_note;      // what lay outside, the first time; "" while none has
 };
 
 class StepGuard {
@@ -53,6 +59,9 @@ class StepGuard {
  private:
   // The last step's indicator from the stepper's diagnostics.
   double indicator();
+  void step_or_recover();
+  // The colliders against the training box, after a step.
+  void check_training_box();
   // Runs one step from the stepper's state; true when it is kept (no RomDiverged, misfit and
   // Courant number within their limits), else `why` says what went wrong.
   bool attempt(std::string& why);

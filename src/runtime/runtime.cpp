@@ -114,8 +114,8 @@ void Runtime::step() {
 }
 RuntimeHealth Runtime::health() const {
   const RomHealth& h = impl_->guard->health();
-  return {h.indicator, h.residual_cells, h.courant,      h.grid_margin,
-          h.flagged,   h.recoveries,     h.last_recovery};
+  return {h.indicator,  h.residual_cells, h.courant,          h.grid_margin,   h.flagged,
+          h.recoveries, h.last_recovery,  h.outside_training, h.steps_outside, h.training_note};
 }
 
 void Runtime::positions(float* out, std::size_t size) const {

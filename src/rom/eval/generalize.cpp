@@ -136,6 +136,11 @@ GeneralizeResult run_generalize(const GeneralizeOptions& o) {
     ro.model_path = o.model_path;
     ro.scene_path = res.scene_file;
     ro.overrides = o.overrides;
+    // The sweep's other axes at the draw's values, then the perturbation (μ's templates follow
+    // when the scene is set up at μ).
+    for (size_t k = 0; sweep && k < sweep->vary.size(); ++k)
+      for (std::string& a : expand_templates(sweep->vary[k].set, "v", g.draw.values.at(k)))
+        ro.overrides.push_back(std::move(a));
     ro.overrides.insert(ro.overrides.end(), g.draw.overrides.begin(), g.draw.overrides.end());
     ro.mu.reset();
     if (sweep) ro.mu = g.draw.mu;
@@ -189,6 +194,7 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
     d["perturbation"] = g.draw.perturbation;
     d["value"] = g.draw.value;
     d["mu"] = g.draw.mu;
+    if (!g.draw.values.empty()) d["values"] = g.draw.values;
     d["set"] = g.draw.overrides;
     if (!g.report || !(g.report->delta >= 0)) {
       ++failed;
