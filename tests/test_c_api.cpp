@@ -206,6 +206,28 @@ TEST_F(CApi, GoodRunMatchesTheCppRuntime) {
   EXPECT_EQ(last_error(), "");
 }
 
+// With the particles' own tracked state as the step's τ (rom.fields.stress = "tracked"), stress
+// gives that state: finite, and not the decoder's.
+TEST_F(CApi, StressFromTheTrackedState) {
+  nsf_runtime_options o = options();
+  const char* tracked[] = {R"(rom={"samples":64,"fields":{"stress":"tracked"}})"};
+  o.overrides = tracked;
+  o.override_count = 1;
+  create(o);
+  nsf_runtime* decoder = nullptr;
+  const nsf_runtime_options plain = options();
+  ASSERT_EQ(nsf_runtime_create(model().c_str(), kScene.c_str(), &plain, &decoder), NSF_OK);
+  const size_t P = particles();
+  std::vector<float> tau(9 * P), want(9 * P);
+  ASSERT_EQ(nsf_runtime_advance_frame(rom_), NSF_OK) << last_error();
+  ASSERT_EQ(nsf_runtime_advance_frame(decoder), NSF_OK) << last_error();
+  ASSERT_EQ(nsf_runtime_stress(rom_, tau.data(), tau.size()), NSF_OK) << last_error();
+  ASSERT_EQ(nsf_runtime_stress(decoder, want.data(), want.size()), NSF_OK) << last_error();
+  nsf_runtime_destroy(decoder);
+  EXPECT_TRUE(all_finite(tau));
+  EXPECT_GT(max_diff(tau, want), 1e-3f) << "the tracked τ is the decoder's";
+}
+
 // A NULL handle or out pointer is NSF_ERROR_NULL_POINTER with a message, for every call.
 TEST_F(CApi, NullHandleAndPointers) {
   float f[9];
