@@ -4,6 +4,9 @@
 # torch, Eigen or JSON header, and that the library exports none of their symbols; trains a tiny
 # model with the installed nsf; builds examples/embed against the prefix with the host's default
 # flags and with -march=native; runs each with the collider raised by the host and held still.
+# Then the C API (include/nsf/nsf.h): the header alone as C99 (-pedantic -Werror) and as C++,
+# examples/c built against the prefix and run, and examples/rust (cargo build --offline, no
+# crates) run, printing what the C host printed (skipped, saying so, where cargo is absent).
 # Usage: tests/check_install.sh BUILD_DIR SOURCE_DIR. Run by ctest (install_and_embed).
 set -euo pipefail
 build=$(cd "$1" && pwd)
@@ -33,6 +36,13 @@ fi
 if nm -DC --defined-only "$lib" | grep -E ' (Eigen|at|c10|torch|nlohmann)::'; then
   die "libnsf_runtime.so exports the symbols above"
 fi
+for lang in "c -std=c99" "c++ -std=c++17"; do
+  echo '#include <nsf/nsf.h>' | cc -x $lang -Wall -Wextra -pedantic -Werror -fsyntax-only \
+    -I "$prefix/include" - || die "nsf/nsf.h does not compile alone as ${lang#* }"
+done
+for fn in nsf_version nsf_last_error nsf_runtime_create nsf_runtime_destroy nsf_runtime_stress; do
+  nm -D --defined-only "$lib" | grep -q " T $fn\$" || die "libnsf_runtime.so does not export $fn"
+done
 
 step "a tiny model, trained by the installed nsf"
 scene="$src/scenes/examples/rom_tiny.json"
@@ -70,4 +80,33 @@ cmp -s <(awk '/^frame/ {print $10, $13}' "$tmp/host.moved") \
 # The host's flags change nothing.
 cmp "$tmp/host.moved" "$tmp/host_native.moved" || die "-march=native host printed otherwise"
 cmp "$tmp/host.still" "$tmp/host_native.still" || die "-march=native host printed otherwise"
-step "check_install: the installed package builds and runs a host, with either flags"
+
+step "examples/c against the prefix (C99, -Wall -Wextra -pedantic -Werror)"
+cmake -S "$src/examples/c" -B "$tmp/c_host" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_C_FLAGS="-Wall -Wextra -pedantic -Werror" >/dev/null
+cmake --build "$tmp/c_host" >/dev/null
+"$tmp/c_host/c_host" "$tmp/tiny.nsf" "$scene" 1.0 0.5 >"$tmp/c.out" || die "the C host failed"
+cat "$tmp/c.out"
+frames=$(grep -c '^frame' "$tmp/c.out")
+((frames == 12)) || die "the C host printed $frames frames, the scene has 12"
+grep -q '^missing model: NSF_ERROR_FILE_NOT_FOUND, nsf_runtime_create: .*does not exist$' \
+  "$tmp/c.out" || die "the C host's missing model gave no code and message"
+grep -q '^short buffer: NSF_ERROR_BUFFER_TOO_SMALL, ' "$tmp/c.out" || die "no short buffer error"
+# The floor raised by the host lifts the bar: its centroid ends higher than with the floor still.
+"$tmp/c_host/c_host" "$tmp/tiny.nsf" "$scene" 1.0 0 >"$tmp/c.still" || die "the C host failed"
+y_moved=$(awk '/^frame 12 / {print $7}' "$tmp/c.out")
+y_still=$(awk '/^frame 12 / {print $7}' "$tmp/c.still")
+awk -v a="$y_moved" -v b="$y_still" 'BEGIN { exit !(a > b) }' ||
+  die "the centroid is at y $y_moved with the floor raised, $y_still with it still"
+
+if command -v cargo >/dev/null; then
+  step "examples/rust against the prefix (cargo build --offline)"
+  NSF_PREFIX="$prefix" CARGO_TARGET_DIR="$tmp/rust" cargo build --offline --locked --release -q \
+    --manifest-path "$src/examples/rust/Cargo.toml" || die "examples/rust does not build"
+  "$tmp/rust/release/rust_host" "$tmp/tiny.nsf" "$scene" 1.0 0.5 >"$tmp/rust.out" ||
+    die "the Rust host failed"
+  cmp "$tmp/c.out" "$tmp/rust.out" || die "the Rust host printed otherwise than the C host"
+else
+  echo "check_install: SKIPPED examples/rust: no cargo on PATH (the C API's Rust example is not checked)"
+fi
+step "check_install: the installed package builds and runs a host, with either flags, in C and Rust"

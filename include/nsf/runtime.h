@@ -34,7 +34,8 @@ struct RuntimeOptions {
   // The error indicator's limits (docs/EMBEDDING.md, "Error indicator"): the inversion's misfit at
   // the samples (cells), the Courant number of the step, and the cells left before the grid's
   // edge. A step past the first two, or one that would carry a point off the grid, is redone
-  // (recover) instead of ending the run; false: such a step throws.
+  // (recover) instead of ending the run; false: a step past a limit is kept (flagged), one off
+  // the grid throws.
   double indicator_misfit_cells = 0.5;
   double indicator_courant = 1.0;
   double indicator_grid_margin = 0.5;
@@ -94,6 +95,16 @@ class NSF_API Runtime {
   std::vector<float> positions() const;
   // Velocities, the same way (m/s): the backward difference of the last step.
   void velocities(float* out, std::size_t size) const;
+  // The Kirchhoff stress τ = Jσ (Pa) of every particle, 3×3 row-major (τ00 τ01 τ02 τ10 …, 9
+  // floats per particle) into out[0, 9·particle_count()); throws if `size` is less. It comes from
+  // the source the ROM step itself takes τ from (the model's decoder; the particles' own tracked
+  // state with rom.fields.stress = "tracked", where a particle outside the integration set keeps
+  // the τ of the last step it took part in), at the current latent.
+  void stress(float* out, std::size_t size) const;
+  // The latent ẑ_n of the run now (what `nsf serve` streams): latent_dim() floats into out;
+  // throws if `size` is less.
+  std::size_t latent_dim() const;
+  void latent(float* out, std::size_t size) const;
 
   // The scene's colliders, in the order of its "colliders" list.
   std::size_t collider_count() const;

@@ -616,6 +616,11 @@ void LatentStepper::particle_fields(std::vector<Mat3>& tau, std::vector<Mat3>& C
   impl_->stress->evaluate(ids, {impl_->z, impl_->z_prev}, false, tau);
   impl_->affine->evaluate(ids, {impl_->z, impl_->z_prev}, false, C);
 }
+void LatentStepper::particle_stress(std::vector<Mat3>& tau) {
+  std::vector<uint32_t> ids(impl_->np);
+  for (size_t p = 0; p < ids.size(); ++p) ids[p] = uint32_t(p);
+  impl_->stress->evaluate(ids, {impl_->z, impl_->z_prev}, false, tau);
+}
 
 size_t LatentStepper::particle_count() const {
   return impl_->np;

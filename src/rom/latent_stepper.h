@@ -96,6 +96,8 @@ class LatentStepper {
   // τ and C of every particle at ẑ_n, from the sources the step itself uses (h or its
   // replacements, l or its), for output (a source's evaluate with for_step false).
   void particle_fields(std::vector<Mat3>& tau, std::vector<Mat3>& C);
+  // τ alone, the same way (the embedding API's Runtime::stress).
+  void particle_stress(std::vector<Mat3>& tau);
 
   size_t particle_count() const;
   size_t sample_count() const;  // |S| now

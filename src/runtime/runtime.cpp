@@ -138,6 +138,29 @@ void Runtime::velocities(float* out, std::size_t size) const {
   });
 }
 
+void Runtime::stress(float* out, std::size_t size) const {
+  guarded("stress", [&] {
+    const std::size_t need = 9 * particle_count();
+    if (size < need) fail("stress: the buffer holds ", size, " floats, ", need, " are needed");
+    std::vector<Mat3> tau;
+    impl_->stepper->particle_stress(tau);
+    for (std::size_t p = 0; p < tau.size(); ++p)
+      for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k) out[9 * p + 3 * r + k] = float(tau[p](r, k));
+  });
+}
+std::size_t Runtime::latent_dim() const {
+  return std::size_t(impl_->stepper->latent().size());
+}
+void Runtime::latent(float* out, std::size_t size) const {
+  guarded("latent", [&] {
+    const Latent& z = impl_->stepper->latent();
+    if (size < std::size_t(z.size()))
+      fail("latent: the buffer holds ", size, " floats, ", z.size(), " are needed");
+    for (Eigen::Index i = 0; i < z.size(); ++i) out[i] = float(z[i]);
+  });
+}
+
 std::size_t Runtime::collider_count() const {
   return impl_->stepper->colliders().size();
 }
