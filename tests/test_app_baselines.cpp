@@ -79,7 +79,7 @@ TEST_F(Baselines, LookUpPlaysTheNearestRunAndInterpolationIsExactForMotionLinear
   write_run(path("c.h5"), 3.0, 0.1, 5);     // half as dense: odd frames are blended in t
   const nsf::RunReader truth(path("truth.h5"));
   const std::vector<nsf::TrainingRun> runs = {
-      {path("c.h5"), 3.0}, {path("a.h5"), 0.0}, {path("b.h5"), 1.0}};
+      {path("c.h5"), 3.0, {}}, {path("a.h5"), 0.0, {}}, {path("b.h5"), 1.0, {}}};
 
   nsf::Baselines inside;
   nsf::measure_sweep_baselines(runs, 0.8, truth, 10, inside);
@@ -104,6 +104,36 @@ TEST_F(Baselines, LookUpPlaysTheNearestRunAndInterpolationIsExactForMotionLinear
   EXPECT_LT(outside.interp_delta, 1e-12);
 }
 
+// Over a sweep with "vary" axes: the nearest run in the box of μ and the axes (each scaled by its
+// range), and the d + 1 nearest blended.
+TEST_F(Baselines, OverASweepWithAxesTheNearestRunIsNearestInTheBox) {
+  write_run(path("truth.h5"), 0.8, 0.05, 10);
+  write_run(path("a.h5"), 0.0, 0.05, 10);
+  write_run(path("b.h5"), 1.0, 0.05, 10);
+  write_run(path("c.h5"), 0.8, 0.05, 10);
+  const nsf::RunReader truth(path("truth.h5"));
+  // c has the truth's μ, but its axis lies across the box: b is nearer.
+  const std::vector<nsf::TrainingRun> runs = {{path("a.h5"), 0.0, {{"depth", 0.5}}},
+                                              {path("b.h5"), 1.0, {{"depth", 0.5}}},
+                                              {path("c.h5"), 0.8, {{"depth", 3.0}}}};
+  nsf::Baselines b;
+  nsf::measure_sweep_baselines(runs, 0.8, truth, 10, b, {{"depth", 0.5}});
+  EXPECT_EQ(b.lookup_mu, 1.0);
+  EXPECT_NEAR(b.lookup_distance, 0.2, 1e-12);
+  EXPECT_NEAR(b.lookup_delta, shift_delta(path("truth.h5"), 0.8, 1.0, 10), 1e-12);
+  EXPECT_EQ(b.interp_runs, 3);
+  EXPECT_GT(b.interp_delta, 0);
+  // Without the axes, μ alone: c.
+  nsf::Baselines plain;
+  nsf::measure_sweep_baselines(runs, 0.8, truth, 10, plain);
+  EXPECT_EQ(plain.lookup_mu, 0.8);
+  nsf::testing::expect_error(
+      [&] {
+        nsf::measure_sweep_baselines(runs, 0.8, truth, 10, b, {{"width", 1.0}});
+      },
+      {"has no value of axis 'width'"});
+}
+
 TEST_F(Baselines, RunsThatCannotStandInForTheTruthAreAClearError) {
   write_run(path("truth.h5"), 0.8, 0.05, 10);
   write_run(path("a.h5"), 0.0, 0.05, 10);
@@ -113,24 +143,25 @@ TEST_F(Baselines, RunsThatCannotStandInForTheTruthAreAClearError) {
   nsf::Baselines b;
   nsf::testing::expect_error(
       [&] {
-        nsf::measure_sweep_baselines({{path("a.h5"), 0.0}, {path("short.h5"), 1.0}}, 0.8, truth, 10,
-                                     b);
+        nsf::measure_sweep_baselines({{path("a.h5"), 0.0, {}}, {path("short.h5"), 1.0, {}}}, 0.8,
+                                     truth, 10, b);
       },
       {"short.h5 spans t = [0, 0.2] s, the ground truth needs t = 0.25 s"});
   nsf::testing::expect_error(
       [&] {
-        nsf::measure_sweep_baselines({{path("a.h5"), 0.0}, {path("other.h5"), 1.0}}, 0.8, truth, 10,
-                                     b);
+        nsf::measure_sweep_baselines({{path("a.h5"), 0.0, {}}, {path("other.h5"), 1.0, {}}}, 0.8,
+                                     truth, 10, b);
       },
       {"other.h5 holds other particles than the ground truth"});
   nsf::testing::expect_error(
       [&] {
-        nsf::measure_sweep_baselines({{path("a.h5"), 0.0}}, 0.8, truth, 10, b);
+        nsf::measure_sweep_baselines({{path("a.h5"), 0.0, {}}}, 0.8, truth, 10, b);
       },
       {"at least two training runs"});
   nsf::testing::expect_error(
       [&] {
-        nsf::measure_sweep_baselines({{path("a.h5"), 0.0}, {path("a.h5"), 0.0}}, 0.8, truth, 10, b);
+        nsf::measure_sweep_baselines({{path("a.h5"), 0.0, {}}, {path("a.h5"), 0.0, {}}}, 0.8, truth,
+                                     10, b);
       },
       {"have the same mu"});
 }

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/rotation.h"
 #include "data/design.h"
+#include "data/perturbation_spec.h"
 #include "data/sweep_spec.h"
 #include "data/training_box.h"
 #include "error_matchers.h"
@@ -215,6 +216,29 @@ TEST(SweepSpec, AMultiAxisSweepRefusesWhatItCannotRunNamingTheKey) {
   refused([](json& s) { s["sweep"]["paths"][0]["offset"] = {0, 0, 0}; }, "not all 0");
   refused([](json& s) { s["sweep"]["paths"][0]["max_speed"] = 0.3; }, "faster than max_speed");
   refused([](json& s) { s["sweep"]["paths"][0]["speed"] = 1; }, "speed");
+}
+
+// `nsf generalize` draws the sweep's other axes too, from a stream of their own: a scene whose
+// sweep gains axes keeps its draws' v and μ, so its benchmark rows stay comparable.
+TEST(SweepSpec, BenchmarkDrawsSetTheAxesAndKeepTheirValuesAndMuWithoutThem) {
+  json scene = plates_scene();
+  scene["generalize"] = json::parse(R"({"perturbations": [
+      {"name": "plate higher", "range": [0.36, 0.4],
+       "set": ["colliders[1].motion.keyframes[1].center=[0.35,{v},0.5]"]}]})");
+  const nsf::SweepSpec with = parsed(scene);
+  json plain = scene;
+  plain["sweep"].erase("vary");
+  const nsf::SweepSpec without = parsed(plain);
+  const nsf::GeneralizeSpec g = nsf::parse_generalize(scene["generalize"], scene, &with);
+  const auto a = nsf::plan_draws(g, &with, 6, 3), b = nsf::plan_draws(g, &without, 6, 3);
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].value, b[i].value);
+    EXPECT_EQ(a[i].mu, b[i].mu);
+    ASSERT_EQ(a[i].values.size(), 1u);
+    EXPECT_TRUE(b[i].values.empty());
+    EXPECT_GE(a[i].values[0], 0.34);
+    EXPECT_LT(a[i].values[0], 0.38);
+  }
 }
 
 TEST(TrainingBox, GrowsOverRunsReadsBackAndSaysWhatLiesOutside) {

@@ -174,6 +174,7 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
     j["interp_delta"] = b.interp_delta;
     j["interp_mu"] = {b.interp_mu_lo, b.interp_mu_hi};
     j["interp_extrapolated"] = b.interp_extrapolated;
+    if (b.interp_runs > 2) j["interp_runs"] = b.interp_runs;
   }
   if (b.coarse_delta >= 0) {
     j["coarse_delta"] = b.coarse_delta;

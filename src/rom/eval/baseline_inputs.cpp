@@ -44,7 +44,12 @@ std::vector<TrainingRun> read_training_runs(const RomEvalOptions& o, const RomSe
     fail("rom: dataset ", o.baseline_data, " is not scene ", o.scene_path,
          " (other particles): its runs cannot stand in for this one");
   std::vector<TrainingRun> runs;
-  for (const SimulationFile& s : data.train()) runs.push_back({s.path, s.mu});
+  for (const SimulationFile& s : data.train()) {
+    TrainingRun run{s.path, s.mu, {}};
+    for (const ParameterRange& p : s.box.parameters)
+      if (p.name != setup.sweep_parameter) run.axes[p.name] = p.lo;
+    runs.push_back(std::move(run));
+  }
   if (runs.size() < 2)
     fail("rom: dataset ", o.baseline_data, " has ", runs.size(),
          " training runs; look-up and interpolation need at least two");

@@ -84,11 +84,82 @@ PointInterpolation carry_to_truth(const Particles& coarse, const RunReader& trut
 
 }  // namespace
 
+namespace {
+
+// Look-up and interpolation in the box of μ and the axes: distances with each coordinate scaled
+// by its range over the runs; the d + 1 nearest blended by inverse squared distance.
+void measure_in_box(const std::vector<TrainingRun>& runs, double mu,
+                    const std::map<std::string, double>& axes, const RunReader& truth, int frames,
+                    Baselines& out) {
+  std::vector<std::vector<double>> points(runs.size());
+  std::vector<double> query = {mu};
+  for (const auto& [name, value] : axes) query.push_back(value);
+  for (size_t i = 0; i < runs.size(); ++i) {
+    points[i].push_back(runs[i].mu);
+    for (const auto& [name, value] : axes) {
+      auto it = runs[i].axes.find(name);
+      if (it == runs[i].axes.end())
+        fail("baselines: training run ", runs[i].path, " has no value of axis '", name, "'");
+      points[i].push_back(it->second);
+    }
+  }
+  std::vector<double> scale(query.size(), 1.0);
+  for (size_t k = 0; k < query.size(); ++k) {
+    double lo = points[0][k], hi = points[0][k];
+    for (const auto& p : points) lo = std::min(lo, p[k]), hi = std::max(hi, p[k]);
+    if (hi > lo) scale[k] = 1 / (hi - lo);
+  }
+  std::vector<std::pair<double, size_t>> by_distance;
+  for (size_t i = 0; i < runs.size(); ++i) {
+    double d2 = 0;
+    for (size_t k = 0; k < query.size(); ++k)
+      d2 += std::pow((points[i][k] - query[k]) * scale[k], 2);
+    by_distance.emplace_back(std::sqrt(d2), i);
+  }
+  std::sort(by_distance.begin(), by_distance.end());
+  const size_t blend = std::min(runs.size(), query.size() + 1);
+  std::vector<double> w(blend);
+  double sum = 0;
+  for (size_t j = 0; j < blend; ++j)
+    sum += w[j] =
+        by_distance[0].first == 0 ? (j == 0 ? 1.0 : 0.0) : 1 / std::pow(by_distance[j].first, 2);
+  std::vector<RunPlayback> near;
+  for (size_t j = 0; j < blend; ++j) near.emplace_back(runs[by_distance[j].second].path, truth);
+  ErrorSum lookup, interp;
+  for (int f = 1; f <= frames; ++f) {
+    const double t = truth.times()[size_t(f)];
+    const std::vector<Vec3> phi = truth.read_positions(size_t(f));
+    std::vector<Vec3> x0 = near[0].at(t), x(x0.size(), Vec3::Zero());
+    add_frame(lookup, x0, phi);
+    for (size_t j = 0; j < blend; ++j) {
+      const std::vector<Vec3> xj = j == 0 ? x0 : near[j].at(t);
+      for (size_t p = 0; p < x.size(); ++p) x[p] += (w[j] / sum) * xj[p];
+    }
+    add_frame(interp, x, phi);
+  }
+  const TrainingRun& nearest = runs[by_distance[0].second];
+  out.lookup_mu = nearest.mu;
+  out.lookup_distance = by_distance[0].first;
+  out.lookup_delta = lookup.relative();
+  out.interp_runs = int(blend);
+  out.interp_mu_lo = out.interp_mu_hi = nearest.mu;
+  for (size_t j = 0; j < blend; ++j) {
+    out.interp_mu_lo = std::min(out.interp_mu_lo, runs[by_distance[j].second].mu);
+    out.interp_mu_hi = std::max(out.interp_mu_hi, runs[by_distance[j].second].mu);
+  }
+  out.interp_extrapolated = false;
+  out.interp_delta = interp.relative();
+}
+
+}  // namespace
+
 void measure_sweep_baselines(const std::vector<TrainingRun>& runs_in, double mu,
-                             const RunReader& truth, int frames, Baselines& out) {
+                             const RunReader& truth, int frames, Baselines& out,
+                             const std::map<std::string, double>& axes) {
   if (runs_in.size() < 2)
     fail("baselines: look-up and interpolation need at least two training runs, got ",
          runs_in.size());
+  if (!axes.empty()) return measure_in_box(runs_in, mu, axes, truth, frames, out);
   std::vector<TrainingRun> runs = runs_in;
   std::sort(runs.begin(), runs.end(),
             [](const TrainingRun& a, const TrainingRun& b) { return a.mu < b.mu; });

@@ -138,9 +138,12 @@ GeneralizeResult run_generalize(const GeneralizeOptions& o) {
     ro.overrides = o.overrides;
     // The sweep's other axes at the draw's values, then the perturbation (μ's templates follow
     // when the scene is set up at μ).
-    for (size_t k = 0; sweep && k < sweep->vary.size(); ++k)
+    ro.axes.clear();
+    for (size_t k = 0; sweep && k < sweep->vary.size(); ++k) {
       for (std::string& a : expand_templates(sweep->vary[k].set, "v", g.draw.values.at(k)))
         ro.overrides.push_back(std::move(a));
+      ro.axes[sweep->vary[k].name] = g.draw.values.at(k);
+    }
     ro.overrides.insert(ro.overrides.end(), g.draw.overrides.begin(), g.draw.overrides.end());
     ro.mu.reset();
     if (sweep) ro.mu = g.draw.mu;

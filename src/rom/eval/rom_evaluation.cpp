@@ -378,7 +378,8 @@ RomReport evaluate_rom(const RomEvalOptions& o) {
 
   // The baselines, after the ROM so that its peak memory is its own.
   if (!baseline_inputs.runs.empty())
-    measure_sweep_baselines(baseline_inputs.runs, rep.mu, *truth, rep.frames, rep.baselines);
+    measure_sweep_baselines(baseline_inputs.runs, rep.mu, *truth, rep.frames, rep.baselines,
+                            o.axes);
   if (baseline_inputs.coarse) {
     measure_coarse_baseline(*baseline_inputs.coarse, baseline_inputs.coarse_json, *truth,
                             rep.frames, rep.threads, o.quiet, rep.baselines);

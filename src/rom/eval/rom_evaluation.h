@@ -4,6 +4,7 @@
 // process (wall time, peak memory) and with a ground truth (δ of eq. 11, τ and C), with the error
 // budget and the simple baselines beside it. The library behind `nsf rom`, `nsf demo`,
 // `nsf report`, `nsf calibrate` and `nsf generalize`.
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +40,9 @@ struct RomEvalOptions {
   // interpolation from this dataset's training runs; the coarse engine on coarse_scene (else
   // this scene), with `overrides` and μ, made coarse_factor times coarser where that is > 1.
   std::string baseline_data;
+  // The case's values of the sweep's "vary" axes, by name: look-up and interpolation then search
+  // the box of μ and the axes (`nsf generalize` sets them); empty: μ alone.
+  std::map<std::string, double> axes;
   std::string coarse_scene;
   double coarse_factor = 0;
   // A coarse scene that cannot be built (a body inside the coarser wall band, say) leaves the

@@ -107,10 +107,19 @@ std::string format_rom_report(const RomReport& r) {
   if (b.lookup_delta >= 0 || b.coarse_delta >= 0)
     s << "  baselines (delta against the same truth; docs/RESULTS.md):\n";
   if (b.lookup_delta >= 0) {
-    put("    look-up, the training run at mu = %g played back: %.3f%%", b.lookup_mu,
-        100 * b.lookup_delta);
-    put("    interpolation in mu of the training runs at %g and %g%s: %.3f%%", b.interp_mu_lo,
-        b.interp_mu_hi, b.interp_extrapolated ? " (extrapolated)" : "", 100 * b.interp_delta);
+    if (b.interp_runs > 2) {  // over the box of μ and the sweep's axes
+      put("    look-up, the training run nearest in the box (mu = %g, %.3g ranges away) played "
+          "back: %.3f%%",
+          b.lookup_mu, b.lookup_distance, 100 * b.lookup_delta);
+      put("    interpolation of the %d training runs nearest in the box (inverse squared "
+          "distance): %.3f%%",
+          b.interp_runs, 100 * b.interp_delta);
+    } else {
+      put("    look-up, the training run at mu = %g played back: %.3f%%", b.lookup_mu,
+          100 * b.lookup_delta);
+      put("    interpolation in mu of the training runs at %g and %g%s: %.3f%%", b.interp_mu_lo,
+          b.interp_mu_hi, b.interp_extrapolated ? " (extrapolated)" : "", 100 * b.interp_delta);
+    }
   }
   if (b.coarse_delta >= 0) {
     char speed[64] = "";
