@@ -4,7 +4,8 @@
 # torch, Eigen or JSON header, and that the library exports none of their symbols; trains a tiny
 # model with the installed nsf; builds examples/embed against the prefix with the host's default
 # flags and with -march=native; runs each with the collider raised by the host and held still.
-# Then the C API (include/nsf/nsf.h): the header alone as C99 (-pedantic -Werror) and as C++,
+# A C++14 host gets C++17 from the imported target; pkg-config builds the C host; the man page
+# and the bash completion are installed and work. Then the C API (include/nsf/nsf.h): the header alone as C99 (-pedantic -Werror) and as C++,
 # examples/c built against the prefix and run, and examples/rust (cargo build --offline, no
 # crates) run, printing what the C host printed (skipped, saying so, where cargo is absent).
 # Usage: tests/check_install.sh BUILD_DIR SOURCE_DIR. Run by ctest (install_and_embed).
@@ -98,6 +99,36 @@ y_moved=$(awk '/^frame 12 / {print $7}' "$tmp/c.out")
 y_still=$(awk '/^frame 12 / {print $7}' "$tmp/c.still")
 awk -v a="$y_moved" -v b="$y_still" 'BEGIN { exit !(a > b) }' ||
   die "the centroid is at y $y_moved with the floor raised, $y_still with it still"
+
+step "a C++14 host through find_package (the imported target asks for C++17) and pkg-config"
+mkdir -p "$tmp/cxx14"
+printf 'cmake_minimum_required(VERSION 3.20)\nproject(h LANGUAGES CXX)\nset(CMAKE_CXX_STANDARD 14)\nfind_package(nsf REQUIRED)\nadd_executable(h main.cpp)\ntarget_link_libraries(h PRIVATE nsf::runtime)\n' \
+  >"$tmp/cxx14/CMakeLists.txt"
+cp "$src/examples/embed/main.cpp" "$tmp/cxx14/main.cpp"
+cmake -S "$tmp/cxx14" -B "$tmp/cxx14/build" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+cmake --build "$tmp/cxx14/build" >/dev/null || die "a C++14 host does not build against nsf::runtime"
+pc="$(dirname "$lib")/pkgconfig"
+[[ -f "$pc/nsf.pc" ]] || die "no nsf.pc installed"
+PKG_CONFIG_PATH="$pc" pkg-config --modversion nsf | grep -qx "$("$prefix/bin/nsf" --version | awk 'NR==1 {print $2}')" ||
+  die "pkg-config's nsf version is not nsf --version's"
+# shellcheck disable=SC2046
+cc -std=c99 -Wall -Wextra -Werror "$src/examples/c/main.c" -o "$tmp/c_pkg" \
+  $(PKG_CONFIG_PATH="$pc" pkg-config --cflags --libs nsf) || die "the C host does not build with pkg-config"
+"$tmp/c_pkg" "$tmp/tiny.nsf" "$scene" 1.0 0.5 | cmp - "$tmp/c.out" || die "the pkg-config host printed otherwise"
+
+step "the manual page and the bash completion"
+man1=$(ls "$prefix"/share/man/man1/nsf.1) || die "no man page installed"
+grep -q '^\.TH NSF 1' "$man1" && grep -q '^\.SS generalize' "$man1" || die "the man page lacks its header or a command"
+if command -v groff >/dev/null; then
+  groff -man -Tutf8 -ww -z "$man1" 2>&1 | grep . && die "groff warns about the man page"
+fi
+comp="$prefix/share/bash-completion/completions/nsf"
+[[ -f "$comp" ]] || die "no bash completion installed"
+# shellcheck disable=SC1090
+got=$(bash -c "source '$comp'; COMP_WORDS=(nsf gen); COMP_CWORD=1; _nsf; echo \"\${COMPREPLY[*]}\"")
+[[ "$got" == "generalize" ]] || die "completing 'nsf gen' gave '$got'"
+got=$(bash -c "source '$comp'; COMP_WORDS=(nsf sweep --ou); COMP_CWORD=2; _nsf; echo \"\${COMPREPLY[*]}\"")
+[[ "$got" == "--out" ]] || die "completing 'nsf sweep --ou' gave '$got'"
 
 if command -v cargo >/dev/null; then
   step "examples/rust against the prefix (cargo build --offline)"

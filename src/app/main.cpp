@@ -2,10 +2,12 @@
 #include <omp.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <csignal>
 #include <fstream>
 #include <iostream>
 
+#include "app/cli_help.h"
 #include "app/commands.h"
 #include "app/exit_codes.h"
 #include "core/error.h"
@@ -36,7 +38,7 @@ int main(int argc, char** argv) {
   std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"nsf: neural stress fields for reduced-order elastoplasticity and fracture"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", NSF_VERSION);
+  app.set_version_flag("--version", version_text());
   app.footer(exit_status_help());
   // Usage errors say so, like the runtime errors' "nsf: error: ".
   app.failure_message([](const CLI::App* a, const CLI::Error& e) {
@@ -54,8 +56,21 @@ int main(int argc, char** argv) {
   add_report_command(app);
   add_serve_command(app);
   add_generalize_command(app);
+  add_self_description_commands(app);
   for (CLI::App* cmd : app.get_subcommands({}))
     cmd->footer("Exit status: 0 success, 1 error, 2 usage error, 3 internal error (nsf --help).");
+  // A mistyped command gets a suggestion, not CLI11's "A subcommand is required".
+  if (argc > 1 && argv[1][0] != '-') {
+    std::vector<std::string> names;
+    for (const CLI::App* c : app.get_subcommands({})) names.push_back(c->get_name());
+    if (std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+      const std::string near = nearest_name(argv[1], names);
+      std::cerr << "nsf: usage error: '" << argv[1] << "' is not an nsf command"
+                << (near.empty() ? "" : "; did you mean '" + near + "'?")
+                << "\nRun with --help for the commands.\n";
+      return kExitUsage;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
