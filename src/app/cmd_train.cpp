@@ -311,6 +311,8 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
   }
   std::printf("model: %s\nloss curves: %s%s%s\n", r.model_path.c_str(), r.loss_csv.c_str(),
               r.loss_png.empty() ? "" : ", ", r.loss_png.c_str());
+  // What a reduced-order run will check a host's colliders against (docs/SCENES.md).
+  for (const std::string& line : r.box.describe()) std::printf("training box: %s\n", line.c_str());
   // "-" for a stage this process did not run (resumed past it, or skipped by --base-model).
   auto rate = [&](int s, double value) {
     return r.stages[s].steps > 0 ? Progress::format_rate(value) : std::string("-");

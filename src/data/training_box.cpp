@@ -61,6 +61,23 @@ void TrainingBox::include(const TrainingBox& other) {
   }
 }
 
+std::vector<std::string> TrainingBox::describe() const {
+  std::vector<std::string> out;
+  char line[240];
+  for (const ParameterRange& p : parameters) {
+    std::snprintf(line, sizeof line, "%s in [%.4g, %.4g]", p.name.c_str(), p.lo, p.hi);
+    out.push_back(line);
+  }
+  for (const ColliderEnvelope& e : colliders) {
+    std::snprintf(line, sizeof line,
+                  "collider %d's centre in [%.4g, %.4g] x [%.4g, %.4g] x [%.4g, %.4g] m, at most "
+                  "%.3g m/s",
+                  e.collider, e.lo[0], e.hi[0], e.lo[1], e.hi[1], e.lo[2], e.hi[2], e.max_speed);
+    out.push_back(line);
+  }
+  return out;
+}
+
 nlohmann::json TrainingBox::to_json() const {
   nlohmann::json p = nlohmann::json::array(), c = nlohmann::json::array();
   for (const ParameterRange& r : parameters)

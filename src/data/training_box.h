@@ -34,6 +34,10 @@ struct TrainingBox {
   // Grows this box to hold `other` too (parameters and colliders matched by name and index).
   void include(const TrainingBox& other);
 
+  // One line per parameter and collider, for people: "hardening in [0, 0.2]", "collider 1's
+  // centre in [0.25, 0.34] x [0.29, 0.3] x [0.49, 0.51] m, at most 0.98 m/s".
+  std::vector<std::string> describe() const;
+
   nlohmann::json to_json() const;
   // Throws nsf::Error naming `where` and the key when `j` is not a box as to_json writes it.
   static TrainingBox from_json(const nlohmann::json& j, const std::string& where);

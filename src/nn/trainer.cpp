@@ -976,6 +976,7 @@ TrainReport Trainer::run_stages() {
     }
   }
   report.completed = true;
+  report.box = model_.training_box;
   if (team_rank() != 0) return report;  // process 0 writes the model and the loss curves
   model_.to(torch::kCPU);
   if (latents_.defined()) store_trajectories();

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "data/training_box.h"
 #include "nn/config.h"
 #include "nn/gradient_team.h"
 
@@ -51,6 +52,7 @@ struct TrainReport {
   std::array<StageReport, kStageCount> stages;
   std::string model_path, checkpoint_path, loss_csv, loss_png;  // png empty without gnuplot
   bool completed = false;  // false when stop_after ended the run early
+  TrainingBox box;         // what the model records of its training runs (data/training_box.h)
 };
 
 TrainReport train_model(const std::string& data_dir, const std::string& out_path,
