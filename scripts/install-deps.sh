@@ -12,6 +12,9 @@ PACKAGES=(
   libassimp-dev
   openmpi-bin libopenmpi-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-h5py
+  # `pip install .` into a venv, offline (docs/PYTHON.md): venv (with pip's and setuptools' wheels),
+  # the build backend for the system's python and the wheel package's wheel for a venv's.
+  python3-venv python3-setuptools python3-wheel python3-wheel-whl
   # The exported files read back by meshio, VTK and the Xdmf3 library (tests/check_export_readers.py).
   python3-meshio python3-vtk9 libxdmf3
   # The page of `nsf serve` checked in a headless browser (tests/test_app_serve.cpp, ...Chromium...).

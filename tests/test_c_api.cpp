@@ -7,6 +7,7 @@
 #include <nsf/nsf.h>
 #include <nsf/runtime.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -233,6 +234,34 @@ TEST_F(CApi, StressFromTheTrackedState) {
   nsf_runtime_destroy(decoder);
   EXPECT_TRUE(all_finite(tau));
   EXPECT_GT(max_diff(tau, want), 1e-3f) << "the tracked τ is the decoder's";
+}
+
+// nsf::Runtime::affine (C++ only): C of every particle, 9 floats each, finite, the same on a second
+// call; zero with rom.fields.affine = "none"; a short buffer throws and is left untouched.
+TEST_F(CApi, CppAffineField) {
+  nsf::RuntimeOptions o;
+  o.mu = 1.0;
+  o.threads = 2;
+  nsf::Runtime rt(model(), kScene, o);
+  const std::size_t P = rt.particle_count();
+  rt.advance_frame();
+  std::vector<float> C(9 * P, NAN), again(9 * P, NAN);
+  rt.affine(C.data(), C.size());
+  rt.affine(again.data(), again.size());
+  EXPECT_TRUE(all_finite(C));
+  EXPECT_EQ(C, again);
+  float largest = 0;
+  for (float c : C) largest = std::max(largest, std::abs(c));
+  EXPECT_GT(largest, 0.0f) << "the decoder's C is zero everywhere";
+  std::vector<float> small(9 * P - 1, 7.0f);
+  EXPECT_THROW(rt.affine(small.data(), small.size()), std::runtime_error);
+  EXPECT_EQ(small.front(), 7.0f);
+
+  o.overrides = {R"(rom={"samples":64,"fields":{"affine":"none"}})"};
+  nsf::Runtime none(model(), kScene, o);
+  none.advance_frame();
+  none.affine(C.data(), C.size());
+  EXPECT_EQ(C, std::vector<float>(9 * P, 0.0f));
 }
 
 // A NULL handle or out pointer is NSF_ERROR_NULL_POINTER with a message, for every call.

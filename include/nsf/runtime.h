@@ -101,6 +101,11 @@ class NSF_API Runtime {
   // state with rom.fields.stress = "tracked", where a particle outside the integration set keeps
   // the τ of the last step it took part in), at the current latent.
   void stress(float* out, std::size_t size) const;
+  // The affine velocity field C (1/s, APIC's: a particle's velocity varies as v + C·(y − x) about
+  // it) of every particle, the same way: 3×3 row-major, 9 floats per particle, from the source the
+  // ROM step takes C from (the model's decoder, the tracked state of rom.fields.affine =
+  // "tracked", zero for "none"), at the current latent.
+  void affine(float* out, std::size_t size) const;
   // The latent ẑ_n of the run now (what `nsf serve` streams): latent_dim() floats into out;
   // throws if `size` is less.
   std::size_t latent_dim() const;

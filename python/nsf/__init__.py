@@ -96,10 +96,12 @@ class Run:
 
     @property
     def frame_count(self):
+        """F, the frames held (the initial state first)."""
         return len(self.time)
 
     @property
     def particle_count(self):
+        """P, the particles of each frame."""
         return len(self.X)
 
     def __repr__(self):
@@ -168,12 +170,16 @@ class Rom:
             path = _existing_file(scene, "scene")
         self._rt = _nsf.Runtime(model, path, mu, samples, threads, list(overrides))
 
-    particle_count = property(lambda self: self._rt.particle_count)
+    particle_count = property(lambda self: self._rt.particle_count, doc="the scene's particles, P")
     frame_count = property(lambda self: self._rt.frame_count, doc="the scene's frames")
     frame_time = property(lambda self: self._rt.frame_time, doc="seconds per frame")
-    steps_per_frame = property(lambda self: self._rt.steps_per_frame)
+    steps_per_frame = property(lambda self: self._rt.steps_per_frame,
+                               doc="reduced-order steps per frame")
     time = property(lambda self: self._rt.time, doc="simulated seconds so far")
-    collider_count = property(lambda self: self._rt.collider_count)
+    collider_count = property(lambda self: self._rt.collider_count,
+                              doc="the scene's colliders (set_collider_pose takes 0 to this - 1)")
+    latent_dim = property(lambda self: self._rt.latent_dim,
+                          doc="the latent space's dimension r, the length of latent()")
 
     def advance_frame(self, frames=1):
         """Advances `frames` frames (steps_per_frame ROM steps each)."""
@@ -191,7 +197,10 @@ class Rom:
         misfit_cells (the inversion's rms misfit at the samples, in cells), courant (the fastest
         integration point's cells per step), grid_margin (cells left before the grid's edge),
         flagged (the last step's indicator was 1 or more, or it was redone), recoveries (steps
-        redone so far instead of ending the run) and last_recovery (what the last one did)."""
+        redone so far instead of ending the run), last_recovery (what the last one did),
+        outside_training (a collider was outside the model's training box in the last step),
+        steps_outside (steps so far that it was) and training_note (what lay outside, the first
+        time)."""
         return self._rt.health()
 
     def positions(self, out=None):
@@ -203,6 +212,25 @@ class Rom:
     def velocities(self, out=None):
         """Every particle's velocity (the last step's backward difference), as positions()."""
         return self._rt.velocities(out)
+
+    def stress(self, out=None):
+        """Every particle's Kirchhoff stress tau = J sigma now, (P, 3, 3) float32, Pa, from the
+        source the reduced-order step itself takes tau from (the model's decoder; with
+        rom.fields.stress = "tracked", the particles' own state). `out` as positions() takes it,
+        of shape (P, 3, 3)."""
+        return self._rt.stress(out)
+
+    def affine(self, out=None):
+        """Every particle's affine velocity C now (APIC's: the velocity about particle p varies as
+        v_p + C_p (y - x_p)), (P, 3, 3) float32, 1/s, from the source the step takes C from (the
+        model's decoder; rom.fields.affine = "tracked": the particles' own state; "none": zero).
+        `out` as positions() takes it, of shape (P, 3, 3)."""
+        return self._rt.affine(out)
+
+    def latent(self, out=None):
+        """The run's latent vector now, (latent_dim,) float32: what the reduced-order model steps
+        (and `nsf serve` streams). `out` as positions() takes it, of shape (latent_dim,)."""
+        return self._rt.latent(out)
 
     def trajectory(self, frames=None, out=None):
         """The positions now and after each of the next `frames` frames (default: the scene's

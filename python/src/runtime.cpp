@@ -1,6 +1,6 @@
 // The reduced-order runtime (include/nsf/runtime.h, libnsf_runtime.so) as _nsf.Runtime; the
-// Python class nsf.Rom wraps it. Positions and velocities are written straight into a float32
-// numpy array: the caller's own (out=) or a new one, with no buffer in between.
+// Python class nsf.Rom wraps it. Positions, velocities, τ, C and the latent are written straight
+// into a float32 numpy array: the caller's own (out=) or a new one, with no buffer in between.
 #include <nsf/runtime.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -36,21 +36,31 @@ std::unique_ptr<Runtime> make_runtime(const std::string& model, const std::strin
   return std::make_unique<Runtime>(model, scene, options);
 }
 
-// `out` if it is a writeable, C-contiguous float32 array of shape (P, 3), else a ValueError or
+// "(864, 3)", the way numpy writes a shape.
+std::string shape_text(const std::vector<std::size_t>& shape) {
+  std::string text = "(";
+  for (std::size_t i = 0; i < shape.size(); ++i) text += (i ? ", " : "") + std::to_string(shape[i]);
+  return text + (shape.size() == 1 ? ",)" : ")");
+}
+
+// `out` if it is a writeable, C-contiguous float32 array of `shape`, else a ValueError or
 // TypeError saying what it must be; a new such array when `out` is None.
-py::array_t<float> target(const Runtime& rt, const py::object& out, const char* what) {
-  const std::size_t P = rt.particle_count();
-  if (out.is_none()) return py::array_t<float>({P, std::size_t(3)});
+py::array_t<float> target(const std::vector<std::size_t>& shape, const py::object& out,
+                          const char* what) {
+  if (out.is_none()) return py::array_t<float>(shape);
   const std::string want = std::string(what) + ": out must be a writeable, C-contiguous float32 " +
-                           "array of shape (" + std::to_string(P) + ", 3), e.g. np.empty((" +
-                           std::to_string(P) + ", 3), np.float32)";
+                           "array of shape " + shape_text(shape) + ", e.g. np.empty(" +
+                           shape_text(shape) + ", np.float32)";
   if (!py::isinstance<py::array>(out))
     throw py::type_error(want + "; got " + py::str(out.get_type()).cast<std::string>());
   const auto a = py::reinterpret_borrow<py::array>(out);
+  bool same_shape = std::size_t(a.ndim()) == shape.size();
+  for (std::size_t i = 0; same_shape && i < shape.size(); ++i)
+    same_shape = std::size_t(a.shape(py::ssize_t(i))) == shape[i];
   std::string got;
   if (!a.dtype().equal(py::dtype::of<float>()))
     got = "dtype " + py::str(a.dtype()).cast<std::string>();
-  else if (a.ndim() != 2 || std::size_t(a.shape(0)) != P || a.shape(1) != 3)
+  else if (!same_shape)
     got = "shape " + py::str(out.attr("shape")).cast<std::string>();
   else if (!(a.flags() & py::array::c_style))
     got = "an array that is not C-contiguous";
@@ -60,24 +70,26 @@ py::array_t<float> target(const Runtime& rt, const py::object& out, const char* 
   return py::reinterpret_borrow<py::array_t<float>>(out);
 }
 
-// Runtime::positions or Runtime::velocities (3 floats per particle) into `out`, or a new array.
-using PerParticle = void (Runtime::*)(float*, std::size_t) const;
+// One of the runtime's float outputs (positions, velocities: 3 per particle; stress, affine: 9;
+// latent: latent_dim) written into `out`, or a new array, with the GIL released.
+using Output = void (Runtime::*)(float*, std::size_t) const;
 
-template <PerParticle get>
-py::array_t<float> per_particle(const Runtime& rt, const py::object& out, const char* what) {
-  py::array_t<float> a = target(rt, out, what);
+template <Output get>
+py::array_t<float> output(const Runtime& rt, const std::vector<std::size_t>& shape,
+                          const py::object& out, const char* what) {
+  py::array_t<float> a = target(shape, out, what);
   float* data = a.mutable_data();
+  const std::size_t size = std::size_t(a.size());
   py::gil_scoped_release nogil;
-  (rt.*get)(data, 3 * rt.particle_count());
+  (rt.*get)(data, size);
   return a;
 }
 
-py::array_t<float> positions(const Runtime& rt, const py::object& out) {
-  return per_particle<&Runtime::positions>(rt, out, "positions");
+std::vector<std::size_t> vectors(const Runtime& rt) {
+  return {rt.particle_count(), 3};
 }
-
-py::array_t<float> velocities(const Runtime& rt, const py::object& out) {
-  return per_particle<&Runtime::velocities>(rt, out, "velocities");
+std::vector<std::size_t> matrices(const Runtime& rt) {
+  return {rt.particle_count(), 3, 3};
 }
 
 py::dict health(const Runtime& rt) {
@@ -117,8 +129,37 @@ void bind_runtime(py::module_& m) {
       .def_property_readonly("time", &Runtime::time)
       .def("advance_frame", &Runtime::advance_frame, py::call_guard<py::gil_scoped_release>())
       .def("step", &Runtime::step, py::call_guard<py::gil_scoped_release>())
-      .def("positions", &positions, py::arg("out") = py::none())
-      .def("velocities", &velocities, py::arg("out") = py::none())
+      .def(
+          "positions",
+          [](const Runtime& rt, const py::object& out) {
+            return output<&Runtime::positions>(rt, vectors(rt), out, "positions");
+          },
+          py::arg("out") = py::none())
+      .def(
+          "velocities",
+          [](const Runtime& rt, const py::object& out) {
+            return output<&Runtime::velocities>(rt, vectors(rt), out, "velocities");
+          },
+          py::arg("out") = py::none())
+      .def(
+          "stress",
+          [](const Runtime& rt, const py::object& out) {
+            return output<&Runtime::stress>(rt, matrices(rt), out, "stress");
+          },
+          py::arg("out") = py::none())
+      .def(
+          "affine",
+          [](const Runtime& rt, const py::object& out) {
+            return output<&Runtime::affine>(rt, matrices(rt), out, "affine");
+          },
+          py::arg("out") = py::none())
+      .def_property_readonly("latent_dim", &Runtime::latent_dim)
+      .def(
+          "latent",
+          [](const Runtime& rt, const py::object& out) {
+            return output<&Runtime::latent>(rt, {rt.latent_dim()}, out, "latent");
+          },
+          py::arg("out") = py::none())
       .def("health", &health)
       .def_property_readonly("collider_count", &Runtime::collider_count)
       .def("collider_type", &Runtime::collider_type)

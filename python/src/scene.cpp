@@ -89,35 +89,55 @@ py::object sweep_dict(const std::optional<SweepSpec>& sweep) {
 }  // namespace
 
 void bind_scene(py::module_& m) {
-  py::class_<LoadedScene>(m, "Scene", "A scene file loaded as the engine builds it")
+  py::class_<LoadedScene>(m, "Scene",
+                          "A scene file (docs/SCENES.md) loaded as the engine builds it, with its "
+                          "overrides and mu applied: what nsf.load_scene returns.")
       .def(py::init(&load), py::arg("path"), py::arg("mu") = py::none(),
-           py::arg("overrides") = std::vector<std::string>())
-      .def_readonly("path", &LoadedScene::path)
-      .def_readonly("mu", &LoadedScene::mu)
-      .def_readonly("overrides", &LoadedScene::overrides)
-      .def_property_readonly("name", [](const LoadedScene& s) { return s.scene.name; })
-      .def_property_readonly("particle_count",
-                             [](const LoadedScene& s) { return s.scene.particles.size(); })
-      .def_property_readonly("frames", [](const LoadedScene& s) { return s.scene.settings.frames; })
-      .def_property_readonly("substeps",
-                             [](const LoadedScene& s) { return s.scene.settings.substeps; })
-      .def_property_readonly("dt", [](const LoadedScene& s) { return s.scene.settings.dt; })
-      .def_property_readonly("dx", [](const LoadedScene& s) { return s.scene.settings.dx; })
-      .def_property_readonly("json", [](const LoadedScene& s) { return s.json.dump(); })
-      .def_property_readonly("sweep", [](const LoadedScene& s) { return sweep_dict(s.sweep); })
-      .def_property_readonly("colliders",
-                             [](const LoadedScene& s) {
-                               std::vector<std::string> types;
-                               for (const auto& c : s.scene.colliders) types.push_back(c->type());
-                               return types;
-                             })
+           py::arg("overrides") = std::vector<std::string>(),
+           "Loads the scene file `path` with `overrides` (\"a.b=value\") and then `mu` applied; "
+           "nsf.load_scene is the checked way to call it.")
+      .def_readonly("path", &LoadedScene::path, "the scene file")
+      .def_readonly("mu", &LoadedScene::mu, "the sweep parameter applied, or None")
+      .def_readonly("overrides", &LoadedScene::overrides, "the \"a.b=value\" overrides applied")
+      .def_property_readonly(
+          "name", [](const LoadedScene& s) { return s.scene.name; }, "the scene's name")
+      .def_property_readonly(
+          "particle_count", [](const LoadedScene& s) { return s.scene.particles.size(); },
+          "P, its particles")
+      .def_property_readonly(
+          "frames", [](const LoadedScene& s) { return s.scene.settings.frames; },
+          "frames a run writes after the initial state")
+      .def_property_readonly(
+          "substeps", [](const LoadedScene& s) { return s.scene.settings.substeps; },
+          "MPM steps per frame")
+      .def_property_readonly(
+          "dt", [](const LoadedScene& s) { return s.scene.settings.dt; }, "the MPM step, s")
+      .def_property_readonly(
+          "dx", [](const LoadedScene& s) { return s.scene.settings.dx; }, "the grid's cell size, m")
+      .def_property_readonly(
+          "json", [](const LoadedScene& s) { return s.json.dump(); },
+          "the scene as it runs (overrides and mu applied), as JSON text")
+      .def_property_readonly(
+          "sweep", [](const LoadedScene& s) { return sweep_dict(s.sweep); },
+          "its \"sweep\" section as a dict (parameter, lo, hi, train, test), or None")
+      .def_property_readonly(
+          "colliders",
+          [](const LoadedScene& s) {
+            std::vector<std::string> types;
+            for (const auto& c : s.scene.colliders) types.push_back(c->type());
+            return types;
+          },
+          "the colliders' types (\"box\", \"plane\", ...), in its order")
       // The initial positions, P×3: a read-only view of the scene's own array, no copy.
-      .def_property_readonly("rest_positions", [](py::object self) {
-        const std::vector<Vec3>& x = self.cast<const LoadedScene&>().scene.particles.X;
-        py::array_t<double> view({x.size(), std::size_t(3)}, x.data()->data(), self);
-        view.attr("setflags")(py::arg("write") = false);
-        return view;
-      });
+      .def_property_readonly(
+          "rest_positions",
+          [](py::object self) {
+            const std::vector<Vec3>& x = self.cast<const LoadedScene&>().scene.particles.X;
+            py::array_t<double> view({x.size(), std::size_t(3)}, x.data()->data(), self);
+            view.attr("setflags")(py::arg("write") = false);
+            return view;
+          },
+          "the initial positions, (P, 3) float64, a read-only view of the scene's own array");
   m.def("_simulate", &simulate, py::arg("scene"), py::arg("out"), py::arg("threads") = 0);
 }
 

@@ -3,6 +3,8 @@ import re
 import subprocess
 import sys
 
+import pytest
+
 import nsf
 
 
@@ -32,3 +34,14 @@ def test_the_module_exports_none_of_the_engines_symbols():
     leaked = [s for s in exported if re.search(r"\b(Eigen|nlohmann|torch|c10|at|nsf)::", s)
               and not s.endswith(" for nsf::Runtime")]
     assert leaked == []
+
+
+def test_imported_from_the_installed_package():
+    # Set by tests/check_python_venv.sh (the ctest python_venv): the package pip installed into a
+    # venv, not the source or build tree, is the one imported, module and all.
+    where = os.environ.get("NSF_INSTALLED_IN")
+    if not where:
+        pytest.skip("not run from an installed package")
+    where = os.path.realpath(where) + os.sep
+    for f in (nsf.__file__, nsf._nsf.__file__):
+        assert os.path.realpath(f).startswith(where), f

@@ -621,6 +621,11 @@ void LatentStepper::particle_stress(std::vector<Mat3>& tau) {
   for (size_t p = 0; p < ids.size(); ++p) ids[p] = uint32_t(p);
   impl_->stress->evaluate(ids, {impl_->z, impl_->z_prev}, false, tau);
 }
+void LatentStepper::particle_affine(std::vector<Mat3>& C) {
+  std::vector<uint32_t> ids(impl_->np);
+  for (size_t p = 0; p < ids.size(); ++p) ids[p] = uint32_t(p);
+  impl_->affine->evaluate(ids, {impl_->z, impl_->z_prev}, false, C);
+}
 
 size_t LatentStepper::particle_count() const {
   return impl_->np;

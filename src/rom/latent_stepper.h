@@ -98,6 +98,8 @@ class LatentStepper {
   void particle_fields(std::vector<Mat3>& tau, std::vector<Mat3>& C);
   // τ alone, the same way (the embedding API's Runtime::stress).
   void particle_stress(std::vector<Mat3>& tau);
+  // C alone, the same way (the embedding API's Runtime::affine).
+  void particle_affine(std::vector<Mat3>& C);
 
   size_t particle_count() const;
   size_t sample_count() const;  // |S| now

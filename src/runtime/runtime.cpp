@@ -36,6 +36,15 @@ void to_floats(const std::vector<Vec3>& v, float* out, std::size_t size, const c
     for (int k = 0; k < 3; ++k) out[3 * p + k] = float(v[p][k]);
 }
 
+// 3×3 matrices into out[0, 9·m.size()), row-major; throws when `size` is less.
+void to_floats(const std::vector<Mat3>& m, float* out, std::size_t size, const char* what) {
+  if (size < 9 * m.size())
+    fail(what, ": the buffer holds ", size, " floats, ", 9 * m.size(), " are needed");
+  for (std::size_t p = 0; p < m.size(); ++p)
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) out[9 * p + 3 * r + k] = float(m[p](r, k));
+}
+
 Vec3 vec(const std::array<double, 3>& a) {
   return Vec3(a[0], a[1], a[2]);
 }
@@ -144,9 +153,16 @@ void Runtime::stress(float* out, std::size_t size) const {
     if (size < need) fail("stress: the buffer holds ", size, " floats, ", need, " are needed");
     std::vector<Mat3> tau;
     impl_->stepper->particle_stress(tau);
-    for (std::size_t p = 0; p < tau.size(); ++p)
-      for (int r = 0; r < 3; ++r)
-        for (int k = 0; k < 3; ++k) out[9 * p + 3 * r + k] = float(tau[p](r, k));
+    to_floats(tau, out, size, "stress");
+  });
+}
+void Runtime::affine(float* out, std::size_t size) const {
+  guarded("affine", [&] {
+    const std::size_t need = 9 * particle_count();
+    if (size < need) fail("affine: the buffer holds ", size, " floats, ", need, " are needed");
+    std::vector<Mat3> C;
+    impl_->stepper->particle_affine(C);
+    to_floats(C, out, size, "affine");
   });
 }
 std::size_t Runtime::latent_dim() const {
