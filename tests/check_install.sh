@@ -41,7 +41,7 @@ for lang in "c -std=c99" "c++ -std=c++17"; do
   echo '#include <nsf/nsf.h>' | cc -x $lang -Wall -Wextra -pedantic -Werror -fsyntax-only \
     -I "$prefix/include" - || die "nsf/nsf.h does not compile alone as ${lang#* }"
 done
-for fn in nsf_version nsf_last_error nsf_runtime_create nsf_runtime_destroy nsf_runtime_stress; do
+for fn in nsf_version nsf_last_error nsf_runtime_create nsf_runtime_destroy nsf_runtime_stress nsf_runtime_affine; do
   nm -D --defined-only "$lib" | grep -q " T $fn\$" || die "libnsf_runtime.so does not export $fn"
 done
 

@@ -158,6 +158,11 @@ TEST_F(CApi, GoodRunMatchesTheCppRuntime) {
     EXPECT_LE(max_diff(tau, want_tau), 1e-3f) << "frame " << frame;
     cpp.latent(want_z.data(), want_z.size());
     EXPECT_LE(max_diff(z, want_z), 1e-6f) << "frame " << frame;
+    std::vector<float> C(9 * P), want_C(9 * P);
+    ASSERT_EQ(nsf_runtime_affine(rom_, C.data(), C.size()), NSF_OK);
+    cpp.affine(want_C.data(), want_C.size());
+    EXPECT_LE(max_diff(C, want_C), 1e-3f) << "frame " << frame;
+    EXPECT_EQ(nsf_runtime_affine(rom_, C.data(), C.size() - 1), NSF_ERROR_BUFFER_TOO_SMALL);
   }
   ASSERT_EQ(nsf_runtime_time(rom_, &t), NSF_OK);
   EXPECT_NEAR(t, 3 * frame_time, 1e-9);

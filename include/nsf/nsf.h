@@ -123,10 +123,13 @@ NSF_C_API nsf_status nsf_runtime_advance_frame(nsf_runtime* runtime);
  * positions: x0 y0 z0 x1 ..., m (3 per particle). velocities: the same, m/s, the backward
  * difference of the last step. stress: the Kirchhoff stress tau (= J sigma, Pa) of every particle,
  * 3x3 row-major (9 per particle), from the source the ROM step itself uses for tau (the trained
- * decoder, or the tracked state of rom.fields.stress = "tracked"), at the current latent. */
+ * decoder, or the tracked state of rom.fields.stress = "tracked"), at the current latent. affine:
+ * the affine velocity C (1/s) of every particle, 3x3 row-major, from the source the step takes C
+ * from (zero with rom.fields.affine = "none"). */
 NSF_C_API nsf_status nsf_runtime_positions(const nsf_runtime* runtime, float* out, size_t size);
 NSF_C_API nsf_status nsf_runtime_velocities(const nsf_runtime* runtime, float* out, size_t size);
 NSF_C_API nsf_status nsf_runtime_stress(const nsf_runtime* runtime, float* out, size_t size);
+NSF_C_API nsf_status nsf_runtime_affine(const nsf_runtime* runtime, float* out, size_t size);
 
 /* The latent z_n of the run now (latent_dim floats): what `nsf serve` streams. */
 NSF_C_API nsf_status nsf_runtime_latent_dim(const nsf_runtime* runtime, size_t* out);

@@ -318,6 +318,13 @@ nsf_status nsf_runtime_stress(const nsf_runtime* r, float* out, size_t size) {
     rt.stress(out, size);
   });
 }
+nsf_status nsf_runtime_affine(const nsf_runtime* r, float* out, size_t size) {
+  return call("nsf_runtime_affine", NSF_ERROR_INTERNAL, [&] {
+    const nsf::Runtime& rt = runtime(r);
+    check_buffer(out, size, 9 * rt.particle_count(), "floats");
+    rt.affine(out, size);
+  });
+}
 
 nsf_status nsf_runtime_latent_dim(const nsf_runtime* r, size_t* out) {
   return call("nsf_runtime_latent_dim", NSF_ERROR_INTERNAL, [&] {
