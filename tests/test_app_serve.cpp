@@ -194,6 +194,43 @@ TEST_F(ServeEndToEnd, ClientsReconstructTheRuntimesPositionsAndMoveAColliderToge
 // Another site's page open in the browser may not drive the server (cross-site WebSocket
 // hijacking), nor may a page that reached it under another name (DNS rebinding): 403 and a log
 // line. The server's own page and programs (no Origin) connect; --allow-origin adds a site.
+// At the scene's last frame (12 frames of 15 ms) the stream starts it again, or holds it, instead
+// of stepping on into a pose no training run reached (--at-end).
+TEST_F(ServeEndToEnd, AtTheScenesEndTheStreamLoopsOrHolds) {
+  for (const std::string mode : {"loop", "hold", "continue"}) {
+    SCOPED_TRACE(mode);
+    const int port = start({"--fps", "200", "--frames", "100000", "--at-end", mode});
+    ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
+    WsClient c;
+    ASSERT_TRUE(c.connect(port));
+    const auto m = next_message(c);
+    ASSERT_TRUE(m && decode_model(*m));
+    EXPECT_EQ(decode_model(*m)->header.value("at_end", ""), mode);
+    std::vector<double> times;
+    for (int k = 0; k < 30; ++k) {
+      const auto f = next_frame(c);
+      ASSERT_TRUE(f);
+      times.push_back(f->time);
+    }
+    const double end = 12 * 0.015, latest = *std::max_element(times.begin(), times.end());
+    bool restarted = false, held = false;
+    for (size_t k = 1; k < times.size(); ++k) {
+      restarted |= times[k] < times[k - 1];
+      held |= times[k] == times[k - 1] && times[k] >= end - 1e-9;
+    }
+    if (mode == "continue") {
+      EXPECT_GT(latest, end + 0.01);
+    } else {
+      EXPECT_LE(latest, end + 1e-9);
+      EXPECT_EQ(restarted, mode == "loop");
+      EXPECT_EQ(held, mode == "hold");
+    }
+    ::kill(pid_, SIGTERM);
+    nsf::testing::wait_child(pid_);
+    pid_ = -1;
+  }
+}
+
 TEST_F(ServeEndToEnd, RefusesOtherSitesPagesUnlessAllowed) {
   const int port = start({"--fps", "30", "--frames", "100000", "--allow-origin",
                           "http://example.org", "--allow-origin", "http://example.net:8000"});

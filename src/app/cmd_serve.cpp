@@ -36,6 +36,9 @@ struct ServeArgs {
   net::ServerOptions net;
   double fps = -1;  // < 0: real time
   long frames = 0;  // 0: forever
+  // At the scene's last frame: start it again ("loop"), keep streaming its last pose ("hold"), or
+  // go on stepping past it ("continue").
+  std::string at_end = "loop";
 };
 
 double wall_now() {
@@ -66,6 +69,7 @@ class Server {
     info["latent_dim"] = fields_.latent_dim();
     info["frame_time"] = frame_time_;
     info["frames"] = frames_;
+    info["at_end"] = a.at_end;
     info["steps_per_frame"] = stepper_->steps_per_frame();
     info["mu"] = mu_;
     info["colliders"] = file_.json.value("colliders", nlohmann::json::array());
@@ -127,30 +131,36 @@ class Server {
       apply_commands();
       commands_this_frame_.clear();
       const double t0 = mono_now();
-      try {
-        const long recovered = guard_->health().recoveries;
-        guard_->advance_frame();  // a step that would diverge is redone (rom/step_guard.h)
-        // Said once; the status line counts the others.
-        if (guard_->health().recoveries > recovered && redone_ == 0)
-          say("nsf serve: a step that would have diverged was redone in frame " +
-              std::to_string(frame + 1) + " (" + guard_->health().last_recovery +
-              "); later ones are counted in the status line");
-        redone_ += uint64_t(guard_->health().recoveries - recovered);
-        if (!guard_->health().training_note.empty() && !said_outside_) {
-          say("nsf serve: the run left the model's training box in frame " +
-              std::to_string(frame + 1) + " (" + guard_->health().training_note +
-              "): the model may not hold what follows");
-          said_outside_ = true;
+      // The scene's end: a visitor sees it start again (or held) instead of a frozen pose.
+      const bool at_end =
+          a_.at_end != "continue" && stepper_->time() >= (frames_ - 0.5) * frame_time_;
+      if (at_end && a_.at_end == "loop") restart();
+      if (!at_end) {
+        try {
+          const long recovered = guard_->health().recoveries;
+          guard_->advance_frame();  // a step that would diverge is redone (rom/step_guard.h)
+          // Said once; the status line counts the others.
+          if (guard_->health().recoveries > recovered && redone_ == 0)
+            say("nsf serve: a step that would have diverged was redone in frame " +
+                std::to_string(frame + 1) + " (" + guard_->health().last_recovery +
+                "); later ones are counted in the status line");
+          redone_ += uint64_t(guard_->health().recoveries - recovered);
+          if (!guard_->health().training_note.empty() && !said_outside_) {
+            say("nsf serve: the run left the model's training box in frame " +
+                std::to_string(frame + 1) + " (" + guard_->health().training_note +
+                "): the model may not hold what follows");
+            said_outside_ = true;
+          }
+        } catch (const Error& e) {
+          // Said once, with why; every failure is counted in the status and the last line.
+          if (failures_++ == 0)
+            std::cerr << "nsf serve: the reduced-order model failed at t = " << stepper_->time()
+                      << " s (" << e.what()
+                      << "); starting the scene again (and again whenever it fails: counted in the "
+                         "status line)"
+                      << std::endl;
+          restart();
         }
-      } catch (const Error& e) {
-        // Said once, with why; every failure is counted in the status and the last line.
-        if (failures_++ == 0)
-          std::cerr << "nsf serve: the reduced-order model failed at t = " << stepper_->time()
-                    << " s (" << e.what()
-                    << "); starting the scene again (and again whenever it fails: counted in the "
-                       "status line)"
-                    << std::endl;
-        restart();
       }
       stepping += mono_now() - t0;
       if (!a_.quiet && mono_now() - last_status > 10) {
@@ -356,6 +366,11 @@ void add_serve_command(CLI::App& app) {
                   "Frames per second to stream (default: real time, 1 / the scene's frame time; "
                   "0: as fast as the model steps)")
       ->check(in_range(0.0, 10000.0));
+  cmd->add_option("--at-end", a->at_end,
+                  "At the scene's last frame: loop (start it again), hold (stream its last pose) "
+                  "or continue (step on past it)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"loop", "hold", "continue"}));
   cmd->add_option("--frames", a->frames, "Stop after this many frames (0: run until killed)")
       ->capture_default_str()
       ->check(in_range(0L, 1000000000L));
