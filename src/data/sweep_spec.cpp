@@ -120,32 +120,29 @@ SweepSpec parse_sweep(const nlohmann::json& j, const nlohmann::json& scene) {
       fail("scene: '", path, ".vary' has ", list.size(), " axes; at most ", kSobolMaxDimensions - 1,
            " besides mu");
     // Each axis is checked after μ's templates at either end, as runs apply them.
+    nlohmann::json at_lo = base, at_hi = base;
+    apply_overrides(at_lo, sweep_overrides(s, s.lo));
+    apply_overrides(at_hi, sweep_overrides(s, s.hi));
+    const std::string hint =
+        " once mu's templates are applied: an axis must change what mu leaves as it is";
     for (size_t i = 0; i < list.size(); ++i) {
       const std::string where = js::child(js::child(path, "vary"), i);
-      for (double mu : {s.hi, s.lo}) {
-        nlohmann::json at_mu = base;
-        apply_overrides(at_mu, sweep_overrides(s, mu));
-        if (mu == s.hi) s.vary.emplace_back();
-        s.vary.back() = parse_parameter_axis(
-            list[i], where, at_mu, {{}},
-            " once mu's templates are applied: an axis must change what mu leaves as it is");
-      }
-      for (size_t k = 0; k + 1 < s.vary.size(); ++k)
-        if (s.vary[k].name == s.vary.back().name)
-          fail("scene: '", where, ".name' = \"", s.vary[k].name, "\" is already an axis");
-      if (s.vary.back().name == s.parameter)
+      ParameterAxis axis = parse_parameter_axis(list[i], where, at_lo, {{}}, hint);
+      parse_parameter_axis(list[i], where, at_hi, {{}}, hint);
+      for (const ParameterAxis& other : s.vary)
+        if (other.name == axis.name)
+          fail("scene: '", where, ".name' = \"", axis.name, "\" is already an axis");
+      if (axis.name == s.parameter)
         fail("scene: '", where, ".name' = \"", s.parameter, "\" is the sweep's parameter");
       // Applied after μ's templates, an axis must not undo them.
-      for (double v : {s.vary.back().lo, s.vary.back().hi}) {
-        nlohmann::json a = base, b = base;
-        apply_overrides(a, sweep_overrides(s, s.lo));
-        apply_overrides(b, sweep_overrides(s, s.hi));
-        for (nlohmann::json* x : {&a, &b})
-          apply_overrides(*x, expand_templates(s.vary.back().set, "v", v));
+      for (double v : {axis.lo, axis.hi}) {
+        nlohmann::json a = at_lo, b = at_hi;
+        for (nlohmann::json* x : {&a, &b}) apply_overrides(*x, expand_templates(axis.set, "v", v));
         if (a == b)
-          fail("scene: '", where, "' (\"", s.vary.back().name,
-               "\") overwrites what mu sets at v = ", v, ": mu would then change nothing");
+          fail("scene: '", where, "' (\"", axis.name, "\") overwrites what mu sets at v = ", v,
+               ": mu would then change nothing");
       }
+      s.vary.push_back(std::move(axis));
     }
   }
   if (j.contains("paths")) {
