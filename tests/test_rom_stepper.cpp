@@ -852,6 +852,17 @@ TEST_F(RomEndToEnd, TheModelKeepsItsTrainingBoxAndAGuardSaysWhenAColliderLeavesI
   floor->drive(pose, rom.time());
   guard.step();
   EXPECT_TRUE(guard.health().outside_training);
+
+  // `nsf rom` (and each draw of `nsf generalize`) says so too, in its warnings.
+  nsf::RomEvalOptions e = options();
+  e.model_path = basis_model();
+  e.samples = 64;
+  EXPECT_EQ(nsf::evaluate_rom(e).training_note, "");
+  e.overrides = {"colliders[0].point=[0,0.07,0]"};
+  const nsf::RomReport low = nsf::evaluate_rom(e);
+  EXPECT_THAT(low.training_note, HasSubstr("(t = 0.015 s): collider 0's centre is 0.05 m beyond"));
+  ASSERT_FALSE(low.warnings.empty());
+  EXPECT_THAT(low.warnings.back(), HasSubstr("left the model's training box"));
 }
 
 TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {

@@ -28,25 +28,28 @@ double StepGuard::indicator() {
   return health_.indicator;
 }
 
-void StepGuard::check_training_box() {
-  const TrainingBox& box = rom_.training_box();
-  health_.outside_training = false;
-  if (box.colliders.empty()) return;
-  auto& colliders = rom_.colliders();
-  for (size_t i = 0; i < colliders.size(); ++i) {
+std::string outside_training_box(LatentStepper& rom) {
+  const TrainingBox& box = rom.training_box();
+  auto& colliders = rom.colliders();
+  for (size_t i = 0; i < colliders.size() && !box.colliders.empty(); ++i) {
     const auto* rigid = dynamic_cast<const RigidCollider*>(colliders[i].get());
     if (!rigid) continue;
     const RigidPose& p = rigid->pose();
-    const std::string why = box.collider_outside(i, p.center, p.velocity.norm(), rom_.grid_dx());
+    const std::string why = box.collider_outside(i, p.center, p.velocity.norm(), rom.grid_dx());
     if (why.empty()) continue;
-    health_.outside_training = true;
-    if (health_.training_note.empty()) {
-      char when[80];
-      std::snprintf(when, sizeof when, "step %ld (t = %.4g s): ", rom_.step_count(), rom_.time());
-      health_.training_note = when + why;
-    }
+    char when[80];
+    std::snprintf(when, sizeof when, "step %ld (t = %.4g s): ", rom.step_count(), rom.time());
+    return when + why;
   }
-  if (health_.outside_training) ++health_.steps_outside;
+  return "";
+}
+
+void StepGuard::check_training_box() {
+  const std::string note = outside_training_box(rom_);
+  health_.outside_training = !note.empty();
+  if (!health_.outside_training) return;
+  ++health_.steps_outside;
+  if (health_.training_note.empty()) health_.training_note = note;
 }
 
 bool StepGuard::attempt(std::string& why) {

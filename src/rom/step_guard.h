@@ -44,6 +44,11 @@ struct RomHealth {
   std::string training_note;      // what lay outside, the first time; "" while none has
 };
 
+// What lies outside the model's training box among `rom`'s colliders now, with the step and time
+// ("" for nothing): a collider more than a cell beyond where the training runs moved it, or more
+// than 10 % faster (data/training_box.h).
+std::string outside_training_box(LatentStepper& rom);
+
 class StepGuard {
  public:
   // Keeps `rom`'s state now as the initial state a last-resort recovery returns to.

@@ -231,6 +231,8 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
     d["rom_seconds"] = r.rom_seconds;
     d["fom_seconds"] = r.fom_seconds;
     d["warnings"] = r.warnings;
+    // Whether the draw took a collider out of the box the model was trained on.
+    d["outside_training"] = !r.training_note.empty();
     rows.push_back(d);
     delta.push_back(r.delta);
     repr.push_back(r.budget ? r.budget->encoded.delta : -1);

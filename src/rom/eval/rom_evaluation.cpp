@@ -1,5 +1,7 @@
 #include "rom/eval/rom_evaluation.h"
 
+#include "rom/step_guard.h"
+
 #include <malloc.h>
 #include <omp.h>
 #include <unistd.h>
@@ -23,6 +25,7 @@
 #include "nn/field_checks.h"
 #include "nn/torch_settings.h"
 #include "rom/eval/baseline_inputs.h"
+#include "rom/step_guard.h"
 
 namespace nsf {
 
@@ -284,6 +287,7 @@ void run_reduced_order(const RomEvalOptions& o, LatentStepper& rom, FrameRecorde
     const double t0 = now_seconds();
     rom.advance_frame();
     rep.rom_seconds += now_seconds() - t0;
+    if (rep.training_note.empty()) rep.training_note = outside_training_box(rom);
     recorder.record(f);
     if (!o.quiet) {
       char extra[96];
@@ -294,6 +298,9 @@ void run_reduced_order(const RomEvalOptions& o, LatentStepper& rom, FrameRecorde
   }
   if (!o.quiet) progress.finish();
   recorder.finish();
+  if (!rep.training_note.empty())
+    rep.warnings.push_back("the run left the model's training box at " + rep.training_note +
+                           ": the model may not hold what followed");
 }
 
 // What the ROM reports of itself once it ran.

@@ -63,6 +63,8 @@ struct RomReport {
   double rom_peak_mib = 0, fom_peak_mib = -1, baseline_mib = 0;
   bool peak_reset = false;  // the kernel restarted the peak between the phases
   std::vector<std::string> warnings;
+  // Where a collider first left the model's training box (rom/step_guard.h); "" for never.
+  std::string training_note;
   std::string truth_file, rom_file;
   double speedup() const { return fom_seconds > 0 ? fom_seconds / rom_seconds : 0.0; }
   // The coarse engine's speed-up against full order; < 0 when either was not run.
