@@ -26,13 +26,20 @@ TEST(CliHelp, AMistypedCommandGetsTheNearestNameAndExitsAsAUsageError) {
   expect_contains(out, "'simulat' is not an nsf command; did you mean 'simulate'?");
   EXPECT_EQ(run_cli("xyzzy", out), 2);
   EXPECT_EQ(out.find("did you mean"), std::string::npos) << out;
+  // Options too; a value that begins with '-' (a slice, a negative number) is no option.
+  EXPECT_EQ(run_cli("sweep scene.json -o d --jbos 2", out), 2);
+  expect_contains(out, "'--jbos' is not an option of 'nsf sweep'; did you mean '--jobs'?");
+  EXPECT_EQ(run_cli("export /no/such/run.h5 --frames -3: -f vtu -o /no/such/dir", out), 1);
+  expect_contains(out, "no such file");
+  EXPECT_EQ(run_cli("rom /no/such.nsf /no/such.json --mu -0.5 -j2", out), 1);
+  EXPECT_EQ(out.find("usage error"), std::string::npos) << out;
 }
 
 TEST(CliHelp, VersionSaysWhatTheToolWasBuiltFrom) {
   std::string out;
   ASSERT_EQ(run_cli("--version", out), 0) << out;
   for (const char* part : {"nsf " NSF_VERSION "\n", "commit: ", "compiler: ", "build: ",
-                           "instruction set: ", "OpenMP: ", "LibTorch: "})
+                           "instruction set: ", "OpenMP: ", "LibTorch: ", "CUDA: "})
     expect_contains(out, part);
 }
 

@@ -107,6 +107,7 @@ TEST_F(CApi, Version) {
   ASSERT_EQ(nsf_version_numbers(&major, &minor, &patch), NSF_OK);
   EXPECT_EQ(std::string(nsf_version()),
             std::to_string(major) + "." + std::to_string(minor) + "." + std::to_string(patch));
+  EXPECT_EQ(std::string(nsf::version()), std::string(nsf_version()));  // the C++ API's
   EXPECT_EQ(std::string(nsf_status_name(NSF_ERROR_BUFFER_TOO_SMALL)), "NSF_ERROR_BUFFER_TOO_SMALL");
   EXPECT_EQ(std::string(nsf_status_name(static_cast<nsf_status>(1234))), "NSF_UNKNOWN_STATUS");
 }

@@ -20,6 +20,9 @@
 
 namespace nsf {
 
+// The library's version, "MAJOR.MINOR.PATCH" (nsf_version() in the C API).
+NSF_API const char* version();
+
 // How a run is set up; every field may be left as it is.
 struct RuntimeOptions {
   // The scene's sweep parameter μ (its "sweep" section says what it sets). Required when the

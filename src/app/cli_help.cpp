@@ -1,9 +1,11 @@
 #include "app/cli_help.h"
 
 #include <omp.h>
+#include <torch/cuda.h>
 #include <torch/version.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 
@@ -71,7 +73,11 @@ std::string version_text() {
 #endif
   s << "\n";
   s << "OpenMP: " << _OPENMP << ", " << omp_get_num_procs() << " processors here\n";
-  s << "LibTorch: " << TORCH_VERSION;
+  s << "LibTorch: " << TORCH_VERSION << "\n";
+  s << "CUDA: "
+    << (torch::cuda::is_available()
+            ? "available (" + std::to_string(torch::cuda::device_count()) + " devices)"
+            : std::string("not available (a CPU build, or no device here)"));
   return s.str();
 }
 
@@ -95,6 +101,31 @@ std::string nearest_name(const std::string& word, const std::vector<std::string>
     if (d < best_distance) best_distance = d, best = c;
   }
   return best;
+}
+
+std::string unknown_option(const CLI::App& command, const std::vector<std::string>& args) {
+  const std::vector<std::string> names = option_names(command);
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    if (arg == "--") break;
+    if (arg.size() < 2 || arg[0] != '-') continue;
+    char* end = nullptr;
+    std::strtod(arg.c_str(), &end);
+    if (end && *end == '\0') continue;  // a negative number
+    // "--out=x" names --out; "-j2" names -j.
+    const bool is_long = arg[1] == '-';
+    const std::string name = is_long ? arg.substr(0, arg.find('=')) : arg.substr(0, 2);
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+      const std::string near = nearest_name(name, names);
+      return "'" + name + "' is not an option of 'nsf " + command.get_name() + "'" +
+             (near.empty() ? "" : "; did you mean '" + near + "'?");
+    }
+    // Its value, when given as the next word, may begin with '-' ("--range -3:").
+    const CLI::Option* o = command.get_option_no_throw(name);
+    const bool value_attached = is_long ? arg.find('=') != std::string::npos : arg.size() > 2;
+    if (o && o->get_type_size() != 0 && !value_attached) ++i;
+  }
+  return "";
 }
 
 std::string bash_completion(const CLI::App& app) {

@@ -15,6 +15,11 @@ std::string version_text();
 // The candidate nearest `word` (edit distance at most 2, or one it begins), "" when none is near.
 std::string nearest_name(const std::string& word, const std::vector<std::string>& candidates);
 
+// For `nsf COMMAND ARGS...` (args[0] the first after COMMAND): "" when every option given is one
+// of the command's, else the usage error naming the first that is not, with the nearest name.
+// Negative numbers and everything after "--" are values, not options.
+std::string unknown_option(const CLI::App& command, const std::vector<std::string>& args);
+
 // A bash completion script for `app`'s commands and their options.
 std::string bash_completion(const CLI::App& app);
 

@@ -70,6 +70,13 @@ int main(int argc, char** argv) {
                 << "\nRun with --help for the commands.\n";
       return kExitUsage;
     }
+    const std::string unknown = unknown_option(*app.get_subcommand(argv[1]),
+                                               std::vector<std::string>(argv + 2, argv + argc));
+    if (!unknown.empty()) {
+      std::cerr << "nsf: usage error: " << unknown << "\nRun with 'nsf " << argv[1]
+                << " --help' for its options.\n";
+      return kExitUsage;
+    }
   }
   try {
     app.parse(argc, argv);

@@ -121,6 +121,10 @@ void Runtime::advance_frame() {
 void Runtime::step() {
   guarded("step", [&] { impl_->guard->step(); });
 }
+const char* version() {
+  return NSF_VERSION;
+}
+
 RuntimeHealth Runtime::health() const {
   const RomHealth& h = impl_->guard->health();
   return {h.indicator,  h.residual_cells, h.courant,          h.grid_margin,   h.flagged,
