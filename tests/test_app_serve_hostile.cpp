@@ -84,10 +84,11 @@ TEST_F(ServeEndToEnd, DescriptorsRunningOutRefuseClientsAndAResetKeepsTheStartin
   const fs::path scene = root_ / "edited_later.json";
   fs::copy_file(kScene, scene, fs::copy_options::overwrite_existing);
   const int port =
-      start({"--fps", "30", "--frames", "100000", "--max-clients", "1000"}, scene.string(), [] {
-        const rlimit limit{64, 64};
-        ::setrlimit(RLIMIT_NOFILE, &limit);
-      });
+      start({"--fps", "30", "--frames", "100000", "--at-end", "continue", "--max-clients", "1000"},
+            scene.string(), [] {
+              const rlimit limit{64, 64};
+              ::setrlimit(RLIMIT_NOFILE, &limit);
+            });
   ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
   std::vector<std::unique_ptr<WsClient>> in;
   int refused = 0;
@@ -137,7 +138,7 @@ TEST_F(ServeEndToEnd, DescriptorsRunningOutRefuseClientsAndAResetKeepsTheStartin
 // size on every side) drop the client; a far move within it goes at most at the scene's CFL
 // speed, over as many frames as that takes.
 TEST_F(ServeEndToEnd, MovesAreBoundedToTheDomainAndTheSpeedLimit) {
-  const int port = start({"--fps", "30", "--frames", "100000"});
+  const int port = start({"--fps", "30", "--frames", "100000", "--at-end", "continue"});
   ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
   WsClient a;
   ASSERT_TRUE(a.connect(port));
@@ -213,7 +214,7 @@ std::string masked(uint8_t opcode, const std::string& payload) {
 // larger scene). The resets of a frame are merged into one, and a client's are applied at most
 // once a second: the others see the scene start again a few times, not at every frame.
 TEST_F(ServeEndToEnd, AResetFloodIsMergedAndRateLimited) {
-  const int port = start({"--fps", "30", "--frames", "100000"});
+  const int port = start({"--fps", "30", "--frames", "100000", "--at-end", "continue"});
   ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
   WsClient watcher, flood;
   ASSERT_TRUE(watcher.connect(port));
@@ -308,7 +309,7 @@ Rate good_rate(const std::vector<SoakClient>& clients) {
 // stays within 20 % of the first phase's, none of them is dropped, and the server's resident
 // memory stays within 32 MiB of the first phase's.
 TEST_F(ServeEndToEnd, SoakOfHostileClientsKeepsTheGoodOnesFrameRateAndBoundsMemory) {
-  const int port = start({"--fps", "30", "--frames", "100000"});
+  const int port = start({"--fps", "30", "--frames", "100000", "--at-end", "continue"});
   ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
   std::vector<SoakClient> clients;
   const auto add = [&](SoakClient::Kind kind, int rcvbuf = 0) {

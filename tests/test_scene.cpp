@@ -524,9 +524,11 @@ TEST(Docs, SceneSnippetsAreValid) {
       scene["objects"][0]["weak_regions"] = j["weak_regions"];
       EXPECT_NO_THROW(build_scene(scene));
     } else if (j.contains("sweep")) {
-      // The cake's colliders are what the sweep example sets.
-      json scene = read_scene_json(
-          (fs::path(NSF_SOURCE_DIR) / "scenes" / "paper" / "cake_small.json").string());
+      // The cake's colliders are what the first sweep example sets, the metal's plates what the
+      // example of several axes sets.
+      const char* file =
+          j["sweep"].value("parameter", "") == "hardening" ? "metal_small.json" : "cake_small.json";
+      json scene = read_scene_json((fs::path(NSF_SOURCE_DIR) / "scenes" / "paper" / file).string());
       scene["sweep"] = j["sweep"];
       EXPECT_NO_THROW(build_scene(scene));
       EXPECT_NO_THROW(parse_sweep(scene["sweep"], scene));

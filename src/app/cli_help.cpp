@@ -123,7 +123,7 @@ std::string unknown_option(const CLI::App& command, const std::vector<std::strin
     // Its value, when given as the next word, may begin with '-' ("--range -3:").
     const CLI::Option* o = command.get_option_no_throw(name);
     const bool value_attached = is_long ? arg.find('=') != std::string::npos : arg.size() > 2;
-    if (o && o->get_type_size() != 0 && !value_attached) ++i;
+    if (o && o->get_items_expected_min() > 0 && !value_attached) ++i;
   }
   return "";
 }

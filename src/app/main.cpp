@@ -67,14 +67,13 @@ int main(int argc, char** argv) {
       const std::string near = nearest_name(argv[1], names);
       std::cerr << "nsf: usage error: '" << argv[1] << "' is not an nsf command"
                 << (near.empty() ? "" : "; did you mean '" + near + "'?")
-                << "\nRun with --help for the commands.\n";
+                << "\nRun with --help for more information.\n";
       return kExitUsage;
     }
     const std::string unknown = unknown_option(*app.get_subcommand(argv[1]),
                                                std::vector<std::string>(argv + 2, argv + argc));
     if (!unknown.empty()) {
-      std::cerr << "nsf: usage error: " << unknown << "\nRun with 'nsf " << argv[1]
-                << " --help' for its options.\n";
+      std::cerr << "nsf: usage error: " << unknown << "\nRun with --help for more information.\n";
       return kExitUsage;
     }
   }
