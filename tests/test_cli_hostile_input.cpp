@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "app/exit_codes.h"
+#include "cli_scene_fixture.h"
 #include "core/error.h"
 #include "data/sweep_spec.h"
 #include "error_matchers.h"
@@ -28,26 +29,14 @@ using nsf::testing::expect_contains;
 using nsf::testing::quoted;
 using nsf::testing::run_cli;
 
-const char* kTinyScene = R"({
-  "name": "tiny",
-  "simulation": {"domain_lo": [0,0,0], "domain_hi": [0.5,0.5,0.5], "dx": 0.03125, "dt": 5e-4,
-                 "frames": 2, "substeps": 4},
-  "objects": [{"shape": {"type": "box", "min": [0.15,0.15,0.15], "max": [0.3,0.3,0.3]},
-               "material": {"type": "fixed_corotated", "E": 1e4, "nu": 0.3}}]
-})";
-
-class HostileInput : public ::testing::Test {
+class HostileInput : public nsf::testing::CliSceneTest {
  protected:
+  HostileInput() : CliSceneTest("hostile_input_") {}
   void SetUp() override {
-    dir_ = nsf::testing::fresh_dir(std::string("hostile_input_") +
-                                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::ofstream(scene()) << kTinyScene;
+    CliSceneTest::SetUp();
     nsf::testing::write_synthetic_run(run(), 3);
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path scene() const { return dir_ / "s.json"; }
   fs::path run() const { return dir_ / "r.h5"; }
-  fs::path dir_;
 };
 
 // Grows every per-frame dataset of a run file to `frames` frames without writing them: the file
@@ -89,7 +78,7 @@ TEST_F(HostileInput, ScenesAreCappedAndDevicesRefused) {
   const fs::path big = dir_ / "big.json";
   {
     std::ofstream f(big);
-    f << kTinyScene;
+    f << nsf::testing::kTinyCliScene;
   }
   fs::resize_file(big, (std::uintmax_t(64) << 20) + 1);
   expect_refused("simulate " + quoted(big) + out, nsf::app::kExitError,
@@ -98,7 +87,8 @@ TEST_F(HostileInput, ScenesAreCappedAndDevicesRefused) {
   // Exactly at the cap it is read, and runs.
   {
     std::ofstream f(big, std::ios::trunc);
-    f << kTinyScene << std::string((std::size_t(64) << 20) - std::strlen(kTinyScene), ' ');
+    f << nsf::testing::kTinyCliScene
+      << std::string((std::size_t(64) << 20) - std::strlen(nsf::testing::kTinyCliScene), ' ');
   }
   ASSERT_EQ(fs::file_size(big), std::uintmax_t(64) << 20);
   const nsf::testing::CliResult at_cap = run_cli("simulate " + quoted(big) + out);
@@ -153,7 +143,7 @@ TEST_F(HostileInput, MessagesNameTheProblem) {
   expect_refused("render " + quoted(run()) + " --out " + quoted(dir_ / "f") +
                      " --no-video -q --camera 'eye=1e300,0,0 target=0,0,0'",
                  nsf::app::kExitUsage, {"--camera: eye=1e300,0,0 is out of range"});
-  std::string far = kTinyScene;
+  std::string far = nsf::testing::kTinyCliScene;
   far.insert(far.rfind('}'), R"(, "camera": {"eye": [1e300, 0, 0], "target": [0, 0, 0]})");
   std::ofstream(dir_ / "far.json") << far;
   expect_refused("simulate " + quoted(dir_ / "far.json") + " --out " + quoted(dir_ / "o.h5"),

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/exit_codes.h"
+#include "cli_scene_fixture.h"
 #include "error_matchers.h"
 #include "tiny_training.h"
 
@@ -21,26 +22,14 @@ using nsf::testing::file_bytes;
 using nsf::testing::quoted;
 using nsf::testing::run_cli;
 
-const char* kTinyScene = R"({
-  "name": "tiny",
-  "simulation": {"domain_lo": [0,0,0], "domain_hi": [0.5,0.5,0.5], "dx": 0.03125, "dt": 5e-4,
-                 "frames": 2, "substeps": 4},
-  "objects": [{"shape": {"type": "box", "min": [0.15,0.15,0.15], "max": [0.3,0.3,0.3]},
-               "material": {"type": "fixed_corotated", "E": 1e4, "nu": 0.3}}]
-})";
-
-class PathsAndRanges : public ::testing::Test {
+class PathsAndRanges : public nsf::testing::CliSceneTest {
  protected:
+  PathsAndRanges() : CliSceneTest("paths_ranges_") {}
   void SetUp() override {
-    dir_ = nsf::testing::fresh_dir(std::string("paths_ranges_") +
-                                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::ofstream(scene()) << kTinyScene;
+    CliSceneTest::SetUp();
     std::ofstream(model()) << "a model file (its content does not matter here)";
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path scene() const { return dir_ / "s.json"; }
   fs::path model() const { return dir_ / "m.nsf"; }
-  fs::path dir_;
 };
 
 // The command fails, names the clash, and leaves `kept` as it was.
