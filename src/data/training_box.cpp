@@ -155,14 +155,15 @@ void ColliderEnvelopeRecorder::record(const std::vector<std::unique_ptr<Collider
     const auto* rigid = dynamic_cast<const RigidCollider*>(colliders[i].get());
     if (!rigid) continue;
     const RigidPose& p = rigid->pose();
-    ColliderEnvelope e;
-    e.collider = int(i);
-    e.lo = e.hi = p.center;
-    e.max_speed = p.velocity.norm();
-    e.max_angular_speed = p.angular_velocity.norm();
-    TrainingBox one;
-    one.colliders.push_back(e);
-    box_.include(one);
+    auto it = std::find_if(box_.colliders.begin(), box_.colliders.end(),
+                           [&](const ColliderEnvelope& e) { return size_t(e.collider) == i; });
+    if (it == box_.colliders.end()) {
+      box_.colliders.push_back({int(i), p.center, p.center, 0, 0});
+      it = box_.colliders.end() - 1;
+    }
+    it->lo = it->lo.cwiseMin(p.center), it->hi = it->hi.cwiseMax(p.center);
+    it->max_speed = std::max(it->max_speed, p.velocity.norm());
+    it->max_angular_speed = std::max(it->max_angular_speed, p.angular_velocity.norm());
   }
 }
 
