@@ -8,8 +8,8 @@ Environment:
                        to build the target in and take the files from, instead of configuring a
                        tree of its own under build-pip/ (the first build compiles nsf and its
                        LibTorch layer, minutes); setuptools' files go to its pip/ then
-  NSF_CMAKE_ARGS       more arguments for that configure step, e.g. "-DNSF_NATIVE=OFF" for a
-                       wheel that runs on other CPUs, or "-DCMAKE_PREFIX_PATH=/opt/libtorch"
+  NSF_CMAKE_ARGS       more arguments for that configure step, e.g.
+                       "-DCMAKE_PREFIX_PATH=/opt/libtorch"
 """
 
 import os
