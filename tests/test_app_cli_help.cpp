@@ -8,6 +8,7 @@
 
 #include "app/cli_help.h"
 #include "cli_runner.h"
+#include "core/isa.h"
 #include "error_matchers.h"
 
 namespace {
@@ -41,6 +42,12 @@ TEST(CliHelp, VersionSaysWhatTheToolWasBuiltFrom) {
   for (const char* part : {"nsf " NSF_VERSION "\n", "commit: ", "compiler: ", "build: ",
                            "instruction set: ", "OpenMP: ", "LibTorch: ", "CUDA: "})
     expect_contains(out, part);
+    // Which clone of the hot kernels the loader picked on this CPU (src/core/isa.h).
+#if defined(NSF_HAS_CLONES)
+  expect_contains(out, "hot kernels (P2G, G2P): x86-64-v");
+#else
+  expect_contains(out, "hot kernels (P2G, G2P): as built");
+#endif
 }
 
 TEST(CliHelp, TheManualPageAndTheCompletionCoverEveryCommand) {

@@ -1,5 +1,7 @@
 #include "app/cli_help.h"
 
+#include "core/isa.h"
+
 #include <omp.h>
 #include <torch/cuda.h>
 #include <torch/version.h>
@@ -72,6 +74,7 @@ std::string version_text() {
   s << " FMA";
 #endif
   s << "\n";
+  s << "hot kernels (P2G, G2P): " << kernel_isa() << "\n";
   s << "OpenMP: " << _OPENMP << ", " << omp_get_num_procs() << " processors here\n";
   s << "LibTorch: " << TORCH_VERSION << "\n";
   s << "CUDA: "

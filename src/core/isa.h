@@ -12,11 +12,16 @@
 #if defined(__x86_64__) && defined(__GNUC__) && defined(__linux__) && defined(__GLIBC__) && \
     !defined(NSF_NO_CLONES)
 #define NSF_CLONES __attribute__((target_clones("default", "arch=x86-64-v3", "arch=x86-64-v4")))
+#define NSF_HAS_CLONES 1
 #else
 #define NSF_CLONES
 #endif
 
 namespace nsf {
+
+// The version of the cloned kernels this CPU runs: "x86-64-v4", "x86-64-v3" or "x86-64-v2", or,
+// in a build without clones, "as built" (`nsf --version`).
+const char* kernel_isa();
 
 // Four doubles as one vector: two SSE2 registers in the baseline clone, one AVX register in
 // the v3 and v4 clones.
