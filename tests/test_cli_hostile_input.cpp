@@ -7,7 +7,6 @@
 #include <hdf5.h>
 
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -78,7 +77,7 @@ TEST_F(HostileInput, ScenesAreCappedAndDevicesRefused) {
   const fs::path big = dir_ / "big.json";
   {
     std::ofstream f(big);
-    f << nsf::testing::kTinyCliScene;
+    f << nsf::testing::tiny_cli_scene();
   }
   fs::resize_file(big, (std::uintmax_t(64) << 20) + 1);
   expect_refused("simulate " + quoted(big) + out, nsf::app::kExitError,
@@ -87,8 +86,8 @@ TEST_F(HostileInput, ScenesAreCappedAndDevicesRefused) {
   // Exactly at the cap it is read, and runs.
   {
     std::ofstream f(big, std::ios::trunc);
-    f << nsf::testing::kTinyCliScene
-      << std::string((std::size_t(64) << 20) - std::strlen(nsf::testing::kTinyCliScene), ' ');
+    const std::string tiny = nsf::testing::tiny_cli_scene();
+    f << tiny << std::string((std::size_t(64) << 20) - tiny.size(), ' ');
   }
   ASSERT_EQ(fs::file_size(big), std::uintmax_t(64) << 20);
   const nsf::testing::CliResult at_cap = run_cli("simulate " + quoted(big) + out);
@@ -143,7 +142,7 @@ TEST_F(HostileInput, MessagesNameTheProblem) {
   expect_refused("render " + quoted(run()) + " --out " + quoted(dir_ / "f") +
                      " --no-video -q --camera 'eye=1e300,0,0 target=0,0,0'",
                  nsf::app::kExitUsage, {"--camera: eye=1e300,0,0 is out of range"});
-  std::string far = nsf::testing::kTinyCliScene;
+  std::string far = nsf::testing::tiny_cli_scene();
   far.insert(far.rfind('}'), R"(, "camera": {"eye": [1e300, 0, 0], "target": [0, 0, 0]})");
   std::ofstream(dir_ / "far.json") << far;
   expect_refused("simulate " + quoted(dir_ / "far.json") + " --out " + quoted(dir_ / "o.h5"),

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "cli_runner.h"
+#include "cli_scene_fixture.h"
 #include "io/run_reader.h"
 
 namespace nsf {
@@ -13,13 +14,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::run_cli;
 
-const char* kTinyScene = R"({
-  "name": "tiny",
-  "simulation": {"domain_lo": [0,0,0], "domain_hi": [0.5,0.5,0.5], "dx": 0.03125, "dt": 5e-4,
-                 "frames": 3, "substeps": 4},
-  "objects": [{"shape": {"type": "box", "min": [0.15,0.15,0.15], "max": [0.3,0.3,0.3]},
-               "material": {"type": "fixed_corotated", "E": 1e4, "nu": 0.3}}]
-})";
+const std::string kTinyScene = nsf::testing::tiny_cli_scene(3);
 
 fs::path write_scene(const fs::path& dir, const std::string& text) {
   fs::path p = dir / "scene.json";

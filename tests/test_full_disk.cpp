@@ -16,19 +16,14 @@
 
 #include "cli_child.h"
 #include "cli_runner.h"
+#include "cli_scene_fixture.h"
 #include "tiny_training.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-const char* kTinyScene = R"({
-  "name": "tiny",
-  "simulation": {"domain_lo": [0,0,0], "domain_hi": [0.5,0.5,0.5], "dx": 0.03125, "dt": 5e-4,
-                 "frames": 3, "substeps": 4},
-  "objects": [{"shape": {"type": "box", "min": [0.15,0.15,0.15], "max": [0.3,0.3,0.3]},
-               "material": {"type": "fixed_corotated", "E": 1e4, "nu": 0.3}}]
-})";
+const std::string kTinyScene = nsf::testing::tiny_cli_scene(3);
 
 bool mentions_write_failure(const std::string& out) {
   for (const char* part : {"disk full", "No space left", "File too large", "write failed"})

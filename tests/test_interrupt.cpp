@@ -13,6 +13,7 @@
 
 #include "cli_child.h"
 #include "cli_runner.h"
+#include "cli_scene_fixture.h"
 #include "core/temp_files.h"
 
 namespace {
@@ -20,13 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // Thousands of frames: minutes of work, so it is always mid-run when the signal comes.
-const char* kLongScene = R"({
-  "name": "long",
-  "simulation": {"domain_lo": [0,0,0], "domain_hi": [0.5,0.5,0.5], "dx": 0.03125, "dt": 5e-4,
-                 "frames": 100000, "substeps": 4},
-  "objects": [{"shape": {"type": "box", "min": [0.15,0.15,0.15], "max": [0.3,0.3,0.3]},
-               "material": {"type": "fixed_corotated", "E": 1e4, "nu": 0.3}}]
-})";
+const std::string kLongScene = nsf::testing::tiny_cli_scene(100000);
 
 bool wait_for(const fs::path& p, double seconds) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
