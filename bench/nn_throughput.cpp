@@ -13,6 +13,7 @@
 
 #include "nn/latent_inversion.h"
 #include "nn/model.h"
+#include "nn/network_samples.h"
 #include "nn/networks.h"
 #include "nn/torch_settings.h"
 

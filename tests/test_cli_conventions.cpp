@@ -27,8 +27,8 @@ using nsf::testing::expect_contains;
 using nsf::testing::run_cli;
 
 const std::vector<std::string> kCommands = {
-    "simulate",      "sweep", "train",  "eval",  "rom",       "render",    "export",
-    "contact-sheet", "demo",  "report", "serve", "calibrate", "generalize"};
+    "simulate",      "sweep", "train",  "eval",  "rom",       "render",     "export",
+    "contact-sheet", "demo",  "report", "serve", "calibrate", "generalize", "upgrade"};
 
 const std::string kScene = NSF_SOURCE_DIR "/scenes/examples/elastic_drop.json";
 
@@ -272,6 +272,7 @@ TEST_F(CliConventions, ExitStatusIsOneDocumentedConvention) {
       "render " + missing + ".h5 --out " + in_dir("frames"),
       "export " + missing + ".h5 --out " + in_dir("vtu"),
       "contact-sheet " + missing + ".h5 --out " + in_dir("sheet.png"),
+      "upgrade " + missing + ".nsf",
   };
   for (const std::string& args : errors) {
     SCOPED_TRACE(args);

@@ -5,28 +5,36 @@
 // The per-point basis decoders (nn/basis_fit.h, nn/basis_decoders.h, `nsf train --decoder
 // basis`): the snapshot SVD, the coefficient networks' Jacobians, training, the model file, and
 // fields at points that are not particles (nn/point_interpolation.h).
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <omp.h>
 
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "cli_runner.h"
+#include "core/crc32.h"
 #include "core/error.h"
 #include "error_matchers.h"
 #include "nn/basis_decoders.h"
 #include "nn/basis_fit.h"
+#include "nn/checked_archive.h"
+#include "nn/checked_bytes.h"
 #include "nn/dataset.h"
 #include "nn/evaluate.h"
 #include "nn/latent_inversion.h"
 #include "nn/model.h"
+#include "nn/model_record.h"
 #include "nn/neural_fields.h"
 #include "nn/point_interpolation.h"
 #include "nn/torch_settings.h"
 #include "nn/trainer.h"
+#include "nn/zip_entries.h"
 #include "nn_fixtures.h"
 
 #include <torch/torch.h>
@@ -222,13 +230,16 @@ nsf::TrainOptions basis_options() {
 }
 
 // Every field of a model at every particle of one frame, and at two points between particles.
-std::vector<double> outputs(const std::string& model, const std::string& data) {
-  NeuralFields nf = NeuralFields::load(model);
+// torch_free: loaded from the file's run-time record (the runtime's way), with the latent of the
+// same frame encoded by the full model.
+std::vector<double> outputs(const std::string& model, const std::string& data,
+                            bool torch_free = false) {
   const nsf::Dataset d(data);
+  const Latent z = NeuralFields::load(model).encode(d.read_positions(d.test()[0], 5));
+  NeuralFields nf = torch_free ? NeuralFields::load_basis(model) : NeuralFields::load(model);
   std::vector<Vec3> X = d.rest_positions();
   X.push_back(Vec3(0.5, 0.5, 0.5)), X.push_back(Vec3(0.4, 0.6, 0.3));
   const NeuralFields::Points all = nf.prepare(d.rest_positions()), extra = nf.prepare(X);
-  const Latent z = nf.encode(d.read_positions(d.test()[0], 5));
   const Latent zdot = nf.bases()->latent_velocity(z, d.read_field(d.test()[0], 5, "v").data());
   std::vector<double> out(z.data(), z.data() + z.size());
   for (const NeuralFields::Points* pts : {&all, &extra}) {
@@ -329,6 +340,129 @@ TEST_F(BasisModel, SavedAndLoadedGivesBitIdenticalFields) {
 }
 
 // Killed after 2,380 steps (in stage 2) and resumed: the same model to the bit.
+// The torch-free runtime reads a basis model from its file's run-time record (nn/model_record.h):
+// the same fields, bit for bit, as the model loaded with LibTorch, the same training latents and
+// calibrations, and e(X) of the rest state stored; only what needs the networks is refused.
+TEST_F(BasisModel, TorchFreeLoadGivesTheSameModel) {
+  EXPECT_TRUE(bit_identical(outputs(model(), data()), outputs(model(), data(), true)));
+  const NeuralFields full = NeuralFields::load(model()), bare = NeuralFields::load_basis(model());
+  EXPECT_NE(full.networks(), nullptr);
+  EXPECT_EQ(bare.networks(), nullptr);
+  EXPECT_EQ(bare.latent_dim(), full.latent_dim());
+  EXPECT_EQ(bare.particle_count(), size_t(kParticles));
+  EXPECT_EQ(bare.scene_name(), full.scene_name());
+  EXPECT_EQ(bare.mu_min(), full.mu_min());
+  EXPECT_EQ(bare.mu_max(), full.mu_max());
+  EXPECT_EQ(bare.train_seconds(), full.train_seconds());
+  EXPECT_EQ(bare.training_box().to_json(), full.training_box().to_json());
+  const nsf::ModelRecord &a = full.record(), &b = bare.record();
+  ASSERT_FALSE(b.trajectory_latents.empty());
+  ASSERT_EQ(b.trajectory_latents.size(), a.trajectory_latents.size());
+  for (size_t i = 0; i < a.trajectory_latents.size(); ++i)
+    for (size_t k = 0; k < a.trajectory_latents[i].size(); ++k)
+      EXPECT_EQ(b.trajectory_latents[i][k], a.trajectory_latents[i][k]);
+  EXPECT_EQ(b.trajectory_mu, a.trajectory_mu);
+  EXPECT_EQ(b.latent_spread, a.latent_spread);
+  // e(X), computed when the file was saved, is the encoder's latent of the rest state.
+  const nsf::Dataset d(data());
+  const Latent z_rest = full.encode(d.rest_positions());
+  ASSERT_EQ(bare.rest_latent(d.rest_positions()).size(), z_rest.size());
+  EXPECT_LT((bare.rest_latent(d.rest_positions()) - z_rest).norm(), 1e-6 * (1 + z_rest.norm()));
+  // The record's bytes round-trip.
+  const std::string bytes = nsf::encode_model_record(b);
+  EXPECT_EQ(nsf::encode_model_record(nsf::decode_model_record(bytes, "x")), bytes);
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { bare.encode(d.rest_positions()); }),
+                                "needs LibTorch");
+}
+
+// A record whose bytes changed is refused by its own CRC-32, even where the file's checksum was
+// made to match again; a model without one (an MLP model) says what the runtime needs.
+TEST_F(BasisModel, DamagedOrMissingRecordIsAClearError) {
+  std::string bytes;
+  {
+    std::ifstream in(model(), std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const size_t comment = nsf::checksum_comment_length();
+  std::vector<nsf::ZipEntry> entries;
+  ASSERT_TRUE(nsf::zip_directory(bytes, comment, "model file", model(), entries));
+  size_t at = 0;
+  for (const nsf::ZipEntry& e : entries)
+    if (nsf::is_model_record(bytes.data() + e.data, e.size)) at = size_t(e.data) + e.size / 2;
+  ASSERT_GT(at, 0u) << "a basis model file holds a run-time record";
+  bytes[at] = char(bytes[at] ^ 0x5a);
+  bytes.resize(bytes.size() - comment);  // the checksum made to match the changed bytes
+  bytes[bytes.size() - 2] = bytes[bytes.size() - 1] = 0;
+  nsf::add_checksum(bytes, "model file", "test");
+  const std::string damaged = (root_ / "damaged.nsf").string();
+  std::ofstream(damaged, std::ios::binary) << bytes;
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { NeuralFields::load_basis(damaged); }),
+                                "run-time record is damaged");
+
+  nsf::NetConfig c;
+  c.decoder = nsf::DecoderFamily::mlp;
+  c.latent_dim = 2;
+  c.encoder_hidden = 8;
+  c.width_g = c.width_h = c.width_l = 4;
+  c.depth = 1;
+  const std::string mlp = (root_ / "mlp.nsf").string();
+  nsf::NeuralModel net(c, nsf::SceneFingerprint{"tiny", 10, 1}, false);
+  net.rest = torch::zeros({10, 3});  // the displacement form's rest positions
+  net.save(mlp);
+  const std::string why = nsf::testing::error_of([&] { NeuralFields::load_basis(mlp); });
+  nsf::testing::expect_contains(why, "no run-time record");
+  nsf::testing::expect_contains(why, "MLP model");
+  EXPECT_NO_THROW(NeuralFields::load(mlp));
+}
+
+// A record with changed bytes whose CRC-32 was made to match again (a crafted file) is parsed with
+// every length checked: it loads or is refused with nsf::Error, never a crash or a huge allocation.
+TEST_F(BasisModel, RecordParserSurvivesCraftedBytes) {
+  const std::string good = nsf::encode_model_record(NeuralFields::load_basis(model()).record());
+  constexpr size_t kHeader = 24;  // magic, version, length, CRC-32
+  std::mt19937 rng(7);
+  int refused = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    std::string b = good;
+    if (trial % 4 == 0) {  // cut short, the length field made to agree
+      b.resize(kHeader + rng() % (good.size() - kHeader));
+      const uint64_t n = b.size() - kHeader;
+      std::memcpy(&b[12], &n, 8);
+    } else {  // a few bytes of the first kilobyte (the sizes and counts) changed
+      for (int k = 0; k < 1 + trial % 3; ++k) {
+        const size_t at = kHeader + rng() % std::min<size_t>(1024, good.size() - kHeader);
+        b[at] = char(rng());
+      }
+    }
+    const uint32_t crc = nsf::crc32_of(b.data() + kHeader, b.size() - kHeader);
+    std::memcpy(&b[20], &crc, 4);
+    try {
+      nsf::decode_model_record(b, "crafted.nsf");
+    } catch (const nsf::Error& e) {
+      ++refused;
+      EXPECT_THAT(e.what(), ::testing::HasSubstr("crafted.nsf"));
+    }
+  }
+  EXPECT_GT(refused, 100);
+}
+
+// `nsf upgrade` gives a model file saved before nsf stored the record (the torch archive alone)
+// the record, and the runtime then reads the same fields.
+TEST_F(BasisModel, UpgradeAddsTheRecordToAnOlderFile) {
+  const std::string old = (root_ / "old.nsf").string();
+  {
+    torch::serialize::OutputArchive a;
+    nsf::NeuralModel::load(model()).write(a);
+    nsf::save_checked_archive(a, old, "model file");
+  }
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { NeuralFields::load_basis(old); }),
+                                "no run-time record");
+  const nsf::testing::CliResult r = nsf::testing::run_cli("upgrade " + old);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  nsf::testing::expect_contains(r.output, "with its run-time record");
+  EXPECT_TRUE(bit_identical(outputs(model(), data(), true), outputs(old, data(), true)));
+}
+
 TEST_F(BasisModel, ResumedTrainingGivesTheSameModel) {
   const std::string m = (root_ / "resumed.nsf").string();
   nsf::TrainOptions o = basis_options();

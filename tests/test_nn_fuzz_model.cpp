@@ -27,6 +27,7 @@
 #include "nn/latent_inversion.h"
 #include "nn/latent_prior.h"
 #include "nn/model.h"
+#include "nn/network_samples.h"
 #include "nn/neural_fields.h"
 
 #include <torch/torch.h>

@@ -16,6 +16,7 @@
 #include "nn/evaluate.h"
 #include "nn/latent_inversion.h"
 #include "nn/model.h"
+#include "nn/network_samples.h"
 #include "nn/neural_fields.h"
 #include "nn/torch_settings.h"
 #include "nn/trainer.h"

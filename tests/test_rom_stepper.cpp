@@ -24,12 +24,12 @@
 #include "nn/latent_inversion.h"
 #include "nn/latent_prior.h"
 #include "nn/model.h"
+#include "nn/network_samples.h"
 #include "nn/neural_fields.h"
 #include "nn/torch_settings.h"
 #include "nn/trainer.h"
 #include "rom/calibration/latent_prior_calibration.h"
 #include "rom/eval/rom_evaluation.h"
-#include "rom/field_gradients.h"
 #include "rom/field_source.h"
 #include "rom/integration_set.h"
 #include "rom/latent_stepper.h"
@@ -804,6 +804,25 @@ TEST_F(RomEndToEnd, AGuardedRunRecoversFromADivergenceAndSaysSo) {
   EXPECT_LT(worst, 1.0);
   EXPECT_EQ(plain.latent(), watched.latent());
   std::printf("healthy run: indicator at most %.3g\n", worst);
+}
+
+// Issue #53 item 1: the runtime's torch-free load (the file's run-time record) steps as the model
+// loaded with LibTorch does, bit for bit: QDEIM's tangents at the training latents, the latent
+// prior over them, and e(X) at the rest state all come from the record.
+TEST_F(RomEndToEnd, TheTorchFreeLoadStepsAsTheFullModelDoes) {
+  nsf::NeuralFields full = nsf::NeuralFields::load(basis_model()),
+                    bare = nsf::NeuralFields::load_basis(basis_model());
+  nsf::RomOptions o;
+  o.sampling.count = 64;
+  o.sampling.mode = "qdeim";
+  o.latent_prior = 0.002;
+  nsf::LatentStepper a(full, nsf::load_scene(kTinyScene), test_mu(), o),
+      b(bare, nsf::load_scene(kTinyScene), test_mu(), o);
+  for (int frame = 0; frame < 3; ++frame) a.advance_frame(), b.advance_frame();
+  EXPECT_EQ(a.latent(), b.latent());
+  std::vector<Vec3> xa, xb;
+  a.particle_state(xa, nullptr), b.particle_state(xb, nullptr);
+  EXPECT_EQ(xa, xb);
 }
 
 // Issue #55 item 4: the model keeps the box its training runs spanned (μ, and where the floor

@@ -16,6 +16,7 @@ void add_demo_command(CLI::App& app);
 void add_report_command(CLI::App& app);
 void add_serve_command(CLI::App& app);       // cmd_serve.cpp
 void add_generalize_command(CLI::App& app);  // cmd_generalize.cpp
+void add_upgrade_command(CLI::App& app);     // cmd_upgrade.cpp
 
 // Sets the OpenMP thread count (0 = all cores) and returns the count in use.
 int set_threads(int requested);

@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
   add_report_command(app);
   add_serve_command(app);
   add_generalize_command(app);
+  add_upgrade_command(app);
   add_self_description_commands(app);
   for (CLI::App* cmd : app.get_subcommands({}))
     cmd->footer("Exit status: 0 success, 1 error, 2 usage error, 3 internal error (nsf --help).");

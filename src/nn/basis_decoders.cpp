@@ -5,6 +5,7 @@
 #include "nn/basis_decoders.h"
 
 #include <Eigen/QR>
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -31,6 +32,20 @@ Eigen::VectorXd CoefficientNet::operator()(const Eigen::VectorXd& x, Eigen::Matr
   }
   if (J) *J = out_scale.asDiagonal() * D;
   return a.cwiseProduct(out_scale);
+}
+
+PointBasis PointBasis::rows(const std::vector<uint32_t>& ids) const {
+  PointBasis out;
+  out.dim = dim, out.K = K, out.points = ids.size();
+  out.net = net, out.map = map;
+  const size_t d = size_t(dim), dk = d * size_t(K);
+  out.mean.resize(ids.size() * d), out.modes.resize(ids.size() * dk);
+  for (size_t k = 0; k < ids.size(); ++k) {
+    if (ids[k] >= points) fail("internal error: particle ", ids[k], " of a basis over ", points);
+    std::copy_n(&mean[ids[k] * d], d, &out.mean[k * d]);
+    std::copy_n(&modes[ids[k] * dk], dk, &out.modes[k * dk]);
+  }
+  return out;
 }
 
 void PointBasis::blend(const std::vector<std::pair<uint32_t, double>>& members,

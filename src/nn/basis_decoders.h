@@ -68,6 +68,8 @@ struct PointBasis {
       out[d] = m[d] + acc.sum();
     }
   }
+  // The same field at the particles `ids` only, in that order (coefficients shared).
+  PointBasis rows(const std::vector<uint32_t>& ids) const;
   // The mean and modes of a point standing for several particles, mass-weighted.
   void blend(const std::vector<std::pair<uint32_t, double>>& members, std::vector<float>& mean_out,
              std::vector<float>& modes_out) const;

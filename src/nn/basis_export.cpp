@@ -101,4 +101,41 @@ BasisDecoders basis_decoders(const NeuralModel& m) {
   return d;
 }
 
+ModelRecord model_record(const NeuralModel& m) {
+  ModelRecord r;
+  r.scene = m.scene;
+  r.family = m.config.decoder;
+  r.latent_dim = int(m.latent_dim());
+  r.stress_uses_mu = m.stress_has_mu();
+  r.mu_min = m.mu_min, r.mu_max = m.mu_max;
+  r.training_box = m.training_box;
+  r.train_seconds = m.train_seconds;
+  r.latent_prior = m.calibration.latent_prior, r.dt_ratio = m.calibration.dt_ratio;
+  r.tracked_latent_prior = m.tracked_calibration.latent_prior;
+  r.tracked_dt_ratio = m.tracked_calibration.dt_ratio;
+  r.latent_spread = to_vector(m.norm_z.std);
+  if (m.trajectory_latents.defined()) {
+    const torch::Tensor t = m.trajectory_latents.to(torch::kCPU, torch::kFloat64).contiguous();
+    const int64_t runs = t.size(0), frames = t.size(1), dim = t.size(2);
+    const double* z = t.data_ptr<double>();
+    for (int64_t i = 0; i < runs; ++i) {
+      r.trajectory_latents.emplace_back();
+      for (int64_t k = 0; k < frames; ++k)
+        r.trajectory_latents.back().push_back(
+            Eigen::Map<const Eigen::VectorXd>(z + (i * frames + k) * dim, dim));
+    }
+    const Eigen::VectorXd mu = to_vector(m.trajectory_mu);
+    r.trajectory_mu.assign(mu.data(), mu.data() + mu.size());
+  }
+  if (m.is_basis()) {
+    r.bases = std::make_shared<BasisDecoders>(basis_decoders(m));
+    // e(X) as NeuralFields::encode evaluates it for the scene's rest positions (float X). The
+    // forward pass changes no parameter.
+    torch::NoGradGuard no_grad;
+    const torch::Tensor X = m.rest.to(torch::kCPU, torch::kFloat32).reshape({1, -1, 3});
+    r.rest_latent = to_vector(const_cast<NeuralModel&>(m).encode(X));
+  }
+  return r;
+}
+
 }  // namespace nsf

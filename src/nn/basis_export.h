@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "nn/basis_decoders.h"
+#include "nn/model_record.h"
 
 namespace nsf {
 
@@ -17,5 +18,9 @@ PointBasis point_basis(const NeuralModel& model, int field,
 BasisDecoders basis_decoders(const NeuralModel& model);
 // No bases, only which inputs the coefficients read (BasisDecoders::stress_input, affine_input).
 BasisDecoders coefficient_inputs(const NeuralModel& model);
+
+// The model's run-time record (nn/model_record.h): its bases (a basis model), the training runs'
+// latents, the calibrations, and e(X) at the rest state (evaluated here: the encoder is torch's).
+ModelRecord model_record(const NeuralModel& model);
 
 }  // namespace nsf

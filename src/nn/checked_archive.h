@@ -8,6 +8,8 @@
 
 #include <string>
 
+#include "nn/checked_bytes.h"  // stored_checksum
+
 namespace nsf {
 
 // Writes `a` to `path` atomically (tmp + rename), checksum included. `what` names the file in
@@ -20,10 +22,5 @@ void save_checked_archive(torch::serialize::OutputArchive& a, const std::string&
 // checksum (loaded unverified).
 bool load_checked_archive(torch::serialize::InputArchive& a, const std::string& path,
                           const std::string& what);
-
-// The CRC-32 a checksummed archive carries ("1a2b3c4d"), read from its end without verifying it;
-// "" for a file without one or one that cannot be read. Names the file's contents in a results
-// row (docs/RESULTS.md), so that a rerun can tell whether it uses the same model.
-std::string stored_checksum(const std::string& path);
 
 }  // namespace nsf

@@ -12,6 +12,7 @@
 #include "nn/held_out_points.h"
 #include "nn/latent_inversion.h"
 #include "nn/model.h"
+#include "nn/network_samples.h"
 #include "nn/neural_fields.h"
 
 namespace nsf {

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "nn/basis_export.h"
 #include "nn/checked_archive.h"
 #include "nn/model_file_checks.h"
 
@@ -31,7 +32,10 @@ constexpr int64_t kModesEncoderFormatVersion = 6;
 // 7: a basis model whose τ map reads the latent velocity (`stress_uses_velocity`), which an older
 // nsf would call with too few inputs: it refuses the file.
 constexpr int64_t kStressVelocityFormatVersion = 7;
-constexpr int64_t kNewestFormatVersion = kStressVelocityFormatVersion;
+// 8: a basis model whose bases' means and modes are stored once, in its run-time record
+// (`runtime_record`, nn/model_record.h), which an older nsf would not find: it refuses the file.
+constexpr int64_t kRecordFormatVersion = 8;
+constexpr int64_t kNewestFormatVersion = kRecordFormatVersion;
 // nsf has stored a checksum in every model file since before format version 5 was written, so a
 // file of version 5 or later without one was changed after nsf wrote it (bytes appended or cut,
 // the zip comment removed). Files of versions 3 and 4 written since carry the entry
@@ -39,17 +43,12 @@ constexpr int64_t kNewestFormatVersion = kStressVelocityFormatVersion;
 constexpr int64_t kFirstChecksummedFormatVersion = 5;
 constexpr const char* kMapParts[5] = {"centers", "weights", "poly", "shift", "scale"};
 constexpr const char* kBasisNames[3] = {"u", "tau", "C"};
+constexpr const char* kRecordEntry = "runtime_record";
 constexpr int64_t kBasisDims[3] = {3, 6, 9};
 
 torch::Tensor to_tensor(const std::vector<double>& v) {
   std::vector<float> f(v.begin(), v.end());
   return torch::tensor(f, torch::kFloat32);
-}
-
-std::string hex64(uint64_t v) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
 }
 
 void write_normalizer(torch::serialize::OutputArchive& a, const std::string& name,
@@ -129,24 +128,6 @@ Normalizer Normalizer::from_moments(const std::vector<double>& sum,
   return {to_tensor(mean), to_tensor(sd)};
 }
 
-SceneFingerprint SceneFingerprint::of(const std::string& scene_name, const std::vector<Vec3>& X) {
-  // FNV-1a over the raw doubles: any change to the sampling (resolution, seed, geometry) changes
-  // the particle indexing and must invalidate the model.
-  uint64_t h = 1469598103934665603ull;
-  for (const Vec3& p : X) {
-    const unsigned char* b = reinterpret_cast<const unsigned char*>(p.data());
-    for (size_t i = 0; i < 3 * sizeof(double); ++i) h = (h ^ b[i]) * 1099511628211ull;
-  }
-  return {scene_name, static_cast<int64_t>(X.size()), h};
-}
-
-std::string SceneFingerprint::describe() const {
-  std::ostringstream os;
-  os << "scene '" << scene_name << "' (" << particles << " particles, X hash " << hex64(x_hash)
-     << ")";
-  return os.str();
-}
-
 NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
     : config(c), scene(s), has_mu(mu) {
   const int64_t r = c.latent_dim;
@@ -178,14 +159,15 @@ NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
   norm_C = Normalizer::identity(9);
 }
 
-void NeuralModel::write(torch::serialize::OutputArchive& a) const {
+void NeuralModel::write(torch::serialize::OutputArchive& a, bool bases_in_record) const {
   a.write("format", c10::IValue(std::string(kFormat)));
   a.write("format_version",
-          c10::IValue(config.stress_reads_velocity() ? kStressVelocityFormatVersion
-                      : config.encoder == "modes"    ? kModesEncoderFormatVersion
-                      : config.uses_maps()           ? kMapFormatVersion
-                      : is_basis()                   ? kBasisFormatVersion
-                                                     : kFormatVersion));
+          c10::IValue(bases_in_record                  ? kRecordFormatVersion
+                      : config.stress_reads_velocity() ? kStressVelocityFormatVersion
+                      : config.encoder == "modes"      ? kModesEncoderFormatVersion
+                      : config.uses_maps()             ? kMapFormatVersion
+                      : is_basis()                     ? kBasisFormatVersion
+                                                       : kFormatVersion));
   a.write("nsf_version", c10::IValue(std::string(NSF_VERSION)));
   a.write("checksummed", c10::IValue(true));
   a.write("scene_name", c10::IValue(scene.scene_name));
@@ -225,19 +207,23 @@ void NeuralModel::write(torch::serialize::OutputArchive& a) const {
     a.write("decoder", c10::IValue(std::string(family_name(config.decoder))));
     a.write("coefficient_width", c10::IValue(int64_t(config.coefficient_width)));
     a.write("coefficient_depth", c10::IValue(int64_t(config.coefficient_depth)));
-    if (config.encoder == "modes" || config.stress_reads_velocity())
+    // Each entry from the format version that introduced it on: version 8 has them all.
+    if (bases_in_record || config.encoder == "modes" || config.stress_reads_velocity())
       a.write("encoder_kind", c10::IValue(config.encoder));
-    if (config.uses_maps()) {
+    if (bases_in_record || config.uses_maps()) {
       a.write("coefficients_tau", c10::IValue(config.coefficients[0]));
       a.write("coefficients_C", c10::IValue(config.coefficients[1]));
       a.write("affine_uses_velocity", c10::IValue(config.affine_uses_velocity));
     }
-    if (config.stress_reads_velocity()) a.write("stress_uses_velocity", c10::IValue(true));
+    if (bases_in_record || config.stress_reads_velocity())
+      a.write("stress_uses_velocity", c10::IValue(config.stress_reads_velocity()));
     for (int f = 0; f < 3; ++f) {
       const std::string n = kBasisNames[f];
       a.write("modes_" + n, c10::IValue(int64_t(config.modes[f])));
-      a.write("basis_" + n + "_mean", basis[f].mean, /*is_buffer=*/true);
-      a.write("basis_" + n + "_modes", basis[f].modes, /*is_buffer=*/true);
+      if (!bases_in_record) {
+        a.write("basis_" + n + "_mean", basis[f].mean, /*is_buffer=*/true);
+        a.write("basis_" + n + "_modes", basis[f].modes, /*is_buffer=*/true);
+      }
       a.write("basis_" + n + "_scale", basis[f].scale, /*is_buffer=*/true);
       if (basis[f].has_map()) {
         const torch::Tensor* parts[5] = {&basis[f].map_centers, &basis[f].map_weights,
@@ -405,13 +391,44 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
     m.trajectory_latents = trajectories;
     m.trajectory_mu = trajectory_mu;
   }
+  torch::Tensor record;
+  if (a.try_read(kRecordEntry, record, /*is_buffer=*/true)) {
+    if (record.scalar_type() != torch::kUInt8 || record.dim() != 1)
+      fail("model file ", path, ": its run-time record is not a byte array");
+    record = record.contiguous();
+    m.stored_record = std::make_shared<const ModelRecord>(
+        decode_model_record(std::string(reinterpret_cast<const char*>(record.data_ptr<uint8_t>()),
+                                        size_t(record.numel())),
+                            path));
+  }
+  if (m.stored_record &&
+      (!m.stored_record->scene.matches(s) || m.stored_record->latent_dim != c.latent_dim ||
+       m.stored_record->family != c.decoder))
+    fail("model file ", path, ": its run-time record is another model's (",
+         m.stored_record->scene.describe(), ")");
+  if (version >= kRecordFormatVersion &&
+      !(m.is_basis() && m.stored_record && m.stored_record->bases))
+    fail("model file ", path, ": a basis model of format version ", version,
+         " keeps its bases in its run-time record, and it has none");
   std::vector<std::pair<std::string, torch::nn::Module*>> nets = {{"encoder", m.encoder.get()}};
   if (m.is_basis()) {
     for (int f = 0; f < 3; ++f) {
       const std::string n = kBasisNames[f];
       BasisField& b = m.basis[f];
-      a.read("basis_" + n + "_mean", b.mean, /*is_buffer=*/true);
-      a.read("basis_" + n + "_modes", b.modes, /*is_buffer=*/true);
+      if (version >= kRecordFormatVersion) {
+        const BasisDecoders& d = *m.stored_record->bases;
+        const PointBasis& pb = f == 0 ? d.u : f == 1 ? d.tau : d.C;
+        b.mean = torch::from_blob(const_cast<float*>(pb.mean.data()),
+                                  {int64_t(pb.points), int64_t(pb.dim)}, torch::kFloat32)
+                     .clone();
+        b.modes =
+            torch::from_blob(const_cast<float*>(pb.modes.data()),
+                             {int64_t(pb.points), int64_t(pb.dim), int64_t(pb.K)}, torch::kFloat32)
+                .clone();
+      } else {
+        a.read("basis_" + n + "_mean", b.mean, /*is_buffer=*/true);
+        a.read("basis_" + n + "_modes", b.modes, /*is_buffer=*/true);
+      }
       a.read("basis_" + n + "_scale", b.scale, /*is_buffer=*/true);
       const int64_t K = c.modes[f], d = kBasisDims[f];
       if (b.mean.sizes() != torch::IntArrayRef({s.particles, d}) ||
@@ -440,7 +457,16 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
 void NeuralModel::save(const std::string& path) const {
   torch::serialize::OutputArchive a;
   try {
-    write(a);
+    // A basis model's run-time record, for the torch-free runtime: stored as a tensor, it is one
+    // uncompressed zip entry whose first bytes name it (nn/model_record.h). It holds the bases,
+    // which the archive then leaves out.
+    write(a, /*bases_in_record=*/is_basis());
+    if (is_basis()) {
+      std::string bytes = encode_model_record(model_record(*this));
+      a.write(kRecordEntry,
+              torch::from_blob(bytes.data(), {int64_t(bytes.size())}, torch::kUInt8).clone(),
+              /*is_buffer=*/true);
+    }
   } catch (const c10::Error& e) {
     fail("cannot write model ", path, ": ", e.what_without_backtrace());
   }
@@ -483,9 +509,7 @@ NeuralModel NeuralModel::load(const std::string& path) {
 }
 
 void NeuralModel::check_scene(const SceneFingerprint& data, const std::string& what) const {
-  if (!scene.matches(data))
-    fail("the model was trained for ", scene.describe(), ", but ", what, " is ", data.describe(),
-         "; train a model for this scene (nsf train)");
+  check_same_scene(scene, data, what);
 }
 
 void NeuralModel::to(const torch::Device& device) {

@@ -11,7 +11,9 @@
 #include "core/types.h"
 #include "data/training_box.h"
 #include "nn/config.h"
+#include "nn/model_record.h"
 #include "nn/networks.h"
+#include "nn/scene_fingerprint.h"
 
 namespace nsf {
 
@@ -26,20 +28,6 @@ struct Normalizer {
                                  double count);
   torch::Tensor apply(const torch::Tensor& v) const { return (v - mean) / std; }
   torch::Tensor invert(const torch::Tensor& v) const { return v * std + mean; }
-};
-
-// Identifies the scene a model belongs to: the reference positions X fix the particle indexing
-// every network relies on, so the hash covers their exact bits.
-struct SceneFingerprint {
-  std::string scene_name;
-  int64_t particles = 0;
-  uint64_t x_hash = 0;
-
-  static SceneFingerprint of(const std::string& scene_name, const std::vector<Vec3>& X);
-  bool matches(const SceneFingerprint& o) const {
-    return particles == o.particles && x_hash == o.x_hash;
-  }
-  std::string describe() const;  // "scene 'bread' (40000 particles, X hash 0123abcd…)"
 };
 
 // One field of a basis model, f_p = mean_p + B_p · (scale ⊙ net(input)) (nn/basis_decoders.h has
@@ -74,8 +62,9 @@ class NeuralModel {
   // Throws nsf::Error when `data` (what: e.g. the dataset path) is another scene.
   void check_scene(const SceneFingerprint& data, const std::string& what) const;
 
-  // Archive form, shared by the model file and the training checkpoint.
-  void write(torch::serialize::OutputArchive& a) const;
+  // Archive form, shared by the model file and the training checkpoint. bases_in_record: the
+  // bases' means and modes are left out (save() stores them in the run-time record).
+  void write(torch::serialize::OutputArchive& a, bool bases_in_record = false) const;
   static NeuralModel read(torch::serialize::InputArchive& a, const std::string& path);
 
   bool stress_has_mu() const { return has_mu && config.stress_uses_mu; }
@@ -137,6 +126,9 @@ class NeuralModel {
   // for it), and for the ROM whose points carry their own (the tracked state): the two integrate
   // differently, so each has its own.
   RomCalibration calibration, tracked_calibration;
+  // The run-time record (nn/model_record.h) of the file it was loaded from; null where the file
+  // has none. save() writes a fresh one.
+  std::shared_ptr<const ModelRecord> stored_record;
 };
 
 }  // namespace nsf

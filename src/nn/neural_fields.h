@@ -2,6 +2,8 @@
 // Run-time access to a trained model without torch in the interface: the reduced-order stepper,
 // `nsf eval` and other programs evaluate the encoder e and the fields g, h, l over many
 // particles per call. Latents and results are double at the interface; the networks run in float.
+// Loaded with load_basis(), it needs no torch at all (the model file's run-time record,
+// nn/model_record.h), and serves basis models; load() (libnsf_nn) adds the networks.
 #include <Eigen/Core>
 #include <memory>
 #include <string>
@@ -10,18 +12,27 @@
 #include "core/types.h"
 #include "data/training_box.h"
 #include "nn/config.h"
+#include "nn/model_record.h"
 
 namespace nsf {
 
 class NeuralModel;
-struct BasisDecoders;
+class CoordinateNetworks;
+class SampleDeformation;
 
 using Latent = Eigen::VectorXd;  // ẑ ∈ R^r
 
 class NeuralFields {
  public:
-  // Loads a model file (nsf train). Throws nsf::Error naming the file when it cannot be used.
+  // Loads a model file (nsf train) of either family with LibTorch: the encoder, an MLP model's
+  // networks and model() (defined in libnsf_nn, nn/torch_networks.cpp). A basis model's fields
+  // are its run-time record's (nn/model_record.h), as load_basis() gives them. Throws nsf::Error
+  // naming the file when it cannot be used.
   static NeuralFields load(const std::string& path);
+  // Loads a basis model from its file's run-time record, without torch (the runtime). Throws
+  // nsf::Error naming the file when it cannot be used: an MLP model, or a file without a
+  // record, among them.
+  static NeuralFields load_basis(const std::string& path);
   ~NeuralFields();
   NeuralFields(NeuralFields&&) noexcept;
   NeuralFields& operator=(NeuralFields&&) noexcept;
@@ -47,6 +58,17 @@ class NeuralFields {
   double calibrated_latent_prior(bool tracked = false) const;
   // The ROM step over the scene's Δt that `nsf calibrate --dt-ratios` chose, or < 0 where none.
   double calibrated_dt_ratio(bool tracked = false) const;
+
+  const ModelRecord& record() const { return record_; }
+  // The encoder and the coordinate networks; null when loaded without torch.
+  const CoordinateNetworks* networks() const { return net_.get(); }
+
+  // e(X) of the rest state X (the scene's particles, checked with check_scene): stored in the
+  // record, or encoded where the file has none.
+  Latent rest_latent(const std::vector<Vec3>& X) const;
+  // g and ∂g/∂ẑ at the particles `ids` (rest positions X[ids]), for the inversion.
+  std::unique_ptr<SampleDeformation> sample_deformation(const std::vector<Vec3>& X,
+                                                        const std::vector<uint32_t>& ids) const;
 
   // Throws nsf::Error unless X (rest positions of `what`, e.g. a run file) is the model's scene.
   void check_scene(const std::string& scene_name, const std::vector<Vec3>& X,
@@ -86,13 +108,14 @@ class NeuralFields {
   void affine(const Points& X, const Latent& z, std::vector<Mat3>& C, double mu = 0,
               const Latent* zdot = nullptr) const;
 
-  // The torch-level model, for code that already includes nn/model.h (trainer, tools).
+  // The torch-level model, for code that already includes nn/model.h (trainer, tools); throws
+  // nsf::Error when loaded without torch.
   NeuralModel& model();
 
  private:
   NeuralFields();
-  std::unique_ptr<NeuralModel> model_;
-  std::unique_ptr<BasisDecoders> bases_;
+  ModelRecord record_;
+  std::unique_ptr<CoordinateNetworks> net_;
 };
 
 }  // namespace nsf

@@ -3,50 +3,12 @@
 #include <ATen/Context.h>
 #include <ATen/Parallel.h>
 #include <ATen/Version.h>
-#include <dlfcn.h>
-#include <malloc.h>
 
 #include <cstdlib>
 #include <string>
 #include <thread>
 
 namespace nsf {
-
-namespace {
-
-// OpenBLAS's entry points looked up at run time: libtorch links libblas.so.3, which the
-// alternatives system may point at OpenBLAS or at the reference BLAS, so linking them directly
-// would fail for the latter.
-template <typename Fn>
-Fn openblas_symbol(const char* name) {
-  return reinterpret_cast<Fn>(dlsym(RTLD_DEFAULT, name));
-}
-
-// OpenBLAS's thread count setter and getter, looked up once: the ROM sets the count around every
-// step's fit, and a dlsym per call cost 3 % of its step (perf, metal_small).
-using SetThreads = void (*)(int);
-using GetThreads = int (*)();
-SetThreads openblas_set_threads() {
-  static const SetThreads f = openblas_symbol<SetThreads>("openblas_set_num_threads");
-  return f;
-}
-GetThreads openblas_get_threads() {
-  static const GetThreads f = openblas_symbol<GetThreads>("openblas_get_num_threads");
-  return f;
-}
-
-}  // namespace
-
-void retain_freed_memory() {
-  // Every training step allocates the same activation and gradient tensors (0.1-10 MiB) and
-  // frees them again. By default glibc serves such blocks with mmap, or trims them off the heap
-  // top on free, so each step re-faults its pages in and zero-fills them: perf showed a third of
-  // a stage-1 step in page faults and OpenBLAS's sgemm_beta touching fresh pages. Keeping them
-  // in the heap doubled the Adam step of g at width 192 (bench/nn_throughput, allocator rows;
-  // docs/BENCHMARKS.md, "The allocator").
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's maximum on 64-bit
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
-}
 
 int set_nn_threads(int requested, bool retain_memory) {
   if (retain_memory) retain_freed_memory();
@@ -62,7 +24,7 @@ int set_nn_threads(int requested, bool retain_memory) {
   const bool passive =
       policy && (std::string(policy) == "passive" || std::string(policy) == "PASSIVE");
   at::set_num_threads(passive ? n : 1);
-  if (auto set = openblas_symbol<void (*)(int)>("openblas_set_num_threads")) {
+  if (auto set = reinterpret_cast<void (*)(int)>(blas_symbol("openblas_set_num_threads"))) {
     set(n);
     return n;
   }
@@ -70,27 +32,8 @@ int set_nn_threads(int requested, bool retain_memory) {
   return at::get_num_threads();
 }
 
-ScopedBlasThreads::ScopedBlasThreads(int n) : previous_(blas_thread_count()) {
-  const SetThreads set = openblas_set_threads();
-  if (set && previous_ > 0 && previous_ != n) set(n);
-}
-
-ScopedBlasThreads::~ScopedBlasThreads() {
-  const SetThreads set = openblas_set_threads();
-  if (set && previous_ > 0 && blas_thread_count() != previous_) set(previous_);
-}
-
-int blas_thread_count() {
-  const GetThreads get = openblas_get_threads();
-  return get ? get() : 0;
-}
-
-bool blas_is_openblas() {
-  return openblas_symbol<char* (*)()>("openblas_get_config") != nullptr;
-}
-
 std::string blas_info() {
-  auto config = openblas_symbol<char* (*)()>("openblas_get_config");
+  auto config = reinterpret_cast<char* (*)()>(blas_symbol("openblas_get_config"));
   // pip's LibTorch (a CUDA build, docs/TRAINING.md) carries its own MKL instead of libblas.so.3.
   if (!config && at::show_config().find("BLAS_INFO=mkl") != std::string::npos)
     return "MKL, LibTorch's own (" + std::to_string(at::get_num_threads()) + " threads)";

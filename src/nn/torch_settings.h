@@ -2,6 +2,8 @@
 // Process-wide settings for LibTorch, without torch in the header.
 #include <string>
 
+#include "core/blas_threads.h"
+
 namespace nsf {
 
 // Uses `requested` threads (0 = all cores) for the networks: OpenBLAS's pool gets them all (the
@@ -11,30 +13,9 @@ namespace nsf {
 // GEMMs.
 int set_nn_threads(int requested, bool retain_memory = true);
 
-// Keeps freed blocks up to 32 MiB in the process's heap (glibc mallopt) instead of handing them
-// back to the kernel, so that the tensors every step allocates anew do not page-fault again.
-// The price: memory freed after a peak stays with the process until it exits.
-void retain_freed_memory();
-
-// Runs the GEMMs of a scope on `n` threads and restores the previous count on exit. For work
-// on a few hundred points (the Gauss–Newton fit on the sample particles), where splitting each
-// small GEMM across threads costs more than it saves. No effect without OpenBLAS.
-class ScopedBlasThreads {
- public:
-  explicit ScopedBlasThreads(int n);
-  ~ScopedBlasThreads();
-  ScopedBlasThreads(const ScopedBlasThreads&) = delete;
-  ScopedBlasThreads& operator=(const ScopedBlasThreads&) = delete;
-
- private:
-  int previous_ = 0;
-};
-
 // Which BLAS the process actually loaded: "OpenBLAS 0.3.21 … (2 threads)", or a warning when
 // it is not OpenBLAS (the reference BLAS is 6–10× slower; see scripts/install-deps.sh).
 std::string blas_info();
-bool blas_is_openblas();
-int blas_thread_count();  // OpenBLAS's current thread count; 0 without OpenBLAS
 
 // Seeds torch's global generator (network initialisation).
 void seed_torch(unsigned long long seed);

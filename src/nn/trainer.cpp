@@ -28,6 +28,7 @@
 #include "nn/latent_inversion.h"
 #include "nn/loss_plot.h"
 #include "nn/model.h"
+#include "nn/network_samples.h"
 #include "nn/rbf_map.h"
 #include "nn/torch_settings.h"
 

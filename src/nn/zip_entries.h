@@ -7,14 +7,28 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace nsf {
 
-// The CRC-32 of n bytes at p (zlib's, in chunks: its length argument is 32-bit).
-uint32_t crc32_of(const char* p, size_t n);
+// One entry of a zip's central directory, checked to lie inside the file.
+struct ZipEntry {
+  std::string name;
+  uint32_t method = 0;  // 0 stored, 8 deflated
+  uint32_t crc = 0, packed = 0, size = 0;
+  uint64_t data = 0;  // offset of its bytes in the archive
+};
+
+// The entries of `bytes` (a whole archive, `comment` bytes of zip comment at its end). Throws
+// nsf::Error naming `what` and `path` when the directory is malformed. Returns false, with no
+// entries, for a zip64 archive (over 4 GiB or 65,535 entries): torch writes one only then, and
+// nsf's outer checksum is what guards it. Needs neither torch nor zlib.
+bool zip_directory(const std::string& bytes, size_t comment, const std::string& what,
+                   const std::string& path, std::vector<ZipEntry>& entries);
 
 // Throws nsf::Error naming `what` and `path` when `bytes` (a whole archive, `comment` bytes of
 // zip comment at its end) is not a well-formed stored zip whose entries match their CRC-32s.
+// (zip_check.cpp: inflates the deflated entries with zlib.)
 void check_zip_entries(const std::string& bytes, size_t comment, const std::string& what,
                        const std::string& path);
 

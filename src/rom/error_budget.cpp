@@ -4,8 +4,7 @@
 
 #include "nn/basis_decoders.h"
 #include "nn/config.h"
-#include "nn/latent_inversion.h"
-#include "nn/model.h"
+#include "nn/network_samples.h"
 
 namespace nsf {
 
@@ -25,7 +24,7 @@ ErrorBudget::ErrorBudget(NeuralFields& fields, const std::vector<Vec3>& X,
       samples_(samples),
       mu_(mu),
       inversion_(inversion),
-      g_(sample_deformation(fields.model(), X, samples)),
+      g_(fields.sample_deformation(X, samples)),
       refiner_(
           std::make_unique<FrameLatentRefiner>(fields.model(), X, TrainConfig().refine_latents)),
       z_(z0) {}

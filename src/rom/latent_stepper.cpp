@@ -1,7 +1,6 @@
 #include "rom/latent_stepper.h"
 
 #include <omp.h>
-#include <torch/torch.h>
 
 #include <algorithm>
 #include <cmath>
@@ -9,12 +8,11 @@
 #include <numeric>
 #include <optional>
 
+#include "core/blas_threads.h"
 #include "core/error.h"
 #include "mpm/simulation.h"
 #include "nn/latent_inversion.h"
 #include "nn/latent_prior.h"
-#include "nn/model.h"
-#include "nn/torch_settings.h"
 #include "rom/field_source.h"
 #include "rom/integration_set.h"
 #include "rom/quadrature.h"
@@ -47,7 +45,6 @@ class OneThreadBelow {
 
 struct LatentStepper::Impl {
   NeuralFields& fields;
-  NeuralModel& model;
   RomOptions opt;
   double mu;
   std::unique_ptr<Simulation> sim;  // its particles() hold N only, refilled every step
@@ -105,7 +102,6 @@ struct LatentStepper::Impl {
 
   Impl(NeuralFields& f, Scene scene, double mu_, const RomOptions& o)
       : fields(f),
-        model(f.model()),
         opt(o),
         mu(mu_),
         marks(scene.settings.domain_lo, scene.settings.dx,
@@ -154,7 +150,7 @@ struct LatentStepper::Impl {
     if (!(opt.latent_prior >= 0 && std::isfinite(opt.latent_prior)))
       fail("rom: the latent prior's length must be a number of metres, 0 or more, got ",
            opt.latent_prior);
-    if (model.trajectory_latents.defined()) make_latent_prior();
+    if (!fields.record().trajectory_latents.empty()) make_latent_prior();
     if (opt.latent_prior > 0) {
       if (!prior)
         fail(
@@ -169,7 +165,7 @@ struct LatentStepper::Impl {
     GaussNewtonOptions fit{8, 1e-7, false};
     fit.prior = opt.inversion.prior;
     fit.prior_length = opt.inversion.prior_length;
-    z = fields.encode(std::vector<Vec3>(table.X.begin(), table.X.begin() + np));
+    z = fields.rest_latent(std::vector<Vec3>(table.X.begin(), table.X.begin() + np));
     std::vector<Vec3> target(S.size());
     for (size_t k = 0; k < S.size(); ++k) target[k] = table.X[S[k]];
     z = invert_deformation(*g_S, target, z, fit).z;
@@ -186,15 +182,15 @@ struct LatentStepper::Impl {
     std::vector<uint32_t> all(np);
     std::iota(all.begin(), all.end(), 0u);
     const std::vector<Vec3> X(table.X.begin(), table.X.begin() + np);
-    std::unique_ptr<SampleDeformation> g_all = sample_deformation(model, X, all);
-    std::vector<Latent> at = {fields.encode(X)};
-    if (model.trajectory_latents.defined()) {
-      const torch::Tensor t = model.trajectory_latents.to(torch::kFloat64).contiguous();
-      const int64_t runs = t.size(0), frames = t.size(1), r = t.size(2);
-      const int64_t count = std::min<int64_t>(kTangentLatents, runs * frames);
+    std::unique_ptr<SampleDeformation> g_all = fields.sample_deformation(X, all);
+    std::vector<Latent> at = {fields.rest_latent(X)};
+    const auto& runs = fields.record().trajectory_latents;
+    if (!runs.empty()) {
+      const int64_t frames = int64_t(runs[0].size()), total = int64_t(runs.size()) * frames;
+      const int64_t count = std::min<int64_t>(kTangentLatents, total);
       for (int64_t k = 0; k < count; ++k) {
-        const int64_t i = (k * runs * frames) / count;  // spread over runs and frames
-        at.push_back(Eigen::Map<const Eigen::VectorXd>(t.data_ptr<double>() + i * r, r));
+        const int64_t i = (k * total) / count;  // spread over runs and frames
+        at.push_back(runs[size_t(i / frames)][size_t(i % frames)]);
       }
     }
     const int64_t r = fields.latent_dim();
@@ -224,31 +220,18 @@ struct LatentStepper::Impl {
     velocity = make_velocity_source(c.velocity, *context);
   }
 
-  // Each latent component's spread over the training latents: the unit in which the latent
-  // prior's distance is measured.
-  Eigen::VectorXd latent_spread() const {
-    const torch::Tensor sd = model.norm_z.std.to(torch::kFloat64).contiguous();
-    return Eigen::Map<const Eigen::VectorXd>(sd.data_ptr<double>(), sd.numel());
-  }
-
   // The training runs' latents, in order of μ: the surface the latent prior holds the inversion
-  // near, and what training_distance() measures from.
+  // near, and what training_distance() measures from. Each latent component's spread over them is
+  // the unit in which the prior's distance is measured.
   void make_latent_prior() {
-    const torch::Tensor t = model.trajectory_latents.to(torch::kFloat64).contiguous();
-    const torch::Tensor m = model.trajectory_mu.to(torch::kFloat64).contiguous();
-    const int64_t frames = t.size(1), r = t.size(2);
-    const double *zp = t.data_ptr<double>(), *mu_of = m.data_ptr<double>();
-    std::vector<int64_t> order(size_t(t.size(0)));
-    std::iota(order.begin(), order.end(), int64_t(0));
+    const ModelRecord& m = fields.record();
+    std::vector<size_t> order(m.trajectory_latents.size());
+    std::iota(order.begin(), order.end(), size_t(0));
     std::stable_sort(order.begin(), order.end(),
-                     [&](int64_t a, int64_t b) { return mu_of[a] < mu_of[b]; });
+                     [&](size_t a, size_t b) { return m.trajectory_mu[a] < m.trajectory_mu[b]; });
     std::vector<std::vector<Eigen::VectorXd>> runs;
-    for (int64_t j : order) {
-      runs.emplace_back();
-      for (int64_t i = 0; i < frames; ++i)
-        runs.back().push_back(Eigen::Map<const Eigen::VectorXd>(zp + (j * frames + i) * r, r));
-    }
-    prior = std::make_unique<LatentPrior>(runs, latent_spread());
+    for (size_t j : order) runs.push_back(m.trajectory_latents[j]);
+    prior = std::make_unique<LatentPrior>(runs, m.latent_spread);
   }
 
   void set_samples(int count) {

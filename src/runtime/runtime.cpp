@@ -7,10 +7,10 @@
 #include <Eigen/Geometry>
 #include <stdexcept>
 
+#include "core/blas_threads.h"
 #include "core/error.h"
 #include "mpm/colliders/collider_limits.h"
 #include "mpm/colliders/rigid_collider.h"
-#include "nn/torch_settings.h"
 #include "rom/latent_stepper.h"
 #include "rom/setup/rom_setup.h"
 #include "rom/step_guard.h"
@@ -63,7 +63,7 @@ struct Runtime::Impl {
   std::unique_ptr<StepGuard> guard;        // and this one to `stepper`
 
   Impl(const std::string& model_path, const std::string& scene_path, const RuntimeOptions& o)
-      : fields(NeuralFields::load(model_path)) {
+      : fields(NeuralFields::load_basis(model_path)) {
     RomSetup s = rom_setup(fields, scene_path, o.mu, o.overrides, o.samples);
     frames = s.scene.settings.frames;
     frame_time = s.scene.settings.substeps * s.scene.settings.dt;
@@ -91,7 +91,7 @@ Runtime::Runtime(const std::string& model_path, const std::string& scene_path,
   guarded("Runtime", [&] {
     if (options.threads < 0) fail("threads must be 0 (all cores) or more, got ", options.threads);
     if (options.threads > 0) omp_set_num_threads(options.threads);
-    set_nn_threads(options.threads);
+    retain_freed_memory();  // the step's buffers are allocated anew each frame
     impl_ = std::make_unique<Impl>(model_path, scene_path, options);
   });
 }

@@ -496,12 +496,12 @@ std::string CalibrationResult::summary() const {
 }
 
 void store_calibration(const std::string& model_path, const CalibrationResult& r) {
-  NeuralFields f = NeuralFields::load(model_path);
-  RomCalibration& c = r.tracked ? f.model().tracked_calibration : f.model().calibration;
+  NeuralModel m = NeuralModel::load(model_path);
+  RomCalibration& c = r.tracked ? m.tracked_calibration : m.calibration;
   c.latent_prior = r.chosen;
   c.table = r.to_json().dump();
   if (r.step) c.dt_ratio = r.step->chosen;
-  f.model().save(model_path);
+  m.save(model_path);
 }
 
 }  // namespace nsf

@@ -65,7 +65,7 @@ class BasisDeformation final : public DeformationSource {
     }
   }
   std::unique_ptr<SampleDeformation> samples(const std::vector<uint32_t>& S) override {
-    return sample_deformation(c_.fields.model(), c_.points.X, S);
+    return c_.fields.sample_deformation(c_.points.X, S);
   }
 
  private:

@@ -1,0 +1,52 @@
+#pragma once
+// A model file's run-time record: everything the reduced-order runtime needs of a basis model,
+// in a plain binary form that needs no torch to read (docs/TRAINING.md, "Model file"). Every save
+// of a basis model (nsf train, calibrate, upgrade) stores it inside the model file, as one more
+// entry of its zip, and the bases live there alone, so that libnsf_runtime.so loads basis models
+// with the C++ standard library, Eigen and OpenMP. An MLP model's networks need LibTorch: its
+// file has no record.
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "data/training_box.h"
+#include "nn/basis_decoders.h"
+#include "nn/config.h"
+#include "nn/scene_fingerprint.h"
+
+namespace nsf {
+
+struct ModelRecord {
+  SceneFingerprint scene;
+  DecoderFamily family = DecoderFamily::basis;
+  int latent_dim = 0;
+  bool stress_uses_mu = false;
+  double mu_min = 0, mu_max = 0;
+  TrainingBox training_box;
+  double train_seconds = 0;
+  // `nsf calibrate`'s latent prior ε and step ratio for the ROM with the decoders' stress and
+  // (tracked_) the one whose points carry their own; < 0 where never chosen.
+  double latent_prior = -1, dt_ratio = -1, tracked_latent_prior = -1, tracked_dt_ratio = -1;
+  Eigen::VectorXd latent_spread;  // each latent component's spread over the training frames
+  // The training runs' latents, runs × frames, and each run's μ (empty: not stored).
+  std::vector<std::vector<Eigen::VectorXd>> trajectory_latents;
+  std::vector<double> trajectory_mu;
+  Eigen::VectorXd rest_latent;  // e(X), the encoder at the rest state (empty: not stored)
+  std::shared_ptr<const BasisDecoders> bases;  // null for an MLP model
+};
+
+// The record as bytes ("NSFRTREC", a version, the payload's size and CRC-32, the payload).
+std::string encode_model_record(const ModelRecord& record);
+// Throws nsf::Error naming `path` when `bytes` is not a whole, undamaged record.
+ModelRecord decode_model_record(const std::string& bytes, const std::string& path);
+// Where a record starts inside an archive entry: the entry's first bytes.
+bool is_model_record(const char* p, size_t n);
+
+// The record inside model file `path`, its checksum and the record's own verified. Throws
+// nsf::Error naming the file when it cannot be read, is damaged, or holds no record (an MLP model,
+// or a basis model saved before nsf stored one), saying what to do.
+ModelRecord read_model_record(const std::string& path);
+
+}  // namespace nsf
