@@ -66,10 +66,14 @@ PrivateDir::~PrivateDir() {
 }
 
 std::string read_file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) fail("cannot read ", path);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) fail("cannot read ", path);
+  // One read into a buffer of the file's size (a character-wise copy took ~1 s per 400 MB).
+  const std::streamoff size = in.tellg();
+  if (size < 0) fail("cannot read ", path);
+  std::string bytes(static_cast<size_t>(size), '\0');
+  in.seekg(0);
+  if (!in.read(bytes.data(), size)) fail("cannot read ", path);
   return bytes;
 }
 
