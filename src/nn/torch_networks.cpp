@@ -3,6 +3,7 @@
 #include <torch/torch.h>
 
 #include "core/error.h"
+#include "io/run_format.h"
 #include "nn/basis_export.h"
 #include "nn/coordinate_networks.h"
 #include "nn/model.h"
@@ -34,27 +35,24 @@ torch::Tensor index_tensor(const std::vector<uint32_t>& ids) {
   return t;
 }
 
-// Rows of an n × 3 tensor; of an n × 6 tensor (xx yy zz xy yz xz, the run files' order) as
-// symmetric matrices; of an n × 9 tensor (row-major) as matrices.
-void vec3_rows(const torch::Tensor& t, std::vector<Vec3>& out) {
+// Rows of an n × w tensor as run files order them (io/run_format.h): positions (w = 3), symmetric
+// τ (6: xx yy zz xy yz xz) or row-major matrices (9).
+template <typename T, typename Unpack>
+void rows_of(const torch::Tensor& t, std::vector<T>& out, Unpack unpack) {
   const torch::Tensor d = t.to(torch::kFloat64).contiguous();
+  const int64_t w = d.dim() == 2 ? d.size(1) : 0;
   const double* p = d.data_ptr<double>();
   out.resize(size_t(d.size(0)));
-  for (size_t k = 0; k < out.size(); ++k) out[k] = Vec3(p[3 * k], p[3 * k + 1], p[3 * k + 2]);
+  for (size_t k = 0; k < out.size(); ++k) out[k] = unpack(p + int64_t(k) * w);
+}
+void vec3_rows(const torch::Tensor& t, std::vector<Vec3>& out) {
+  rows_of(t, out, run_format::unpack_vec);
 }
 void symmetric_rows(const torch::Tensor& t, std::vector<Mat3>& out) {
-  const torch::Tensor d = t.to(torch::kFloat64).contiguous();
-  const double* s = d.data_ptr<double>();
-  out.resize(size_t(d.size(0)));
-  for (size_t k = 0; k < out.size(); ++k, s += 6)
-    out[k] << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
+  rows_of(t, out, run_format::unpack_sym);
 }
 void matrix_rows(const torch::Tensor& t, std::vector<Mat3>& out) {
-  const torch::Tensor d = t.to(torch::kFloat64).contiguous();
-  const double* c = d.data_ptr<double>();
-  out.resize(size_t(d.size(0)));
-  for (size_t k = 0; k < out.size(); ++k, c += 9)
-    out[k] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(c);
+  rows_of(t, out, run_format::unpack_mat);
 }
 
 struct TorchPoints final : CoordinateNetworks::Points {
