@@ -396,10 +396,10 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
     if (record.scalar_type() != torch::kUInt8 || record.dim() != 1)
       fail("model file ", path, ": its run-time record is not a byte array");
     record = record.contiguous();
-    m.stored_record = std::make_shared<const ModelRecord>(
-        decode_model_record(std::string(reinterpret_cast<const char*>(record.data_ptr<uint8_t>()),
-                                        size_t(record.numel())),
-                            path));
+    m.stored_record = std::make_shared<const ModelRecord>(decode_model_record(
+        std::string_view(reinterpret_cast<const char*>(record.data_ptr<uint8_t>()),
+                         size_t(record.numel())),
+        path));
   }
   if (m.stored_record &&
       (!m.stored_record->scene.matches(s) || m.stored_record->latent_dim != c.latent_dim ||

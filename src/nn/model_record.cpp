@@ -3,6 +3,7 @@
 #include <array>
 #include <cstring>
 #include <nlohmann/json.hpp>
+#include <string_view>
 
 #include "core/crc32.h"
 #include "core/error.h"
@@ -46,7 +47,7 @@ class Writer {
 
 class Reader {
  public:
-  Reader(const std::string& b, size_t at, const std::string& path) : b_(b), at_(at), path_(path) {}
+  Reader(std::string_view b, size_t at, const std::string& path) : b_(b), at_(at), path_(path) {}
   template <typename T>
   T get() {
     T v;
@@ -93,7 +94,7 @@ class Reader {
     if (n > (b_.size() - at_) / size) bad("a length runs past its end");
     return n;
   }
-  const std::string& b_;
+  std::string_view b_;
   size_t at_;
   const std::string& path_;
 };
@@ -183,21 +184,23 @@ std::string encode_model_record(const ModelRecord& m) {
     w.array(d.rest.empty() ? nullptr : d.rest[0].data(), 3 * d.rest.size());
     put_basis(w, d.u), put_basis(w, d.tau), put_basis(w, d.C);
   }
-  std::string out(kMagic, sizeof kMagic);
+  std::string out;
   const std::string& payload = w.bytes();
+  out.reserve(kHeader + payload.size());
+  out.append(kMagic, sizeof kMagic);
   const uint32_t version = kVersion, crc = crc32_of(payload.data(), payload.size());
   const uint64_t size = payload.size();
   out.append(reinterpret_cast<const char*>(&version), 4);
   out.append(reinterpret_cast<const char*>(&size), 8);
   out.append(reinterpret_cast<const char*>(&crc), 4);
-  return out + payload;
+  return out.append(payload);
 }
 
 bool is_model_record(const char* p, size_t n) {
   return n >= kHeader && std::memcmp(p, kMagic, sizeof kMagic) == 0;
 }
 
-ModelRecord decode_model_record(const std::string& bytes, const std::string& path) {
+ModelRecord decode_model_record(std::string_view bytes, const std::string& path) {
   Reader head(bytes, 0, path);
   if (!is_model_record(bytes.data(), bytes.size())) head.bad("no record header");
   head.get<std::array<char, 8>>();
@@ -280,7 +283,7 @@ ModelRecord read_model_record(const std::string& path) {
       fail("model file ", path,
            " is damaged: nsf wrote it with a checksum, and it has none now (bytes were appended "
            "or cut, or its zip comment was removed). Copy it again or retrain");
-    return decode_model_record(bytes.substr(size_t(e.data), e.size), path);
+    return decode_model_record(std::string_view(bytes).substr(size_t(e.data), e.size), path);
   }
   fail("model file ", path,
        " has no run-time record, which this torch-free runtime needs: it is an MLP model (its "

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "data/training_box.h"
@@ -40,7 +41,7 @@ struct ModelRecord {
 // The record as bytes ("NSFRTREC", a version, the payload's size and CRC-32, the payload).
 std::string encode_model_record(const ModelRecord& record);
 // Throws nsf::Error naming `path` when `bytes` is not a whole, undamaged record.
-ModelRecord decode_model_record(const std::string& bytes, const std::string& path);
+ModelRecord decode_model_record(std::string_view bytes, const std::string& path);
 // Where a record starts inside an archive entry: the entry's first bytes.
 bool is_model_record(const char* p, size_t n);
 
