@@ -12,7 +12,6 @@
 #include <fstream>
 #include <random>
 
-#include "app/results_table.h"
 #include "cli_runner.h"
 #include "core/error.h"
 #include "data/sweep.h"
@@ -29,6 +28,8 @@
 #include "nn/torch_settings.h"
 #include "nn/trainer.h"
 #include "rom/calibration/latent_prior_calibration.h"
+#include "rom/eval/result_row.h"
+#include "rom/eval/results_page.h"
 #include "rom/eval/rom_evaluation.h"
 #include "rom/field_source.h"
 #include "rom/integration_set.h"
@@ -360,7 +361,7 @@ TEST_F(RomEndToEnd, StaysCloseToTheFullOrderRunAndBeatsAFrozenLatent) {
   EXPECT_GE(*best, 0.0);
   EXPECT_LE(*best, r.delta);
   EXPECT_GE(*worst, r.delta);
-  EXPECT_EQ(nsf::app::result_json(r, "s.json", "m.nsf", "", "").at("delta_per_frame"),
+  EXPECT_EQ(nsf::result_json(r, "s.json", "m.nsf", "", "").at("delta_per_frame"),
             nlohmann::json(r.delta_per_frame));
   // The inversion projects the samples' displacements after the MPM step onto g's tangent: a
   // least-squares projection (equal masses here) cannot add kinetic energy; it may only drop

@@ -8,7 +8,6 @@
 #include "app/commands.h"
 #include "app/common_options.h"
 #include "app/pipeline.h"
-#include "app/results_table.h"
 #include "app/train_size_options.h"
 #include "core/error.h"
 #include "core/timer.h"
@@ -17,6 +16,8 @@
 #include "nn/dataset.h"
 #include "nn/torch_settings.h"
 #include "rom/eval/generalize.h"
+#include "rom/eval/result_row.h"
+#include "rom/eval/results_page.h"
 #include "rom/eval/rom_evaluation.h"
 #include "rom/setup/scene_file.h"
 
@@ -42,6 +43,49 @@ struct DemoArgs {
 
 std::string stem_of(const std::string& path) {
   return fs::path(path).stem().string();
+}
+
+// The product's promise: cases no training run made (the scene's "generalize" section), as a
+// row; none where the scene has no such section or --draws is 0.
+std::optional<nlohmann::json> unseen_interactions(const DemoArgs& a, const std::string& data,
+                                                  const std::string& model) {
+  if (a.draws <= 0 || !read_scene_file(a.scene).sections.generalize) return std::nullopt;
+  std::printf("== 4/4 unseen interactions: nsf generalize %s %s --draws %d\n", model.c_str(),
+              data.c_str(), a.draws);
+  GeneralizeOptions go;
+  go.model_path = model;
+  go.data_dir = data;
+  go.scene_path = a.scene;
+  go.draws = a.draws;
+  if (a.samples > 0) go.rom.samples = a.samples;
+  go.rom.threads = a.threads;
+  go.quiet = a.quiet;
+  return generalize_json(run_generalize(go), "nsf generalize " + model + " " + data + " --scene " +
+                                                 a.scene + " --draws " + std::to_string(a.draws));
+}
+
+// The summary, the demo's row in --out, and with --docs the row and picture as `nsf report`
+// stores its own (docs/RESULTS.md shows this one too, labelled "demo").
+void print_and_store(const DemoArgs& a, const RomReport& r, const ComparisonFiles& pics,
+                     const std::optional<nlohmann::json>& unseen, const std::string& model) {
+  std::printf("\n== summary\n%s", format_rom_report(r).c_str());
+  if (unseen) std::printf("%s", format_generalize(*unseen).c_str());
+  std::printf("  picture:   %s (top: ground truth, bottom: reduced order)\n", pics.still.c_str());
+  if (!pics.video.empty()) std::printf("  animation: %s\n", pics.video.c_str());
+  if (!pics.note.empty()) std::printf("  note: %s\n", pics.note.c_str());
+  const std::string row = a.out + "/demo.json";
+  nlohmann::json row_json = result_json(r, a.scene, model, pics.still, "demo");
+  if (unseen) row_json["generalize"] = *unseen;
+  write_json_atomically(row, row_json);
+  std::printf("  summary row: %s\n", row.c_str());
+  if (a.docs.empty()) return;
+  fs::create_directories(a.docs + "/results");
+  fs::copy_file(pics.still, a.docs + "/results/demo.png", fs::copy_options::overwrite_existing);
+  row_json["picture"] = "results/demo.png";
+  write_json_atomically(a.docs + "/results/demo.json", row_json);
+  const size_t rows = write_results_page(a.docs);
+  std::printf("  stored in %s/results/demo.json, shown in %s/RESULTS.md (%zu rows)\n",
+              a.docs.c_str(), a.docs.c_str(), rows);
 }
 
 void run_demo(const DemoArgs& a) {
@@ -78,48 +122,10 @@ void run_demo(const DemoArgs& a) {
   const ComparisonFiles pics =
       write_comparison(ro.fom_out, ro.out_path, "ground truth (full order)", "reduced order",
                        a.out + "/" + name + "_compare");
-
-  // The product's promise: a case no training run made (the scene's "generalize" section).
-  std::optional<nlohmann::json> unseen;
-  if (a.draws > 0 && read_scene_file(a.scene).sections.generalize) {
-    std::printf("== 4/4 unseen interactions: nsf generalize %s %s --draws %d\n", model.c_str(),
-                data.c_str(), a.draws);
-    GeneralizeOptions go;
-    go.model_path = model;
-    go.data_dir = data;
-    go.scene_path = a.scene;
-    go.draws = a.draws;
-    if (a.samples > 0) go.rom.samples = a.samples;
-    go.rom.threads = a.threads;
-    go.quiet = a.quiet;
-    unseen =
-        generalize_json(run_generalize(go), "nsf generalize " + model + " " + data + " --scene " +
-                                                a.scene + " --draws " + std::to_string(a.draws));
-  }
-
-  std::printf("\n== summary\n%s", format_rom_report(r).c_str());
-  if (unseen) std::printf("%s", format_generalize(*unseen).c_str());
-  std::printf("  picture:   %s (top: ground truth, bottom: reduced order)\n", pics.still.c_str());
-  if (!pics.video.empty()) std::printf("  animation: %s\n", pics.video.c_str());
-  if (!pics.note.empty()) std::printf("  note: %s\n", pics.note.c_str());
-  const std::string row = a.out + "/demo.json";
-  nlohmann::json row_json = result_json(r, a.scene, model, pics.still, "demo");
-  if (unseen) row_json["generalize"] = *unseen;
-  write_json_atomically(row, row_json);
-  std::printf("  summary row: %s\n", row.c_str());
-  if (!a.docs.empty()) {
-    // As `nsf report` stores its rows: docs/RESULTS.md shows this one too, labelled "demo".
-    fs::create_directories(a.docs + "/results");
-    fs::copy_file(pics.still, a.docs + "/results/demo.png", fs::copy_options::overwrite_existing);
-    row_json["picture"] = "results/demo.png";
-    write_json_atomically(a.docs + "/results/demo.json", row_json);
-    const size_t rows = write_results_page(a.docs);
-    std::printf("  stored in %s/results/demo.json, shown in %s/RESULTS.md (%zu rows)\n",
-                a.docs.c_str(), a.docs.c_str(), rows);
-  }
+  const std::optional<nlohmann::json> unseen = unseen_interactions(a, data, model);
+  print_and_store(a, r, pics, unseen, model);
   std::printf("  demo total: %.1f s\n", now_seconds() - start);
 }
-
 }  // namespace
 
 void add_demo_command(CLI::App& app) {

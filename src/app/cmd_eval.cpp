@@ -38,6 +38,43 @@ nlohmann::json number(double v) {
   return std::isnan(v) ? nlohmann::json() : nlohmann::json(v);
 }
 
+// Means over the runs of the held-out particles' errors (--held-out-particles).
+nlohmann::json held_out_json(const EvalArgs& a, const std::vector<EvalRow>& rows) {
+  auto mean_of = [&](double HeldOutErrors::*field) {
+    double s = 0;
+    for (const EvalRow& r : rows) s += r.held_out.*field;
+    return number(rows.empty() ? NAN : s / double(rows.size()));
+  };
+  return {{"stride", a.opt.held_out_stride},
+          {"particles", rows.empty() ? 0 : rows[0].held_out.particles},
+          {"interpolation", a.opt.interpolation},
+          {"neighbours", a.opt.neighbours},
+          {"delta", mean_of(&HeldOutErrors::delta)},
+          {"stress_error", mean_of(&HeldOutErrors::stress)},
+          {"affine_error", mean_of(&HeldOutErrors::affine)},
+          {"at_particles",
+           {{"delta", mean_of(&HeldOutErrors::own_delta)},
+            {"stress_error", mean_of(&HeldOutErrors::own_stress)},
+            {"affine_error", mean_of(&HeldOutErrors::own_affine)}}}};
+}
+
+// One run's errors; a basis model's with the projection bound beside them.
+nlohmann::json run_json(const EvalRow& r, bool basis) {
+  nlohmann::json run = {{"run", r.run},
+                        {"frames", r.frames},
+                        {"delta", number(r.delta)},
+                        {"delta_encoded", number(r.delta_encoded)},
+                        {"stress_error", number(r.stress_error)},
+                        {"affine_error", number(r.affine_error)},
+                        {"force_error", number(r.force_error)}};
+  if (r.has_mu) run["mu"] = r.mu;
+  if (basis)
+    run["projection_bound"] = {{"delta", number(r.projection_delta)},
+                               {"stress_error", number(r.projection_stress)},
+                               {"affine_error", number(r.projection_affine)}};
+  return run;
+}
+
 // The machine-readable row (docs/results/eval/SCENE_DECODER.json): means over the runs, as the
 // table's last line prints them, and each run's own.
 void write_json(const EvalArgs& a, const std::vector<EvalRow>& rows) {
@@ -72,22 +109,7 @@ void write_json(const EvalArgs& a, const std::vector<EvalRow>& rows) {
                              {"affine_error", mean(&EvalRow::projection_affine)}};
   std::string held;
   if (a.opt.held_out_stride > 0) {
-    auto mean_of = [&](double HeldOutErrors::*field) {
-      double s = 0;
-      for (const EvalRow& r : rows) s += r.held_out.*field;
-      return number(rows.empty() ? NAN : s / double(rows.size()));
-    };
-    j["held_out"] = {{"stride", a.opt.held_out_stride},
-                     {"particles", rows.empty() ? 0 : rows[0].held_out.particles},
-                     {"interpolation", a.opt.interpolation},
-                     {"neighbours", a.opt.neighbours},
-                     {"delta", mean_of(&HeldOutErrors::delta)},
-                     {"stress_error", mean_of(&HeldOutErrors::stress)},
-                     {"affine_error", mean_of(&HeldOutErrors::affine)},
-                     {"at_particles",
-                      {{"delta", mean_of(&HeldOutErrors::own_delta)},
-                       {"stress_error", mean_of(&HeldOutErrors::own_stress)},
-                       {"affine_error", mean_of(&HeldOutErrors::own_affine)}}}};
+    j["held_out"] = held_out_json(a, rows);
     held = " --held-out-particles " + std::to_string(a.opt.held_out_stride) + " --interpolation " +
            a.opt.interpolation + " --neighbours " + std::to_string(a.opt.neighbours);
   }
@@ -96,28 +118,12 @@ void write_json(const EvalArgs& a, const std::vector<EvalRow>& rows) {
       (a.opt.refine_iterations > 0 ? " --refine " + std::to_string(a.opt.refine_iterations)
                                    : std::string()) +
       held + " --json " + a.json;
-  for (const EvalRow& r : rows) {
-    nlohmann::json run = {{"run", r.run},
-                          {"frames", r.frames},
-                          {"delta", number(r.delta)},
-                          {"delta_encoded", number(r.delta_encoded)},
-                          {"stress_error", number(r.stress_error)},
-                          {"affine_error", number(r.affine_error)},
-                          {"force_error", number(r.force_error)}};
-    if (r.has_mu) run["mu"] = r.mu;
-    if (nf.bases())
-      run["projection_bound"] = {{"delta", number(r.projection_delta)},
-                                 {"stress_error", number(r.projection_stress)},
-                                 {"affine_error", number(r.projection_affine)}};
-    j["runs"].push_back(run);
-  }
+  for (const EvalRow& r : rows) j["runs"].push_back(run_json(r, nf.bases() != nullptr));
   write_file_atomic(a.json, j.dump(2) + "\n");
 }
 
-void run_eval(const EvalArgs& a) {
-  set_nn_threads(a.threads);
-  const double start = now_seconds();
-  const auto rows = evaluate_model(a.model, a.data, a.opt);
+// The table of each run's errors and their means.
+void print_table(const std::vector<EvalRow>& rows) {
   std::printf("%-16s %9s %6s %8s | %8s %8s %8s | %8s %8s\n", "run", "mu", "frames", "delta",
               "stress", "poly", "force", "affine", "poly");
   double d = 0, s = 0, sf = 0, f = 0, c = 0, cf = 0;
@@ -135,6 +141,11 @@ void run_eval(const EvalArgs& a) {
   std::printf("%-16s %9s %6s %8s | %8s %8s %8s | %8s %8s\n", "mean", "", "", percent(d / n).c_str(),
               percent(s / n).c_str(), percent(sf / n).c_str(), percent(f / n).c_str(),
               percent(c / n).c_str(), percent(cf / n).c_str());
+}
+
+// What the columns mean, and the bounds beside them: a basis model's projection, and the
+// held-out particles' errors.
+void print_notes(const EvalArgs& a, const std::vector<EvalRow>& rows, double seconds) {
   char latents[96] = "latents from the encoder";
   if (a.opt.refine_iterations > 0)
     std::snprintf(latents, sizeof latents,
@@ -147,8 +158,7 @@ void run_eval(const EvalArgs& a) {
       "(how\n"
       "much of the field is smooth at that scale; particle-scale noise stays). force: relative\n"
       "error of the grid forces -sum V tau grad w from h's stress, what the MPM step uses.\n",
-      latents, rows.empty() ? size_t(0) : rows[0].particles, now_seconds() - start,
-      a.opt.poly_degree);
+      latents, rows.empty() ? size_t(0) : rows[0].particles, seconds, a.opt.poly_degree);
   if (!rows.empty() && !std::isnan(rows[0].projection_delta)) {
     double pd = 0, ps = 0, pa = 0;
     for (const EvalRow& r : rows)
@@ -175,6 +185,14 @@ void run_eval(const EvalArgs& a) {
         a.opt.neighbours, percent(d / n).c_str(), percent(s / n).c_str(), percent(c / n).c_str(),
         percent(od / n).c_str(), percent(os / n).c_str(), percent(oc / n).c_str());
   }
+}
+
+void run_eval(const EvalArgs& a) {
+  set_nn_threads(a.threads);
+  const double start = now_seconds();
+  const auto rows = evaluate_model(a.model, a.data, a.opt);
+  print_table(rows);
+  print_notes(a, rows, now_seconds() - start);
   if (!a.json.empty()) {
     write_json(a, rows);
     std::printf("wrote %s\n", a.json.c_str());

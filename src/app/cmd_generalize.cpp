@@ -9,11 +9,13 @@
 
 #include "app/commands.h"
 #include "app/common_options.h"
-#include "app/results_table.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
 #include "rom/calibration/latent_prior_calibration.h"
 #include "rom/eval/generalize.h"
+#include "rom/eval/result_row.h"
+#include "rom/eval/results_page.h"
+#include "rom/eval/rom_evaluation.h"
 
 namespace nsf::app {
 

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -51,13 +52,10 @@ void parse_range(const std::string& s, double& lo, double& hi) {
     fail("--range '", s, "' must be LO:HI with finite LO < HI, e.g. 0:2.5");
 }
 
-// All argument checks and the plan come before anything is written, so a bad option leaves no
-// half-made output directory behind.
-void run_render(const RenderArgs& a) {
-  refuse_path_clash({{"--out", a.out}}, {{"the run", a.run}});
-  const int threads = set_threads(a.threads);
+// The drawing options of the flags. A malformed value is a usage error (exit status 2), as
+// CLI11's own checks are.
+RunRenderOptions render_options(const RenderArgs& a) {
   RunRenderOptions o;
-  // A malformed value is a usage error (exit status 2), as CLI11's own checks are.
   parse_option_value([&] {
     o.color = parse_color_by(a.color);
     parse_size(a.size, o.width, o.height);
@@ -68,6 +66,70 @@ void run_render(const RenderArgs& a) {
   });
   o.fov_deg = a.fov;
   o.colliders = !a.no_colliders;
+  return o;
+}
+
+// Draws `frames` of the run into PNGs named by path(i), several at a time.
+void draw_frames(const RunReader& run, const std::vector<size_t>& frames, const RenderPlan& plan,
+                 const std::function<std::string(int)>& path, bool quiet) {
+  const int n = static_cast<int>(frames.size());
+  Progress progress("render", n, "frames");
+  int done = 0;
+  // One slot per frame for what went wrong in it (a damaged chunk, a full disk), rethrown after
+  // the loop: an exception escaping the region or a critical section would abort the program.
+  std::vector<std::exception_ptr> errors(n);
+  std::atomic<bool> failed{false};
+  // Frames are independent; HDF5 is not thread-safe, so only the reads are serialised.
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int i = 0; i < n; ++i) {
+    if (failed) continue;  // the command fails anyway: do not draw the frames not yet begun
+    RunFrame f;
+#pragma omp critical(nsf_render_read)
+    errors[i] = capture_exception([&] { f = run.read_frame(frames[i]); });
+    if (!errors[i])
+      errors[i] =
+          capture_exception([&] { write_png(render_run_frame(run, f, frames[i], plan), path(i)); });
+    if (errors[i]) failed = true;
+#pragma omp critical(nsf_render_progress)
+    if (!quiet) progress.update(++done);
+  }
+  rethrow_first(errors);
+  if (!quiet) progress.finish();
+}
+
+// The PNGs frame_%0<digits>d.png in --out as an MP4 (or a GIF), where ffmpeg is on PATH.
+void write_video(const RenderArgs& a, int frame_count, int digits) {
+  const std::string ffmpeg = find_on_path("ffmpeg");
+  if (ffmpeg.empty()) {
+    std::printf(
+        "note: ffmpeg is not on PATH, so no video was made (the PNGs are complete; "
+        "scripts/install-deps.sh installs ffmpeg)\n");
+    return;
+  }
+  VideoJob job;
+  // ffmpeg reads its input name as a pattern: a '%' of the directory (or of the working
+  // directory, once made absolute) is written "%%", so that it names that directory.
+  std::string dir;
+  for (char c : fs::absolute(a.out).string())
+    dir += c == '%' ? std::string("%%") : std::string(1, c);
+  job.pattern = (fs::path(dir) / ("frame_%0" + std::to_string(digits) + "d.png")).string();
+  job.frame_count = frame_count;
+  job.fps = a.fps;
+  job.gif = a.gif;
+  job.out_stem = (fs::path(a.out) / fs::path(a.run).stem()).string();
+  const VideoResult video = encode_video(ffmpeg, job);
+  if (!video.mp4_failure.empty())
+    std::printf("note: ffmpeg could not write an MP4, so a GIF was made instead: %s\n",
+                video.mp4_failure.c_str());
+  std::printf("wrote %s\n", video.path.c_str());
+}
+
+// All argument checks and the plan come before anything is written, so a bad option leaves no
+// half-made output directory behind.
+void run_render(const RenderArgs& a) {
+  refuse_path_clash({{"--out", a.out}}, {{"the run", a.run}});
+  const int threads = set_threads(a.threads);
+  const RunRenderOptions o = render_options(a);
   const RunReader run(a.run);
   if (run.frame_count() == 0) fail(a.run, ": the run has no frames");
   const std::vector<size_t> frames =
@@ -84,57 +146,11 @@ void run_render(const RenderArgs& a) {
     std::snprintf(name, sizeof name, "frame_%0*d.png", digits, i);
     return (fs::path(a.out) / name).string();
   };
-
   std::fprintf(stderr, "nsf render: %s, %d frames, %zu particles, %dx%d, %d threads\n",
                run.scene_name().c_str(), n, run.particle_count(), o.width, o.height, threads);
-  Progress progress("render", n, "frames");
-  int done = 0;
-  // One slot per frame for what went wrong in it (a damaged chunk, a full disk), rethrown after
-  // the loop: an exception escaping the region or a critical section would abort the program.
-  std::vector<std::exception_ptr> errors(n);
-  std::atomic<bool> failed{false};
-  // Frames are independent; HDF5 is not thread-safe, so only the reads are serialised.
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int i = 0; i < n; ++i) {
-    if (failed) continue;  // the command fails anyway: do not draw the frames not yet begun
-    RunFrame f;
-#pragma omp critical(nsf_render_read)
-    errors[i] = capture_exception([&] { f = run.read_frame(frames[i]); });
-    if (!errors[i])
-      errors[i] = capture_exception(
-          [&] { write_png(render_run_frame(run, f, frames[i], plan), frame_path(i)); });
-    if (errors[i]) failed = true;
-#pragma omp critical(nsf_render_progress)
-    if (!a.quiet) progress.update(++done);
-  }
-  rethrow_first(errors);
-  if (!a.quiet) progress.finish();
+  draw_frames(run, frames, plan, frame_path, a.quiet);
   std::printf("wrote %d frames: %s\n", n, frame_path(0).c_str());
-
-  if (a.no_video) return;
-  const std::string ffmpeg = find_on_path("ffmpeg");
-  if (ffmpeg.empty()) {
-    std::printf(
-        "note: ffmpeg is not on PATH, so no video was made (the PNGs are complete; "
-        "scripts/install-deps.sh installs ffmpeg)\n");
-    return;
-  }
-  VideoJob job;
-  // ffmpeg reads its input name as a pattern: a '%' of the directory (or of the working
-  // directory, once made absolute) is written "%%", so that it names that directory.
-  std::string dir;
-  for (char c : fs::absolute(a.out).string())
-    dir += c == '%' ? std::string("%%") : std::string(1, c);
-  job.pattern = (fs::path(dir) / ("frame_%0" + std::to_string(digits) + "d.png")).string();
-  job.frame_count = n;
-  job.fps = a.fps;
-  job.gif = a.gif;
-  job.out_stem = (fs::path(a.out) / fs::path(a.run).stem()).string();
-  const VideoResult video = encode_video(ffmpeg, job);
-  if (!video.mp4_failure.empty())
-    std::printf("note: ffmpeg could not write an MP4, so a GIF was made instead: %s\n",
-                video.mp4_failure.c_str());
-  std::printf("wrote %s\n", video.path.c_str());
+  if (!a.no_video) write_video(a, n, digits);
 }
 
 }  // namespace

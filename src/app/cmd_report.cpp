@@ -10,13 +10,15 @@
 #include "app/commands.h"
 #include "app/common_options.h"
 #include "app/pipeline.h"
-#include "app/results_table.h"
 #include "app/retired_options.h"
 #include "app/train_size_options.h"
 #include "core/error.h"
 #include "data/manifest.h"
 #include "io/run_comparison.h"
 #include "nn/dataset.h"
+#include "rom/eval/result_row.h"
+#include "rom/eval/results_page.h"
+#include "rom/eval/rom_evaluation.h"
 
 namespace nsf::app {
 
@@ -41,7 +43,7 @@ struct ReportArgs {
   bool beyond_sweep = false;  // run the scenes' beyond-sweep cases (app/beyond_sweep.h) instead
 };
 
-// --check: the rerun of the row `tag` against the stored one (app/results_table.h).
+// --check: the rerun of the row `tag` against the stored one (rom/eval/result_row.h).
 void check_row(const ReportArgs& a, const std::string& tag, const nlohmann::json& fresh) {
   const std::string path = a.docs + "/results/" + tag + ".json";
   if (!fs::exists(path)) fail("report --check: no stored row ", path, " to compare with");
@@ -143,6 +145,46 @@ void report_run(const ReportArgs& a, const std::string& scene, const DecoderRows
                         result_json(r, scene, model, picture, label));
 }
 
+// The rows of one of the paper's scenes (`base`, e.g. "metal"), each run through `row`: the
+// held-out μ's, or with --beyond-sweep the scene's cases outside its sweep.
+template <typename Row>
+void report_scene(const ReportArgs& a, const std::string& base, Row&& row) {
+  const std::string name = base + "_" + a.size;
+  const std::string scene = "scenes/paper/" + name + ".json";
+  if (!fs::exists(scene)) fail("report: no scene file ", scene, " (known: the paper's seven)");
+  const DecoderRows decoder = decoder_rows(name, scene_decoder(scene), a.train.decoder);
+  const std::string data = "data/" + name, model = decoder.model;
+  std::printf("== %s\n", name.c_str());
+  if ((a.no_make || a.check) && (!fs::exists(data + "/manifest.json") || !fs::exists(model))) {
+    std::printf("   skipped: %s or %s is missing (%s)\n", data.c_str(), model.c_str(),
+                a.check ? "--check makes nothing" : "--no-make");
+    return;
+  }
+  ensure_dataset(scene, data, a.threads, a.quiet);
+  ensure_model(
+      data, model,
+      with_scene_recipe(a.train, scene, !a.train_size.steps.empty(), !a.train_size.widths.empty()),
+      a.threads, a.quiet);
+  const Dataset dataset(data);
+  if (dataset.test().empty() || !dataset.test()[0].has_mu)
+    fail("report: dataset ", data, " has no test run with a parameter to hold out");
+  const double test_mu = dataset.test()[0].mu;
+  if (a.beyond_sweep) {
+    const std::vector<BeyondSweepCase> cases = beyond_sweep_cases(base);
+    if (cases.empty()) std::printf("   no beyond-sweep case for %s\n", base.c_str());
+    for (size_t i = 0; i < cases.size(); ++i) {
+      const std::string tag = name + "_beyond" + std::to_string(i);
+      row(tag, [&] {
+        const double mu = cases[i].at_test_mu ? test_mu : cases[i].mu;
+        report_run(a, scene, decoder, data, mu, "beyond-sweep: " + cases[i].what, tag,
+                   cases[i].set);
+      });
+    }
+    return;
+  }
+  row(name, [&] { report_run(a, scene, decoder, data, test_mu, "", name); });
+}
+
 void run_report(const ReportArgs& a) {
   if (a.size != "small" && a.size != "paper")
     fail("report: --size must be small or paper, got '", a.size, "'");
@@ -158,42 +200,8 @@ void run_report(const ReportArgs& a) {
   };
   fs::create_directories(a.out);
   fs::create_directories(a.docs + "/results");
-  for (const std::string& base : a.page_only ? std::vector<std::string>{} : a.scenes) {
-    const std::string name = base + "_" + a.size;
-    const std::string scene = "scenes/paper/" + name + ".json";
-    if (!fs::exists(scene)) fail("report: no scene file ", scene, " (known: the paper's seven)");
-    const DecoderRows decoder = decoder_rows(name, scene_decoder(scene), a.train.decoder);
-    const std::string data = "data/" + name, model = decoder.model;
-    std::printf("== %s\n", name.c_str());
-    if ((a.no_make || a.check) && (!fs::exists(data + "/manifest.json") || !fs::exists(model))) {
-      std::printf("   skipped: %s or %s is missing (%s)\n", data.c_str(), model.c_str(),
-                  a.check ? "--check makes nothing" : "--no-make");
-      continue;
-    }
-    ensure_dataset(scene, data, a.threads, a.quiet);
-    ensure_model(data, model,
-                 with_scene_recipe(a.train, scene, !a.train_size.steps.empty(),
-                                   !a.train_size.widths.empty()),
-                 a.threads, a.quiet);
-    const Dataset dataset(data);
-    if (dataset.test().empty() || !dataset.test()[0].has_mu)
-      fail("report: dataset ", data, " has no test run with a parameter to hold out");
-    const double test_mu = dataset.test()[0].mu;
-    if (a.beyond_sweep) {
-      const std::vector<BeyondSweepCase> cases = beyond_sweep_cases(base);
-      if (cases.empty()) std::printf("   no beyond-sweep case for %s\n", base.c_str());
-      for (size_t i = 0; i < cases.size(); ++i) {
-        const std::string tag = name + "_beyond" + std::to_string(i);
-        row(tag, [&] {
-          const double mu = cases[i].at_test_mu ? test_mu : cases[i].mu;
-          report_run(a, scene, decoder, data, mu, "beyond-sweep: " + cases[i].what, tag,
-                     cases[i].set);
-        });
-      }
-      continue;
-    }
-    row(name, [&] { report_run(a, scene, decoder, data, test_mu, "", name); });
-  }
+  for (const std::string& base : a.page_only ? std::vector<std::string>{} : a.scenes)
+    report_scene(a, base, row);
   std::string all_failed;
   for (const std::string& f : failed) all_failed += "\n  " + f;
   if (a.check) {

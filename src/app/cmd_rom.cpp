@@ -5,11 +5,12 @@
 
 #include "app/commands.h"
 #include "app/common_options.h"
-#include "app/results_table.h"
 #include "app/retired_options.h"
 #include "core/path_clash.h"
 #include "data/manifest.h"
 #include "io/xdmf_writer.h"
+#include "rom/eval/result_row.h"
+#include "rom/eval/results_page.h"
 #include "rom/eval/rom_evaluation.h"
 #include "rom/field_source.h"
 

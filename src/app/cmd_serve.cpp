@@ -64,45 +64,14 @@ class Server {
     if (a.samples > 0) choices_.samples = a.samples;
     stepper_ = start_scene();  // errors name the file and end the command, before serving
     guard_ = std::make_unique<StepGuard>(*stepper_);
-    nlohmann::json info;
-    info["scene"] = fields_.scene_name();
-    info["latent_dim"] = fields_.latent_dim();
-    info["frame_time"] = frame_time_;
-    info["frames"] = frames_;
-    info["at_end"] = a.at_end;
-    info["steps_per_frame"] = stepper_->steps_per_frame();
-    info["mu"] = mu_;
-    info["colliders"] = file_.json.value("colliders", nlohmann::json::array());
-    info["domain"] = {file_.json["simulation"].value("domain_lo", nlohmann::json()),
-                      file_.json["simulation"].value("domain_hi", nlohmann::json())};
-    info["collider_bounds"] = {{limits_.lo[0], limits_.lo[1], limits_.lo[2]},
-                               {limits_.hi[0], limits_.hi[1], limits_.hi[2]}};
-    info["collider_speed_limit"] = limits_.speed;
-    model_ = net::WsServer::binary_message(model_message(*fields_.bases(), info));
+    model_ = net::WsServer::binary_message(model_message(*fields_.bases(), model_info()));
     net_.set_page(serve_page());
     net_.on_open = [this](int id) {
       net_.send(id, model_, true);
       if (last_) net_.send(id, last_, true);
       max_clients_ = std::max(max_clients_, net_.client_count());
     };
-    net_.on_message = [this](int id, const std::string& text) -> std::string {
-      if (++commands_this_frame_[id] > kMaxCommandsPerFrame)
-        return "over " + std::to_string(kMaxCommandsPerFrame) + " commands in one frame";
-      try {
-        ServeCommand c = parse_command(text, stepper_->colliders().size());
-        if (c.kind == ServeCommand::move) {
-          const std::string far =
-              collider_motion_problem(limits_, c.collider, c.position, Vec3::Zero(), Vec3::Zero());
-          if (!far.empty()) return far;
-        } else if (!reset_allowed(id)) {
-          return "";  // ignored: this client reset the scene less than a second ago
-        }
-        pending_.push_back(std::move(c));
-        return "";
-      } catch (const Error& e) {
-        return e.what();
-      }
-    };
+    net_.on_message = [this](int id, const std::string& text) { return receive(id, text); };
     net_.log = [this](const std::string& line) { say(line); };
     if (net_.max_clients() < a.net.max_clients)
       say("nsf serve: --max-clients " + std::to_string(a.net.max_clients) + " lowered to " +
@@ -131,37 +100,7 @@ class Server {
       apply_commands();
       commands_this_frame_.clear();
       const double t0 = mono_now();
-      // The scene's end: a visitor sees it start again (or held) instead of a frozen pose.
-      const bool at_end =
-          a_.at_end != "continue" && stepper_->time() >= (frames_ - 0.5) * frame_time_;
-      if (at_end && a_.at_end == "loop") restart();
-      if (!at_end) {
-        try {
-          const long recovered = guard_->health().recoveries;
-          guard_->advance_frame();  // a step that would diverge is redone (rom/step_guard.h)
-          // Said once; the status line counts the others.
-          if (guard_->health().recoveries > recovered && redone_ == 0)
-            say("nsf serve: a step that would have diverged was redone in frame " +
-                std::to_string(frame + 1) + " (" + guard_->health().last_recovery +
-                "); later ones are counted in the status line");
-          redone_ += uint64_t(guard_->health().recoveries - recovered);
-          if (!guard_->health().training_note.empty() && !said_outside_) {
-            say("nsf serve: the run left the model's training box in frame " +
-                std::to_string(frame + 1) + " (" + guard_->health().training_note +
-                "): the model may not hold what follows");
-            said_outside_ = true;
-          }
-        } catch (const Error& e) {
-          // Said once, with why; every failure is counted in the status and the last line.
-          if (failures_++ == 0)
-            std::cerr << "nsf serve: the reduced-order model failed at t = " << stepper_->time()
-                      << " s (" << e.what()
-                      << "); starting the scene again (and again whenever it fails: counted in the "
-                         "status line)"
-                      << std::endl;
-          restart();
-        }
-      }
+      advance(frame);
       stepping += mono_now() - t0;
       if (!a_.quiet && mono_now() - last_status > 10) {
         last_status = mono_now();
@@ -175,6 +114,82 @@ class Server {
   }
 
  private:
+  // What a client learns once, beside the bases: the scene's timing, colliders and limits.
+  nlohmann::json model_info() const {
+    nlohmann::json info;
+    info["scene"] = fields_.scene_name();
+    info["latent_dim"] = fields_.latent_dim();
+    info["frame_time"] = frame_time_;
+    info["frames"] = frames_;
+    info["at_end"] = a_.at_end;
+    info["steps_per_frame"] = stepper_->steps_per_frame();
+    info["mu"] = mu_;
+    info["colliders"] = file_.json.value("colliders", nlohmann::json::array());
+    info["domain"] = {file_.json["simulation"].value("domain_lo", nlohmann::json()),
+                      file_.json["simulation"].value("domain_hi", nlohmann::json())};
+    info["collider_bounds"] = {{limits_.lo[0], limits_.lo[1], limits_.lo[2]},
+                               {limits_.hi[0], limits_.hi[1], limits_.hi[2]}};
+    info["collider_speed_limit"] = limits_.speed;
+    return info;
+  }
+
+  // A client's command, queued for the next frame; what is wrong with it, else "".
+  std::string receive(int id, const std::string& text) {
+    if (++commands_this_frame_[id] > kMaxCommandsPerFrame)
+      return "over " + std::to_string(kMaxCommandsPerFrame) + " commands in one frame";
+    try {
+      ServeCommand c = parse_command(text, stepper_->colliders().size());
+      if (c.kind == ServeCommand::move) {
+        const std::string far =
+            collider_motion_problem(limits_, c.collider, c.position, Vec3::Zero(), Vec3::Zero());
+        if (!far.empty()) return far;
+      } else if (!reset_allowed(id)) {
+        return "";  // ignored: this client reset the scene less than a second ago
+      }
+      pending_.push_back(std::move(c));
+      return "";
+    } catch (const Error& e) {
+      return e.what();
+    }
+  }
+
+  // One frame of the scene: the guarded ROM steps, or at the scene's end the restart or hold
+  // --at-end asks for. A failure starts the scene again; both are said once and counted.
+  void advance(long frame) {
+    // The scene's end: a visitor sees it start again (or held) instead of a frozen pose.
+    const bool at_end =
+        a_.at_end != "continue" && stepper_->time() >= (frames_ - 0.5) * frame_time_;
+    if (at_end) {
+      if (a_.at_end == "loop") restart();
+      return;
+    }
+    try {
+      const long recovered = guard_->health().recoveries;
+      guard_->advance_frame();  // a step that would diverge is redone (rom/step_guard.h)
+      // Said once; the status line counts the others.
+      if (guard_->health().recoveries > recovered && redone_ == 0)
+        say("nsf serve: a step that would have diverged was redone in frame " +
+            std::to_string(frame + 1) + " (" + guard_->health().last_recovery +
+            "); later ones are counted in the status line");
+      redone_ += uint64_t(guard_->health().recoveries - recovered);
+      if (!guard_->health().training_note.empty() && !said_outside_) {
+        say("nsf serve: the run left the model's training box in frame " +
+            std::to_string(frame + 1) + " (" + guard_->health().training_note +
+            "): the model may not hold what follows");
+        said_outside_ = true;
+      }
+    } catch (const Error& e) {
+      // Said once, with why; every failure is counted in the status and the last line.
+      if (failures_++ == 0)
+        std::cerr << "nsf serve: the reduced-order model failed at t = " << stepper_->time()
+                  << " s (" << e.what()
+                  << "); starting the scene again (and again whenever it fails: counted in the "
+                     "status line)"
+                  << std::endl;
+      restart();
+    }
+  }
+
   std::string status(long frames, double stepping, double wall) const {
     char b[448];
     std::snprintf(

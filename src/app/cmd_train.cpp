@@ -184,42 +184,39 @@ void write_json(const TrainArgs& a, const TrainReport& r, int threads) {
   write_file_atomic(a.json, j.dump(2) + "\n");
 }
 
-void run_train(TrainArgs& a, const SweepRanks& ranks) {
-  TrainConfig& c = a.opt.config;
-  // Under mpirun: process 0 speaks and writes; each process takes its share of its machine.
-  const bool lead = ranks.rank() == 0;
-  if (!lead) c.quiet = true;
-  if (ranks.size() > 1 && c.threads <= 0) c.threads = ranks.cores();
-  const int threads = set_nn_threads(c.threads);
-  std::string row;
-  {
-    const Dataset data(a.data, a.opt.allow_incomplete);
-    if (!data.incomplete().empty() && lead)
-      std::fprintf(stderr, "WARNING: %s\n  --allow-incomplete: training on the runs it has\n",
-                   data.incomplete().c_str());
-    refuse_overwriting_inputs(a, data);
-    c.net = default_net_config(data.scene_name(), &row);
-    // Before the recipe, so that a basis recipe's encoder stays off an MLP model (apply_plan).
-    if (!a.decoder.empty()) c.net.decoder = parse_family(a.decoder, "--decoder");
+// The dataset's scene: the Table 1 row of its networks (`row`), the decoder family of --decoder,
+// and the scene's "train" recipe where the command line leaves a value open.
+void read_dataset_recipe(const TrainArgs& a, TrainConfig& c, std::string& row, bool lead) {
+  const Dataset data(a.data, a.opt.allow_incomplete);
+  if (!data.incomplete().empty() && lead)
+    std::fprintf(stderr, "WARNING: %s\n  --allow-incomplete: training on the runs it has\n",
+                 data.incomplete().c_str());
+  refuse_overwriting_inputs(a, data);
+  c.net = default_net_config(data.scene_name(), &row);
+  // Before the recipe, so that a basis recipe's encoder stays off an MLP model (apply_plan).
+  if (!a.decoder.empty()) c.net.decoder = parse_family(a.decoder, "--decoder");
+  if (lead)
+    std::fprintf(stderr,
+                 "nsf train: %s, scene '%s', %zu particles, %zu training runs, %zu test "
+                 "runs%s\n",
+                 a.data.c_str(), data.scene_name().c_str(), data.particle_count(),
+                 data.train().size(), data.test().size(), data.has_mu() ? " (with mu)" : "");
+  const std::optional<TrainSection> recipe = scene_recipe(data, a.scene, lead);
+  if (recipe && a.no_scene_recipe) {
     if (lead)
+      std::fprintf(stderr, "  the scene's \"train\" recipe is ignored (--no-scene-recipe)\n");
+  } else if (recipe) {
+    const std::string set = apply_recipe(*recipe, a, c);
+    if (!set.empty() && lead)
       std::fprintf(stderr,
-                   "nsf train: %s, scene '%s', %zu particles, %zu training runs, %zu test "
-                   "runs%s\n",
-                   a.data.c_str(), data.scene_name().c_str(), data.particle_count(),
-                   data.train().size(), data.test().size(), data.has_mu() ? " (with mu)" : "");
-    const std::optional<TrainSection> recipe = scene_recipe(data, a.scene, lead);
-    if (recipe && a.no_scene_recipe) {
-      if (lead)
-        std::fprintf(stderr, "  the scene's \"train\" recipe is ignored (--no-scene-recipe)\n");
-    } else if (recipe) {
-      const std::string set = apply_recipe(*recipe, a, c);
-      if (!set.empty() && lead)
-        std::fprintf(stderr,
-                     "  the scene's \"train\" recipe: %s (flags on the command line take "
-                     "precedence; --no-scene-recipe for the defaults)\n",
-                     set.c_str());
-    }
+                   "  the scene's \"train\" recipe: %s (flags on the command line take "
+                   "precedence; --no-scene-recipe for the defaults)\n",
+                   set.c_str());
   }
+}
+
+// The networks' shapes from the command line, over the scene's defaults and recipe.
+void apply_shape_flags(const TrainArgs& a, TrainConfig& c) {
   if (a.r > 0) c.net.latent_dim = a.r;
   if (a.depth > 0) c.net.depth = a.depth;
   if (a.width_g > 0) c.net.width_g = a.width_g;
@@ -245,6 +242,10 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
   if (!a.affine_input.empty()) c.net.affine_uses_velocity = a.affine_input == "velocity";
   if (!a.encoder.empty()) c.net.encoder = a.encoder;
   if (!a.stress_input.empty()) c.net.stress_uses_velocity = a.stress_input == "velocity";
+}
+
+// The flags that only a basis model reads, and the ones a base model's shapes make moot.
+void check_family_flags(const TrainArgs& a, const TrainConfig& c) {
   if (a.affine_input == "velocity" && c.net.coefficients[1] != "map")
     fail(
         "--affine-input velocity needs C's coefficients from a map (--coefficients TAU,map): "
@@ -260,55 +261,50 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
     fail(
         "--modes, --coefficient-*, --coefficients, --affine-input, --stress-input and --encoder "
         "modes shape the per-point bases: give --decoder basis");
-  set_per_stage(a.size.steps, c.steps, "--steps");
-  set_per_stage(a.epochs, a.opt.epochs, "--epochs");
-  set_per_stage(a.frames, c.frames_per_batch, "--frames-per-batch");
-  set_per_stage(a.particles, c.particles_per_frame, "--particles-per-frame");
+  // The base model fixes every shape; a shape flag beside it would be silently ignored.
+  if (!a.opt.base_model.empty() &&
+      (a.r > 0 || a.depth > 0 || a.width_g > 0 || a.width_h > 0 || a.width_l > 0 ||
+       a.encoder_channels > 0 || a.encoder_hidden > 0 || a.encoder_max_length > 0 || a.no_mu ||
+       !a.decoder.empty() || !a.modes.empty() || a.coefficient_width > 0 ||
+       a.coefficient_depth > 0 || !a.encoder.empty()))
+    fail("--base-model ", a.opt.base_model,
+         " fixes the networks' shapes: drop -r, --depth, --widths, --encoder*, --no-mu, "
+         "--decoder, --modes and --coefficient-width/depth");
+}
+
+// The log's lines on the networks to be trained and the threads that train them.
+void describe_networks(const TrainArgs& a, const std::string& row, int threads, int processes) {
+  const TrainConfig& c = a.opt.config;
+  const NetConfig& n = c.net;
   if (!a.opt.base_model.empty()) {
-    // The base model fixes every shape; a shape flag beside it would be silently ignored.
-    if (a.r > 0 || a.depth > 0 || a.width_g > 0 || a.width_h > 0 || a.width_l > 0 ||
-        a.encoder_channels > 0 || a.encoder_hidden > 0 || a.encoder_max_length > 0 || a.no_mu ||
-        !a.decoder.empty() || !a.modes.empty() || a.coefficient_width > 0 ||
-        a.coefficient_depth > 0 || !a.encoder.empty())
-      fail("--base-model ", a.opt.base_model,
-           " fixes the networks' shapes: drop -r, --depth, --widths, --encoder*, --no-mu, "
-           "--decoder, --modes and --coefficient-width/depth");
-    if (lead) std::fprintf(stderr, "  networks: those of %s\n", a.opt.base_model.c_str());
-  } else if (c.net.decoder == DecoderFamily::basis) {
-    if (lead)
-      std::fprintf(stderr,
-                   "  decoders: per-point bases of K = %d (x), %d (tau), %d (C) modes, coefficient "
-                   "network %d x %d for x, %s; r = %d (Table 1 row '%s')%s\n",
-                   c.net.modes[0], c.net.modes[1], c.net.modes[2], c.net.coefficient_depth,
-                   c.net.coefficient_width,
-                   (std::string(c.net.uses_map(1) ? "map" : "network") + " for tau" +
-                    (c.net.stress_reads_velocity() ? " (of the latent velocity too)" : "") + ", " +
-                    (c.net.uses_map(2) ? "map" : "network") + " for C" +
-                    (c.net.affine_reads_velocity() ? " (of the latent velocity too)" : ""))
-                       .c_str(),
-                   c.net.latent_dim, row.c_str(),
-                   c.net.encoder == "modes" ? "; encoder: the first r modes of x - X" : "");
-  } else if (lead) {
-    std::fprintf(
-        stderr, "  networks (Table 1 row '%s'): r = %d, depth %d, widths g %d, h %d, l %d\n",
-        row.c_str(), c.net.latent_dim, c.net.depth, c.net.width_g, c.net.width_h, c.net.width_l);
+    std::fprintf(stderr, "  networks: those of %s\n", a.opt.base_model.c_str());
+  } else if (n.decoder == DecoderFamily::basis) {
+    const std::string coefficients =
+        std::string(n.uses_map(1) ? "map" : "network") + " for tau" +
+        (n.stress_reads_velocity() ? " (of the latent velocity too)" : "") + ", " +
+        (n.uses_map(2) ? "map" : "network") + " for C" +
+        (n.affine_reads_velocity() ? " (of the latent velocity too)" : "");
+    std::fprintf(stderr,
+                 "  decoders: per-point bases of K = %d (x), %d (tau), %d (C) modes, coefficient "
+                 "network %d x %d for x, %s; r = %d (Table 1 row '%s')%s\n",
+                 n.modes[0], n.modes[1], n.modes[2], n.coefficient_depth, n.coefficient_width,
+                 coefficients.c_str(), n.latent_dim, row.c_str(),
+                 n.encoder == "modes" ? "; encoder: the first r modes of x - X" : "");
+  } else {
+    std::fprintf(stderr,
+                 "  networks (Table 1 row '%s'): r = %d, depth %d, widths g %d, h %d, l %d\n",
+                 row.c_str(), n.latent_dim, n.depth, n.width_g, n.width_h, n.width_l);
   }
-  if (lead && ranks.size() > 1)
-    std::fprintf(stderr, "  %d processes x %d threads, BLAS: %s; networks on %s\n", ranks.size(),
+  if (processes > 1)
+    std::fprintf(stderr, "  %d processes x %d threads, BLAS: %s; networks on %s\n", processes,
                  threads, blas_info().c_str(), a.opt.device.c_str());
-  else if (lead)
+  else
     std::fprintf(stderr, "  %d threads, BLAS: %s; networks on %s\n", threads, blas_info().c_str(),
                  a.opt.device.c_str());
+}
 
-  const std::unique_ptr<GradientTeam> team = make_gradient_team(ranks);
-  a.opt.team = team.get();
-  const TrainReport r = train_model(a.data, a.out, a.opt);
-  if (!lead) return;
-  if (!r.completed) {
-    std::fprintf(stderr, "stopped early (--stop-after); continue with --resume from %s\n",
-                 r.checkpoint_path.c_str());
-    return;
-  }
+// What training made: the model, its loss curves, its training box and the stages' throughput.
+void print_summary(const TrainReport& r) {
   std::printf("model: %s\nloss curves: %s%s%s\n", r.model_path.c_str(), r.loss_csv.c_str(),
               r.loss_png.empty() ? "" : ", ", r.loss_png.c_str());
   // What a reduced-order run will check a host's colliders against (docs/SCENES.md).
@@ -323,6 +319,35 @@ void run_train(TrainArgs& a, const SweepRanks& ranks) {
       rate(1, r.stages[1].points_per_second).c_str(),
       rate(2, r.stages[2].points_per_second).c_str(),
       rate(0, r.stages[0].frames_per_second).c_str(), peak_rss_mib());
+}
+
+void run_train(TrainArgs& a, const SweepRanks& ranks) {
+  TrainConfig& c = a.opt.config;
+  // Under mpirun: process 0 speaks and writes; each process takes its share of its machine.
+  const bool lead = ranks.rank() == 0;
+  if (!lead) c.quiet = true;
+  if (ranks.size() > 1 && c.threads <= 0) c.threads = ranks.cores();
+  const int threads = set_nn_threads(c.threads);
+  std::string row;
+  read_dataset_recipe(a, c, row, lead);
+  apply_shape_flags(a, c);
+  check_family_flags(a, c);
+  set_per_stage(a.size.steps, c.steps, "--steps");
+  set_per_stage(a.epochs, a.opt.epochs, "--epochs");
+  set_per_stage(a.frames, c.frames_per_batch, "--frames-per-batch");
+  set_per_stage(a.particles, c.particles_per_frame, "--particles-per-frame");
+  if (lead) describe_networks(a, row, threads, ranks.size());
+
+  const std::unique_ptr<GradientTeam> team = make_gradient_team(ranks);
+  a.opt.team = team.get();
+  const TrainReport r = train_model(a.data, a.out, a.opt);
+  if (!lead) return;
+  if (!r.completed) {
+    std::fprintf(stderr, "stopped early (--stop-after); continue with --resume from %s\n",
+                 r.checkpoint_path.c_str());
+    return;
+  }
+  print_summary(r);
   if (!a.no_calibrate) calibrate_trained_model(r.model_path, a.data, c.threads, c.quiet);
   if (!a.json.empty()) {
     write_json(a, r, threads);

@@ -29,21 +29,10 @@ int set_threads(int requested) {
   return threads;
 }
 
-}  // namespace nsf::app
+namespace {
 
-int main(int argc, char** argv) {
-  using namespace nsf::app;
-  // A file-size limit (`ulimit -f`) then makes a write fail with EFBIG, which every writer reports
-  // like a full disk and cleans up after, instead of killing the process mid-file (SIGXFSZ).
-  std::signal(SIGXFSZ, SIG_IGN);
-  CLI::App app{"nsf: neural stress fields for reduced-order elastoplasticity and fracture"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", version_text());
-  app.footer(exit_status_help());
-  // Usage errors say so, like the runtime errors' "nsf: error: ".
-  app.failure_message([](const CLI::App* a, const CLI::Error& e) {
-    return "nsf: usage error: " + CLI::FailureMessage::simple(a, e);
-  });
+// Every command, each with the exit statuses in its help.
+void add_commands(CLI::App& app) {
   add_simulate_command(app);
   add_nn_commands(app);
   add_sweep_command(app);
@@ -60,7 +49,11 @@ int main(int argc, char** argv) {
   add_self_description_commands(app);
   for (CLI::App* cmd : app.get_subcommands({}))
     cmd->footer("Exit status: 0 success, 1 error, 2 usage error, 3 internal error (nsf --help).");
-  // A mistyped command gets a suggestion, not CLI11's "A subcommand is required".
+}
+
+// A mistyped command gets a suggestion, not CLI11's "A subcommand is required", and an unknown
+// option of a known command its own message; returns the usage status for either, else 0.
+int refuse_unknown_names(CLI::App& app, int argc, char** argv) {
   if (argc > 1 && argv[1][0] != '-') {
     std::vector<std::string> names;
     for (const CLI::App* c : app.get_subcommands({})) names.push_back(c->get_name());
@@ -78,6 +71,28 @@ int main(int argc, char** argv) {
       return kExitUsage;
     }
   }
+  return 0;
+}
+
+}  // namespace
+
+}  // namespace nsf::app
+
+int main(int argc, char** argv) {
+  using namespace nsf::app;
+  // A file-size limit (`ulimit -f`) then makes a write fail with EFBIG, which every writer reports
+  // like a full disk and cleans up after, instead of killing the process mid-file (SIGXFSZ).
+  std::signal(SIGXFSZ, SIG_IGN);
+  CLI::App app{"nsf: neural stress fields for reduced-order elastoplasticity and fracture"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", version_text());
+  app.footer(exit_status_help());
+  // Usage errors say so, like the runtime errors' "nsf: error: ".
+  app.failure_message([](const CLI::App* a, const CLI::Error& e) {
+    return "nsf: usage error: " + CLI::FailureMessage::simple(a, e);
+  });
+  add_commands(app);
+  if (const int status = refuse_unknown_names(app, argc, argv)) return status;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

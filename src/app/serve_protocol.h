@@ -11,10 +11,7 @@
 #include <vector>
 
 #include "core/types.h"
-
-namespace nsf {
-struct BasisDecoders;
-}
+#include "nn/basis_decoders.h"
 
 namespace nsf::app {
 
