@@ -113,17 +113,12 @@ TEST(GranularCollapse, RunOutOfAnAspectRatioOneColumnMatchesChannelExperiments) 
   // Stopped: kinetic energy below 1e-5 of the column's potential energy M g H0/2, after the
   // collapse had time to start (free fall over H0 takes ~0.2 s); capped at 3 s.
   const double e_stop = 1e-5 * mass * 9.8 * kH0 / 2;
-  const double dt = sim.settings().dt;
   while (sim.time() < 3.0) {
     for (int i = 0; i < 50; ++i) sim.step();
     if (sim.time() > 0.3 && kinetic_energy(P) < e_stop) break;
   }
   const double front = front_position(P);
   const double runout = (front - kWall - kL0) / kL0;
-  std::printf(
-      "granular collapse a = 1: %zu particles, stopped at t = %.2f s (%ld steps of %g s), "
-      "front at %.3f m, run-out (L-L0)/L0 = %.3f; band [1.05, 1.75]\n",
-      P.size(), sim.time(), sim.step_count(), dt, front - kWall, runout);
   EXPECT_LT(kinetic_energy(P), e_stop) << "the flow did not stop within 3 s";
   EXPECT_GE(runout, 1.2 - 0.15);
   EXPECT_LE(runout, 1.6 + 0.15);

@@ -4,9 +4,7 @@
 
 #include "error_matchers.h"
 
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <random>
 #include <string>
@@ -79,8 +77,6 @@ TEST(MeshShape, SphereVolumeMatches) {
   for (double v : s.particles.vol0) volume += v;
   const double polyhedron = testing::enclosed_volume(sphere);
   const double ball = 4.0 / 3.0 * M_PI * r * r * r;
-  std::printf("sphere mesh: %zu particles, volume %.6f; polyhedron %.6f, ball %.6f\n",
-              s.particles.size(), volume, polyhedron, ball);
   EXPECT_NEAR(volume / polyhedron, 1.0, 0.02);
   EXPECT_NEAR(volume / ball, 1.0, 0.03);
 }
@@ -177,15 +173,11 @@ TEST(MeshShape, TenThousandTrianglesFillAHundredThousandPointsInSeconds) {
   // 47³ ≈ 104k candidate points around the sphere.
   const Lattice lattice{Vec3(0.25, 0.25, 0.25) - Vec3::Constant(0.27), Vec3::Constant(0.52), 0.0230,
                         2};
-  auto start = std::chrono::steady_clock::now();
   std::vector<Vec3> pts = sample_shape(
       *make_transformed(std::move(shape), Vec3::Constant(0.25), Mat3::Identity(), Vec3::Ones()),
       lattice);
-  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double h = lattice.spacing();
   const double volume = double(pts.size()) * h * h * h;
-  std::printf("20480-triangle sphere: %zu particles in %.2f s (volume %.5f, ball %.5f)\n",
-              pts.size(), seconds, volume, 4.0 / 3.0 * M_PI * std::pow(0.25, 3));
   EXPECT_NEAR(volume / (4.0 / 3.0 * M_PI * std::pow(0.25, 3)), 1.0, 0.03);
 }
 

@@ -298,8 +298,6 @@ TEST_F(BasisModel, HoldsTheFieldsAndItsProjectionBoundsTheModel) {
       EXPECT_LT(r.delta, 0.01) << split << " " << r.run;
       EXPECT_LT(r.stress_error, 0.2) << split << " " << r.run;
       EXPECT_LT(r.affine_error, 0.2) << split << " " << r.run;
-      std::printf("basis model, %s run %s: delta %.4f%%, stress %.2f%%, affine %.2f%%\n", split,
-                  r.run.c_str(), 100 * r.delta, 100 * r.stress_error, 100 * r.affine_error);
     }
   }
 }
@@ -321,9 +319,6 @@ TEST_F(BasisModel, HeldOutParticlesAreReadFromTheOthers) {
     EXPECT_LT(h.delta, nearest[i].held_out.delta);
     EXPECT_LT(h.stress, nearest[i].held_out.stress);
     EXPECT_EQ(h.own_delta, nearest[i].held_out.own_delta);
-    std::printf("held-out particles, run %s: delta %.4f%% (mls) %.4f%% (nearest) %.4f%% (model)\n",
-                mls[i].run.c_str(), 100 * h.delta, 100 * nearest[i].held_out.delta,
-                100 * h.own_delta);
   }
   o.held_out_stride = 1;
   nsf::testing::expect_contains(
@@ -516,8 +511,6 @@ TEST_F(BasisModel, ModesEncoderIsTheProjectionOnTheLeadingModes) {
   for (const nsf::EvalRow& r : nsf::evaluate_model(m, data(), e)) {
     EXPECT_LT(r.delta, 0.01) << r.run;
     EXPECT_LT(r.stress_error, 0.2) << r.run;
-    std::printf("modes encoder, run %s: delta %.4f%%, stress %.2f%%, affine %.2f%%\n",
-                r.run.c_str(), 100 * r.delta, 100 * r.stress_error, 100 * r.affine_error);
   }
   const std::string copy = (root_ / "modes_copy.nsf").string();
   nsf::NeuralModel::load(m).save(copy);
@@ -547,8 +540,6 @@ TEST_F(BasisModel, StressMapThatReadsTheLatentVelocitySurvivesSaving) {
   nsf::EvalOptions e;
   for (const nsf::EvalRow& row : nsf::evaluate_model(m, data(), e)) {
     EXPECT_LT(row.stress_error, 0.2) << row.run;
-    std::printf("stress map of the latent velocity, run %s: stress %.2f%%\n", row.run.c_str(),
-                100 * row.stress_error);
   }
   const Latent z = Latent::Zero(r);
   std::vector<nsf::Mat3> tau;

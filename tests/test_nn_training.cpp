@@ -143,8 +143,10 @@ TEST_F(NnTraining, EvalReportsSmallErrorsOnHeldOutRun) {
   EXPECT_EQ(rows[0].frames, 11u);  // frames 1…11, not the initial state
   EXPECT_DOUBLE_EQ(rows[0].mu, 1.25);
   EXPECT_LT(rows[0].delta, 0.1);  // positions around 0.5, displacements up to 0.2
-  EXPECT_LT(rows[0].stress_error, 1.0);
-  EXPECT_LT(rows[0].affine_error, 1.0);
+  // After the fixture's few hundred steps h and l are still coarse (19 % and 16 % when these
+  // bounds were set); a decoder that learned nothing scores about 100 %.
+  EXPECT_LT(rows[0].stress_error, 0.3);
+  EXPECT_LT(rows[0].affine_error, 0.3);
   // The synthetic τ and C are polynomials of degree ≤ 2 in X: the smooth fit leaves nothing.
   EXPECT_LT(rows[0].stress_poly_fit, 1e-6);
   EXPECT_LT(rows[0].affine_poly_fit, 1e-6);

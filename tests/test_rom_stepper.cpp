@@ -337,7 +337,6 @@ TEST_F(RomEndToEnd, StaysCloseToTheFullOrderRunAndBeatsAFrozenLatent) {
   const nsf::RomReport r = nsf::evaluate_rom(options());
   ASSERT_GE(r.delta, 0);
   EXPECT_LT(r.delta, 0.05) << "delta of the reduced-order run";
-  std::printf("tiny scene: ROM delta %.3f%%\n", 100 * r.delta);
   // A latent frozen at ẑ_0 (the dynamics switched off): the ROM must do much better.
   nsf::NeuralFields f = nsf::NeuralFields::load(model());
   const nsf::RunReader gt(truth());
@@ -352,7 +351,6 @@ TEST_F(RomEndToEnd, StaysCloseToTheFullOrderRunAndBeatsAFrozenLatent) {
   }
   const double frozen = std::sqrt(num / den);
   EXPECT_LT(r.delta, 0.5 * frozen) << "ROM " << r.delta << " vs frozen latent " << frozen;
-  std::printf("tiny scene: frozen-latent delta %.3f%%\n", 100 * frozen);
   // δ frame by frame (frames 1…N, the JSON row's delta_per_frame): eq. (11) pools them, so the
   // run's δ lies between the best and the worst frame's.
   ASSERT_EQ(r.delta_per_frame.size(), gt.frame_count() - 1);
@@ -368,8 +366,6 @@ TEST_F(RomEndToEnd, StaysCloseToTheFullOrderRunAndBeatsAFrozenLatent) {
   // the part g cannot represent.
   EXPECT_GT(r.energy_kept, 0.5);
   EXPECT_LE(r.energy_kept, 1.0 + 1e-3);
-  std::printf("tiny scene: the inversion keeps %.2f%% of the samples' kinetic energy per step\n",
-              100 * r.energy_kept);
   EXPECT_EQ(r.samples, 64u);
   EXPECT_GT(r.mean_N, double(r.samples));
   EXPECT_LE(r.mean_N, double(r.particles));
@@ -440,10 +436,6 @@ TEST_F(RomEndToEnd, ThinnedQuadratureKeepsNExactAmongTheQuadraturePoints) {
   const nsf::RomReport a = nsf::evaluate_rom(full), b = nsf::evaluate_rom(thin);
   EXPECT_LT(b.mean_N, 0.25 * a.mean_N) << "thinned " << b.mean_N << " vs " << a.mean_N;
   EXPECT_LT(b.delta, 0.05);
-  std::printf(
-      "tiny scene: ROM delta %.3f%% with one quadrature point per cell (mean |N| %.0f), "
-      "%.3f%% with all (mean |N| %.0f)\n",
-      100 * b.delta, b.mean_N, 100 * a.delta, a.mean_N);
 }
 
 // The MPM step on N hands the engine N's constant data only when N changes (or the thinned
@@ -525,8 +517,6 @@ TEST_F(RomEndToEnd, SceneSetsTheTimeStepRatioAndTheCommandLineOverridesIt) {
   o.dt_ratio = 5;
   const nsf::RomReport given = nsf::evaluate_rom(o);
   EXPECT_EQ(given.rom_steps_per_frame, 3);
-  std::printf("tiny scene: ROM delta %.3f%% at 3 dt, %.3f%% at 5 dt\n", 100 * scene_ratio.delta,
-              100 * given.delta);
 }
 
 // A basis model runs through the same step with its own sources: close to ground truth, with
@@ -543,10 +533,6 @@ TEST_F(RomEndToEnd, BasisModelRunsCloseToGroundTruth) {
   const nsf::RomReport thin = nsf::evaluate_rom(o);
   EXPECT_LT(thin.delta, 0.05);
   EXPECT_LT(thin.mean_N, 0.5 * r.mean_N);
-  std::printf(
-      "tiny scene, basis model: ROM delta %.3f%% (stress %.1f%%, affine %.1f%%), "
-      "%.3f%% with one quadrature point per cell\n",
-      100 * r.delta, 100 * r.stress_error, 100 * r.affine_error, 100 * thin.delta);
   o.rom.quadrature_per_cell = 0;
   o.rom.fields.stress = "network";
   nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
@@ -760,10 +746,6 @@ TEST_F(RomEndToEnd, IndicatorRisesOnARunMadeToDivergeBeforeAPointLeavesTheGrid) 
   EXPECT_LT(first_flag, diverged_at);
   const double early = *std::max_element(indicator.begin(), indicator.begin() + 3);
   EXPECT_LT(early, 0.5);
-  std::printf(
-      "diverging run: indicator %.3g on the first steps, flagged at step %ld, a point "
-      "left the grid at step %ld\n",
-      early, first_flag, diverged_at);
 }
 
 // A guarded run of the same case goes on to the scene's end: each failed step is redone (at rest
@@ -787,8 +769,6 @@ TEST_F(RomEndToEnd, AGuardedRunRecoversFromADivergenceAndSaysSo) {
     EXPECT_TRUE((p.array() > scene.settings.domain_lo.array()).all() &&
                 (p.array() < scene.settings.domain_hi.array()).all());
   }
-  std::printf("diverging run, guarded: %ld steps redone; the last: %s\n", guard.health().recoveries,
-              guard.health().last_recovery.c_str());
 
   nsf::RomOptions o;
   o.sampling.count = 100;
@@ -804,7 +784,6 @@ TEST_F(RomEndToEnd, AGuardedRunRecoversFromADivergenceAndSaysSo) {
   EXPECT_EQ(watch.health().recoveries, 0);
   EXPECT_LT(worst, 1.0);
   EXPECT_EQ(plain.latent(), watched.latent());
-  std::printf("healthy run: indicator at most %.3g\n", worst);
 }
 
 // Issue #53 item 1: the runtime's torch-free load (the file's run-time record) steps as the model
@@ -889,7 +868,10 @@ TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {
   nsf::RomEvalOptions o = options();
   o.rom.fields.stress = "crom";
   const nsf::RomReport crom = nsf::evaluate_rom(o);
-  EXPECT_GE(crom.delta, 0);
+  // τ from g's deformation gradient through the material, no l: it runs and stays near the
+  // others on this scene (4.0 % when the bound was set), a run that diverged or froze does not.
+  EXPECT_GT(crom.delta, 0.0);
+  EXPECT_LT(crom.delta, 0.08);
   EXPECT_EQ(crom.field_sources, "x from g, tau from dg/dX through the material (CROM), C = 0");
   o.rom.fields.stress = "";
   o.rom.inversion.taylor = true;
@@ -921,10 +903,6 @@ TEST_F(RomEndToEnd, TrackedStateOnTheIntegrationPointsReplacesTheNetworks) {
   EXPECT_LT(thinned.delta, 0.05);
   EXPECT_NE(thinned.delta, few.delta);
   EXPECT_LT(thinned.quadrature_points, 864u);
-  std::printf(
-      "tiny scene: ROM delta %.3f%% with tracked stress and C (every particle a sample), %.3f%% "
-      "with h and l; 100 samples %.3f%%, and one point per cell %.3f%%\n",
-      100 * tracked.delta, 100 * networks.delta, 100 * few.delta, 100 * thinned.delta);
   // A sample schedule (the cake's) keeps the first S's quadrature, and with it every point's
   // state: the run changes (fewer samples fitted) and stays close.
   o.overrides = {R"(rom.schedule=[{"fraction": 0.5, "samples": 50}])"};
@@ -932,8 +910,6 @@ TEST_F(RomEndToEnd, TrackedStateOnTheIntegrationPointsReplacesTheNetworks) {
   EXPECT_NE(scheduled.delta, thinned.delta);
   EXPECT_LT(scheduled.delta, 0.05);
   EXPECT_EQ(scheduled.quadrature_points, thinned.quadrature_points);
-  std::printf("tiny scene: tracked, one point per cell, 100 then 50 samples: ROM delta %.3f%%\n",
-              100 * scheduled.delta);
   // Each point's own G2P velocity in place of g's backward difference (--velocity tracked): a
   // run of its own, as close to the truth, from the scene's rom section as from the options.
   o.overrides.clear();
@@ -947,8 +923,6 @@ TEST_F(RomEndToEnd, TrackedStateOnTheIntegrationPointsReplacesTheNetworks) {
   o.rom.fields.velocity.clear();
   o.overrides = {R"(rom.fields={"stress": "tracked", "affine": "tracked", "velocity": "tracked"})"};
   EXPECT_EQ(nsf::evaluate_rom(o).delta, own_v.delta);
-  std::printf("tiny scene: tracked, 100 samples, each point's own velocity: ROM delta %.3f%%\n",
-              100 * own_v.delta);
   o.overrides.clear();
   o.dt_ratio = 5;  // past the CFL bound, where the explicit tracked stress would blow up
   nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }), "CFL bound");
@@ -1025,11 +999,6 @@ TEST_F(RomEndToEnd, LatentPriorHoldsTheLatentNearTheTrainingRunsLatents) {
   ASSERT_GE(held.delta, 0);
   EXPECT_LT(held.delta, 0.05);
   EXPECT_NE(held.delta, free_run.delta);
-  std::printf(
-      "tiny scene: ROM delta %.3f%% with the latent prior (latent %.3f spreads off the training "
-      "runs' at most), %.3f%% without (%.3f)\n",
-      100 * held.delta, held.training_distance_max, 100 * free_run.delta,
-      free_run.training_distance_max);
   // The scene's rom.latent_prior sets it as well; the command line's value wins.
   o.latent_prior.reset();
   o.overrides = {"rom.latent_prior=0.001"};
@@ -1100,8 +1069,6 @@ TEST_F(RomEndToEnd, OutputHoldsTheStressAndAffineFieldsOfEachFramesLatent) {
   EXPECT_GT(r.stress_error, 0);
   EXPECT_LT(r.stress_error, 1.5);
   EXPECT_EQ(r.field_sources, "x from g, tau from h, C from l");
-  std::printf("tiny scene: ROM stress error %.1f%%, affine error %.1f%%\n", 100 * r.stress_error,
-              100 * r.affine_error);
 }
 
 TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
@@ -1351,8 +1318,6 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
     }
   }
   EXPECT_NE(r.mean[0], r.mean[2]) << "the grid's ends must differ for the choice to mean anything";
-  std::printf("tiny scene: calibration means %.3f%% (none), %.3f%%, %.3f%%: chose %g m\n",
-              100 * r.mean[0], 100 * r.mean[1], 100 * r.mean[2], r.chosen);
 
   nsf::store_calibration(calibrated, r);
   EXPECT_EQ(nsf::NeuralFields::load(calibrated).calibrated_latent_prior(), r.chosen);
@@ -1488,8 +1453,6 @@ TEST_F(RomEndToEnd, CalibrationChoosesTheLargestStepWithinTheToleranceAndStoresI
   o.latent_prior = 0.0;
   o.dt_ratio = 7.5;
   EXPECT_EQ(nsf::evaluate_rom(o).delta, s.delta[1][1]);
-  std::printf("tiny scene: step calibration means %.3f%% (4 dt), %.3f%% (7.5), %.3f%% (15)\n",
-              100 * s.mean[0], 100 * s.mean[1], 100 * s.mean[2]);
 
   // One step a frame is about twice as far off as four (on this machine 3.1 % against 1.5 %), two
   // within a fifth: at 1.5x the best (the first) mean, the middle ratio is the largest that
