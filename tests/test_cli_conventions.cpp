@@ -203,6 +203,7 @@ TEST_F(CliConventions, RetiredOptionsAreUsageErrorsNamingTheirRecord) {
       {"rom", rom + "--linearize 0.05", "--linearize", "2026-11-22-tangent-cache.md"},
       {"rom", rom + "--linearize", "--linearize", "2026-11-22-tangent-cache.md"},
       {"rom", rom + "--flip 0.5", "--flip", "2026-11-25-flip-correction.md"},
+      {"rom", rom + "--gn-threads 0", "--gn-threads", "2026-11-23-gn-threads.md"},
       {"rom", rom + "--deformation tangent", "--deformation", "2026-11-22-tangent-cache.md"},
       {"rom", rom + "--stress tangent", "--stress", "2026-11-22-tangent-cache.md"},
       {"rom", rom + "--affine tangent", "--affine", "2026-11-22-tangent-cache.md"},

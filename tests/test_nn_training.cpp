@@ -341,8 +341,8 @@ TEST_F(NnTraining, TrainCommandFollowsTheScenesRecipe) {
   const size_t half = (n[2] + 1) / 2;  // twice stage 3's batch, steps rounded up
   EXPECT_EQ(stage_steps("recipe_batch_flags"), (std::vector<size_t>{half, half, half}));
 
-  ASSERT_EQ(train("recipe_flags", "--steps 6 --width-h 8", out), 0) << out;
-  EXPECT_NE(out.find("widths g 16, h 8, l 32"), std::string::npos) << out;
+  ASSERT_EQ(train("recipe_flags", "--steps 6 --width-h 8 --width-l 12", out), 0) << out;
+  EXPECT_NE(out.find("widths g 16, h 8, l 12"), std::string::npos) << out;
   EXPECT_EQ(stage_steps("recipe_flags"), (std::vector<size_t>{6, 6, 6}));
   // --widths, as demo and report spell it (issue #28, item 18): 0 keeps the recipe's width.
   ASSERT_EQ(train("recipe_widths", "--steps 6 --widths 0,8,0", out), 0) << out;
@@ -356,6 +356,24 @@ TEST_F(NnTraining, TrainCommandFollowsTheScenesRecipe) {
                      std::to_string(table1.width_h)),
             std::string::npos)
       << out;
+
+  // The shape flags no scene's recipe sets reach the model: h without μ, and the size of a basis
+  // model's coefficient networks.
+  ASSERT_EQ(train("no_mu", "--steps 6 --no-mu", out), 0) << out;
+  EXPECT_FALSE(nsf::NeuralModel::load((root_ / "no_mu.nsf").string()).stress_has_mu());
+  EXPECT_TRUE(nsf::NeuralModel::load((root_ / "recipe_off.nsf").string()).stress_has_mu());
+  const std::string coefficients = (root_ / "coefficients.nsf").string();
+  ASSERT_EQ(nsf::testing::run_cli(
+                "train '" + data.string() + "' --out '" + coefficients +
+                    "' -j 1 -q --decoder basis --steps 6 --no-calibrate "
+                    "--coefficients network --affine-input latent --coefficient-width 12 "
+                    "--coefficient-depth 2",
+                out),
+            0)
+      << out;
+  const nsf::NeuralModel basis = nsf::NeuralModel::load(coefficients);
+  EXPECT_EQ(basis.config.coefficient_width, 12);
+  EXPECT_EQ(basis.config.coefficient_depth, 2);
 
   // --scene: the recipe of the scene file as edited since the sweep, not the runs' stored one;
   // a file of another scene is refused before anything trains.

@@ -78,10 +78,6 @@ void add_rom_command(CLI::App& app) {
       cmd->add_option("--gn-iterations", a->gn_iterations,
                       "Gauss-Newton iteration cap (default: the scene's rom.gn_iterations, or 3)")
           ->check(in_range(1, 1000));
-  cmd->add_option("--gn-threads", a->opt.rom.inversion.threads,
-                  "BLAS threads of the Gauss-Newton fit (0 = those of -j)")
-      ->capture_default_str()
-      ->check(in_range(0, 256));
   cmd->add_option("--gn-tolerance", a->opt.rom.inversion.tolerance,
                   "Stop when |dz| <= tol (1 + |z|)")
       ->capture_default_str()
@@ -132,8 +128,6 @@ void add_rom_command(CLI::App& app) {
                       "of mass); the sample particles stay themselves (0 = every particle, the "
                       "paper; default: the scene's rom.quadrature, or 0)")
           ->check(in_range(0, 1000));
-  cmd->add_flag("--verify-n", a->opt.rom.verify_integration_set,
-                "Also find N by brute force every step and count misses (slow)");
   add_threads_option(cmd, a->opt.threads, "Threads, the same for both engines");
   add_gzip_option(cmd, a->opt.gzip);
   add_quiet_flag(cmd, a->opt.quiet);

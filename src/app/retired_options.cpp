@@ -12,10 +12,11 @@ struct RetiredOption {
   const char* record;  // under docs/experiments/
 };
 
-// The code last lived at commit 6a0656ca4713 (each record says where).
+// Each record names the commit where the code last lived (6a0656ca4713 for most).
 constexpr RetiredOption kRetired[] = {
     {"rom", "--linearize", "2026-11-22-tangent-cache.md"},
     {"rom", "--flip", "2026-11-25-flip-correction.md"},
+    {"rom", "--gn-threads", "2026-11-23-gn-threads.md"},
     {"report", "--flip", "2026-11-25-flip-correction.md"},
     {"train", "--mix-frames", "2026-11-23-jelly-encoder-overfits.md"},
     {"train", "--rom-latents", "2026-11-25-rom-latents.md"},
