@@ -1,7 +1,6 @@
 // Conservation laws the engine claims: mass, linear momentum and, with APIC, angular momentum.
 #include <gtest/gtest.h>
 
-
 #include "engine_fixtures.h"
 #include "mpm/simulation.h"
 
