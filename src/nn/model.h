@@ -31,7 +31,7 @@ struct Normalizer {
 };
 
 // One field of a basis model, f_p = mean_p + B_p · (scale ⊙ net(input)) (nn/basis_decoders.h has
-// the run-time form). The bases come from the training frames (nn/basis_fit.h).
+// the run-time form). The bases come from the training frames (nn/train/basis_fit.h).
 struct BasisField {
   torch::Tensor mean;   // |P| × dim
   torch::Tensor modes;  // |P| × dim × K

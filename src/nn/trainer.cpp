@@ -21,16 +21,16 @@
 #include "io/run_reader.h"
 #include "nn/basis_decoders.h"
 #include "nn/basis_export.h"
-#include "nn/basis_fit.h"
-#include "nn/batch_budget.h"
 #include "nn/checked_archive.h"
 #include "nn/dataset.h"
 #include "nn/latent_inversion.h"
-#include "nn/loss_plot.h"
 #include "nn/model.h"
 #include "nn/network_samples.h"
 #include "nn/rbf_map.h"
 #include "nn/torch_settings.h"
+#include "nn/train/basis_fit.h"
+#include "nn/train/batch_budget.h"
+#include "nn/train/loss_plot.h"
 
 #include <torch/cuda.h>
 #include <torch/optim/adam.h>
@@ -72,7 +72,7 @@ double memory_budget_gib(double requested) {
 }
 
 // The memory budget, once the batches are checked against it and the dataset: before the frames
-// are read, and before a batch is allocated (nn/batch_budget.h).
+// are read, and before a batch is allocated (nn/train/batch_budget.h).
 // The device of --device, checked before any data is read.
 torch::Device training_device(const std::string& name) {
   std::optional<torch::Device> d;
@@ -450,7 +450,7 @@ void Trainer::fit_bases(int first_field) {
     const double start = now_seconds();
     // The frames × columns matrix of a field takes what the memory budget leaves beside the
     // cached frames and the field's modes (held twice for a moment: the fit's and the model's),
-    // at least 256 MiB; a larger one goes through in slices (nn/basis_fit.h).
+    // at least 256 MiB; a larger one goes through in slices (nn/train/basis_fit.h).
     const double modes_gib = 2.0 * double(P * d) * model_.config.modes[f] * sizeof(float) / gib;
     const size_t cap =
         size_t(std::max(0.25, store_.budget_gib() - store_.cached_gib() - modes_gib) * gib);

@@ -8,7 +8,7 @@
 
 #include "data/training_box.h"
 #include "nn/config.h"
-#include "nn/gradient_team.h"
+#include "nn/train/gradient_team.h"
 
 namespace nsf {
 
@@ -33,7 +33,7 @@ struct TrainOptions {
   // (docs/TRAINING.md, "Training on a GPU"). Batches are drawn and assembled on the CPU either
   // way, with the same random numbers; the model file and the checkpoint hold CPU tensors.
   std::string device = "cpu";
-  // Several processes training together (`mpirun -np K nsf train`; nn/gradient_team.h): each
+  // Several processes training together (`mpirun -np K nsf train`; nn/train/gradient_team.h): each
   // holds its share of the frames, computes its share of every global batch of
   // frames_per_batch frames, and the gradients are summed; process 0 writes the checkpoints,
   // the model and the loss curves. Null: this process alone.

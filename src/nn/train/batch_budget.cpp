@@ -1,4 +1,4 @@
-#include "nn/batch_budget.h"
+#include "nn/train/batch_budget.h"
 
 #include <algorithm>
 
