@@ -33,7 +33,7 @@
 #include "nn/point_interpolation.h"
 #include "nn/torch_settings.h"
 #include "nn/train/basis_fit.h"
-#include "nn/trainer.h"
+#include "nn/train/trainer.h"
 #include "nn/zip_entries.h"
 #include "nn_fixtures.h"
 

@@ -87,8 +87,8 @@ class NeuralModel {
   torch::Tensor l_input(const torch::Tensor& Xn, const torch::Tensor& z) const;
 
   void set_eval_mode();
-  // Every network and tensor onto `device` (training on a GPU: nn/trainer.h); a model is saved,
-  // loaded and run on the CPU.
+  // Every network and tensor onto `device` (training on a GPU: nn/train/trainer.h); a model is
+  // saved, loaded and run on the CPU.
   void to(const torch::Device& device);
 
   // ---- basis models: coefficients of field f (0: x − X, 1: τ, 2: C) in physical units, B × K,
