@@ -1,7 +1,8 @@
 #pragma once
 // `nsf train`: the three training stages of §4.5 — (1) encoder e and deformation decoder g on
 // positions, (2) stress decoder h and (3) affine decoder l on the frozen latents ẑ_n = e(xⁿ).
-// Torch-free interface; the loop lives in trainer.cpp.
+// Torch-free interface; the stage loop lives in trainer.cpp, the stages' parts beside it in
+// nn/train/ (trainer_state.h lists them).
 #include <array>
 #include <string>
 #include <vector>
