@@ -17,7 +17,7 @@
 #include "cli_child.h"
 #include "data/sweep.h"
 #include "nn/torch_settings.h"
-#include "nn/trainer.h"
+#include "nn/train/trainer.h"
 #include "ws_client.h"
 
 namespace nsf::testing::serve {

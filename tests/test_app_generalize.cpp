@@ -10,7 +10,7 @@
 #include "data/sweep.h"
 #include "error_matchers.h"
 #include "nn/torch_settings.h"
-#include "nn/trainer.h"
+#include "nn/train/trainer.h"
 #include "rom/eval/generalize.h"
 
 namespace {

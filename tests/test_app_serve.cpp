@@ -17,7 +17,7 @@
 #include "nn/basis_decoders.h"
 #include "nn/neural_fields.h"
 #include "nn/torch_settings.h"
-#include "nn/trainer.h"
+#include "nn/train/trainer.h"
 #include "rom/latent_stepper.h"
 #include "rom/setup/rom_setup.h"
 #include "serve_fixture.h"

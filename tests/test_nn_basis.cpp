@@ -2,7 +2,7 @@
 // dynamic-size products (in the intrinsics headers, not in this code).
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
-// The per-point basis decoders (nn/basis_fit.h, nn/basis_decoders.h, `nsf train --decoder
+// The per-point basis decoders (nn/train/basis_fit.h, nn/basis_decoders.h, `nsf train --decoder
 // basis`): the snapshot SVD, the coefficient networks' Jacobians, training, the model file, and
 // fields at points that are not particles (nn/point_interpolation.h).
 #include <gmock/gmock.h>
@@ -22,7 +22,6 @@
 #include "core/error.h"
 #include "error_matchers.h"
 #include "nn/basis_decoders.h"
-#include "nn/basis_fit.h"
 #include "nn/checked_archive.h"
 #include "nn/checked_bytes.h"
 #include "nn/dataset.h"
@@ -33,7 +32,8 @@
 #include "nn/neural_fields.h"
 #include "nn/point_interpolation.h"
 #include "nn/torch_settings.h"
-#include "nn/trainer.h"
+#include "nn/train/basis_fit.h"
+#include "nn/train/trainer.h"
 #include "nn/zip_entries.h"
 #include "nn_fixtures.h"
 

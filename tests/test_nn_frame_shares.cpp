@@ -1,5 +1,5 @@
-// FrameStore's shares (`mpirun -np K nsf train`, nn/gradient_team.h): K processes each hold the
-// frames i with i mod K == their share, every frame exactly once, and read any other frame from
+// FrameStore's shares (`mpirun -np K nsf train`, nn/train/gradient_team.h): K processes each hold
+// the frames i with i mod K == their share, every frame exactly once, and read any other frame from
 // its run file, the same values as a store that holds them all.
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -10,7 +10,7 @@
 
 #include "cli_runner.h"
 #include "core/process.h"
-#include "nn/loss_plot.h"
+#include "nn/train/loss_plot.h"
 
 namespace {
 

@@ -19,7 +19,7 @@
 #include "nn/network_samples.h"
 #include "nn/neural_fields.h"
 #include "nn/torch_settings.h"
-#include "nn/trainer.h"
+#include "nn/train/trainer.h"
 #include "nn_fixtures.h"
 
 namespace fs = std::filesystem;

@@ -27,7 +27,7 @@
 #include "nn/network_samples.h"
 #include "nn/neural_fields.h"
 #include "nn/torch_settings.h"
-#include "nn/trainer.h"
+#include "nn/train/trainer.h"
 #include "rom/calibration/latent_prior_calibration.h"
 #include "rom/eval/result_row.h"
 #include "rom/eval/results_page.h"

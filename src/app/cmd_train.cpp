@@ -23,8 +23,8 @@
 #include "nn/config.h"
 #include "nn/dataset.h"
 #include "nn/torch_settings.h"
+#include "nn/train/trainer.h"
 #include "nn/train_section.h"
-#include "nn/trainer.h"
 #include "rom/calibration/latent_prior_calibration.h"
 #include "rom/setup/scene_file.h"
 

@@ -8,7 +8,7 @@
 #include "nn/dataset.h"
 #include "nn/model.h"
 #include "nn/neural_fields.h"
-#include "nn/trainer.h"
+#include "nn/train/trainer.h"
 #include "rom/calibration/latent_prior_calibration.h"
 #include "rom/setup/scene_file.h"
 

@@ -1,11 +1,11 @@
 #pragma once
 // `mpirun -np K nsf train DATA --out M`: K processes train one model (docs/TRAINING.md,
 // "Training across machines"), summing their gradients with MPI_Allreduce after every step
-// (nn/gradient_team.h says what each process computes).
+// (nn/train/gradient_team.h says what each process computes).
 #include <memory>
 
 #include "app/sweep_ranks.h"
-#include "nn/gradient_team.h"
+#include "nn/train/gradient_team.h"
 
 namespace nsf::app {
 

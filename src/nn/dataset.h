@@ -83,7 +83,7 @@ class Dataset {
 
 // The training frames, all (run, frame) pairs of the train split, cached in RAM while they fit
 // a budget and streamed from the run files otherwise. A process of a team of `shares`
-// (`mpirun -np K nsf train`, nn/gradient_team.h) holds only its share: the frames i with
+// (`mpirun -np K nsf train`, nn/train/gradient_team.h) holds only its share: the frames i with
 // i mod shares == share; every index stays global. `positions_only`: the frames hold x alone
 // (a basis model's training reads τ and C once, for their bases, from the run files).
 class FrameStore {

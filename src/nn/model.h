@@ -31,7 +31,7 @@ struct Normalizer {
 };
 
 // One field of a basis model, f_p = mean_p + B_p · (scale ⊙ net(input)) (nn/basis_decoders.h has
-// the run-time form). The bases come from the training frames (nn/basis_fit.h).
+// the run-time form). The bases come from the training frames (nn/train/basis_fit.h).
 struct BasisField {
   torch::Tensor mean;   // |P| × dim
   torch::Tensor modes;  // |P| × dim × K
@@ -87,8 +87,8 @@ class NeuralModel {
   torch::Tensor l_input(const torch::Tensor& Xn, const torch::Tensor& z) const;
 
   void set_eval_mode();
-  // Every network and tensor onto `device` (training on a GPU: nn/trainer.h); a model is saved,
-  // loaded and run on the CPU.
+  // Every network and tensor onto `device` (training on a GPU: nn/train/trainer.h); a model is
+  // saved, loaded and run on the CPU.
   void to(const torch::Device& device);
 
   // ---- basis models: coefficients of field f (0: x − X, 1: τ, 2: C) in physical units, B × K,

@@ -1,4 +1,4 @@
-#include "nn/loss_plot.h"
+#include "nn/train/loss_plot.h"
 
 #include <filesystem>
 #include <fstream>

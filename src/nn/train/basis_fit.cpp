@@ -2,7 +2,7 @@
 // dynamic-size products (in the intrinsics headers, not in this code).
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
-#include "nn/basis_fit.h"
+#include "nn/train/basis_fit.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>

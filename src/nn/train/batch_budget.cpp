@@ -1,4 +1,4 @@
-#include "nn/batch_budget.h"
+#include "nn/train/batch_budget.h"
 
 #include <algorithm>
 
@@ -13,7 +13,7 @@ constexpr int kTargetDim[kStageCount] = {3, 6, 9};
 // Copies of a stage-1 frame a step holds, generously: the batch, its normalised displacements, the
 // encoder's activations and their gradients.
 constexpr double kFrameCopies = 8;
-// A basis model's stages 2 and 3 take this many latent rows per step (nn/trainer.cpp).
+// A basis model's stages 2 and 3 take this many latent rows per step (nn/train/trainer.cpp).
 constexpr double kBasisRows = 256;
 
 }  // namespace

@@ -1,14 +1,15 @@
 #pragma once
 // `nsf train`: the three training stages of §4.5 — (1) encoder e and deformation decoder g on
 // positions, (2) stress decoder h and (3) affine decoder l on the frozen latents ẑ_n = e(xⁿ).
-// Torch-free interface; the loop lives in trainer.cpp.
+// Torch-free interface; the stage loop lives in trainer.cpp, the stages' parts beside it in
+// nn/train/ (trainer_state.h lists them).
 #include <array>
 #include <string>
 #include <vector>
 
 #include "data/training_box.h"
 #include "nn/config.h"
-#include "nn/gradient_team.h"
+#include "nn/train/gradient_team.h"
 
 namespace nsf {
 
@@ -33,7 +34,7 @@ struct TrainOptions {
   // (docs/TRAINING.md, "Training on a GPU"). Batches are drawn and assembled on the CPU either
   // way, with the same random numbers; the model file and the checkpoint hold CPU tensors.
   std::string device = "cpu";
-  // Several processes training together (`mpirun -np K nsf train`; nn/gradient_team.h): each
+  // Several processes training together (`mpirun -np K nsf train`; nn/train/gradient_team.h): each
   // holds its share of the frames, computes its share of every global batch of
   // frames_per_batch frames, and the gradients are summed; process 0 writes the checkpoints,
   // the model and the loss curves. Null: this process alone.
