@@ -3,7 +3,8 @@
 // same threads (docs/BENCHMARKS.md, "Inference per point"):
 //   build/rom_inference [--scene scenes/paper/metal_small.json] [--threads 2] [--json FILE]
 // Per point per step, the ROM infers x on the candidates at ẑ_n and ẑ_{n−1}, then τ and C on N;
-// this times exactly those calls of the field sources (rom/field_source.h) on the scene's first
+// this times exactly those calls of the field sources (rom/fields/field_source.h) on the scene's
+// first
 // `--points` particles. The networks have the scene's Table 1 shapes and the bases `--modes`
 // modes; their values are random, since the cost depends on the shapes alone.
 #include <omp.h>
@@ -26,7 +27,7 @@
 #include "nn/model.h"
 #include "nn/neural_fields.h"
 #include "nn/torch_settings.h"
-#include "rom/field_source.h"
+#include "rom/fields/field_source.h"
 
 namespace {
 

@@ -18,8 +18,8 @@
 #include "nn/neural_fields.h"
 #include "nn/torch_settings.h"
 #include "nn/train/trainer.h"
-#include "rom/latent_stepper.h"
 #include "rom/setup/rom_setup.h"
+#include "rom/step/latent_stepper.h"
 #include "serve_fixture.h"
 #include "ws_client.h"
 

@@ -184,8 +184,8 @@ TEST_F(ServeEndToEnd, MovesAreBoundedToTheDomainAndTheSpeedLimit) {
 
 // Item 18: -q printed the model's failure (and the restart) every 0.6 s. Quiet means the address,
 // the result and errors, each once: repeats are counted in the result line. The server runs its
-// ROM guarded (rom/step_guard.h), so the steps that would leave the grid are redone and counted
-// rather than failing the model.
+// ROM guarded (rom/step/step_guard.h), so the steps that would leave the grid are redone and
+// counted rather than failing the model.
 TEST_F(ServeEndToEnd, QuietPrintsOnlyErrorsAndEachOnce) {
   // Gravity 300 times the Earth's: the bar leaves the grid every few frames.
   const int port =

@@ -1,4 +1,4 @@
-// The thinned quadrature of the ROM's MPM step (rom/quadrature.h): per grid cell of the rest
+// The thinned quadrature of the ROM's MPM step (rom/step/quadrature.h): per grid cell of the rest
 // shape and material, the particles are merged into a few points at their groups' centres of
 // mass, carrying the groups' mass and volume; the particles to keep stay themselves.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 #include <tuple>
 
 #include "error_matchers.h"
-#include "rom/quadrature.h"
+#include "rom/step/quadrature.h"
 
 using nsf::Vec3;
 

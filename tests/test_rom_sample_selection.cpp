@@ -1,4 +1,4 @@
-// Sample particles chosen by QDEIM on g's tangent directions (rom/sample_selection.h): on a
+// Sample particles chosen by QDEIM on g's tangent directions (rom/step/sample_selection.h): on a
 // deformation with a motion only three particles make (a contact, a cut), a few random samples
 // miss it and leave a latent coordinate unfixed, while QDEIM's samples recover a known latent
 // exactly, within a stated conditioning.
@@ -9,7 +9,7 @@
 #include <numeric>
 #include <random>
 
-#include "rom/sample_selection.h"
+#include "rom/step/sample_selection.h"
 
 namespace {
 

@@ -1,11 +1,11 @@
-// A scene's "rom" section (rom/rom_section.h): the sample particles, the ROM's time step, its
+// A scene's "rom" section (rom/setup/rom_section.h): the sample particles, the ROM's time step, its
 // latent prior, quadrature, Gauss–Newton cap and field sources, and the errors that name the key
 // at fault.
 #include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "error_matchers.h"
-#include "rom/rom_section.h"
+#include "rom/setup/rom_section.h"
 
 namespace nsf {
 namespace {

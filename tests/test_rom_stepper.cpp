@@ -32,12 +32,12 @@
 #include "rom/eval/result_row.h"
 #include "rom/eval/results_page.h"
 #include "rom/eval/rom_evaluation.h"
-#include "rom/field_source.h"
-#include "rom/integration_set.h"
-#include "rom/latent_stepper.h"
-#include "rom/rom_diverged.h"
+#include "rom/fields/field_source.h"
 #include "rom/setup/rom_setup.h"
-#include "rom/step_guard.h"
+#include "rom/step/integration_set.h"
+#include "rom/step/latent_stepper.h"
+#include "rom/step/rom_diverged.h"
+#include "rom/step/step_guard.h"
 
 namespace fs = std::filesystem;
 using nsf::Mat3;

@@ -1,6 +1,6 @@
-// The tracked state of the integration points (rom/tracked_particles.h): a merged quadrature point
-// starts from its group's state and stands for its members, the state cannot be renumbered once
-// the run has begun, and a plastic material's state remembers its path where an elastic one's
+// The tracked state of the integration points (rom/step/tracked_particles.h): a merged quadrature
+// point starts from its group's state and stands for its members, the state cannot be renumbered
+// once the run has begun, and a plastic material's state remembers its path where an elastic one's
 // does not.
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 #include "error_matchers.h"
 #include "mpm/materials/material.h"
 #include "mpm/particles.h"
-#include "rom/field_source.h"
-#include "rom/tracked_particles.h"
+#include "rom/fields/field_source.h"
+#include "rom/step/tracked_particles.h"
 
 namespace {
 

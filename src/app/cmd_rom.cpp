@@ -12,7 +12,7 @@
 #include "rom/eval/result_row.h"
 #include "rom/eval/results_page.h"
 #include "rom/eval/rom_evaluation.h"
-#include "rom/field_source.h"
+#include "rom/fields/field_source.h"
 
 namespace nsf::app {
 
@@ -84,7 +84,7 @@ void add_rom_command(CLI::App& app) {
       ->check(in_range(0.0, 1.0));
   cmd->add_flag("--taylor", a->opt.rom.inversion.taylor,
                 "First-order Taylor inversion: one linearised step per time step");
-  // Field sources by name (rom/field_registry.cpp); each option lists the registered ones.
+  // Field sources by name (rom/fields/field_registry.cpp); each option lists the registered ones.
   const auto names = [](const std::vector<std::string>& v) {
     std::string out;
     for (const auto& n : v) out += (out.empty() ? "" : ", ") + n;

@@ -18,10 +18,10 @@
 #include "net/ws_server.h"
 #include "nn/basis_decoders.h"
 #include "nn/torch_settings.h"
-#include "rom/latent_stepper.h"
 #include "rom/setup/rom_setup.h"
 #include "rom/setup/scene_file.h"
-#include "rom/step_guard.h"
+#include "rom/step/latent_stepper.h"
+#include "rom/step/step_guard.h"
 
 namespace nsf::app {
 
@@ -165,7 +165,7 @@ class Server {
     }
     try {
       const long recovered = guard_->health().recoveries;
-      guard_->advance_frame();  // a step that would diverge is redone (rom/step_guard.h)
+      guard_->advance_frame();  // a step that would diverge is redone (rom/step/step_guard.h)
       // Said once; the status line counts the others.
       if (guard_->health().recoveries > recovered && redone_ == 0)
         say("nsf serve: a step that would have diverged was redone in frame " +

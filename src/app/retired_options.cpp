@@ -1,6 +1,6 @@
 #include "app/retired_options.h"
 
-#include "rom/field_source.h"
+#include "rom/fields/field_source.h"
 
 namespace nsf::app {
 

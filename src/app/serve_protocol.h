@@ -26,7 +26,7 @@ using StreamPose = std::array<float, 12>;
 
 // "NSFF", uint32 frame, float64 time, float64 sent (the server's wall clock, Unix seconds),
 // uint32 r, uint32 K, uint32 colliders, float32 the error indicator of the frame's last step
-// (rom/step_guard.h: below 1 fine); then r float64 ẑ, K float32 c = c_x(ẑ), and 12 float32 per
+// (rom/step/step_guard.h: below 1 fine); then r float64 ẑ, K float32 c = c_x(ẑ), and 12 float32 per
 // collider (position, rotation). 40 + 8r + 4K + 48·colliders bytes.
 std::string frame_message(uint32_t frame, double time, double sent, const Eigen::VectorXd& z,
                           const Eigen::VectorXf& c, const std::vector<StreamPose>& poses,

@@ -3,7 +3,7 @@
 // sweep's "vary" axes) over the training runs, and for each collider the region its centre moved
 // in and the fastest it moved. `nsf sweep` stores each run's part in the run file, `nsf train`
 // their union in the model, and the reduced-order runtime says when a run leaves it
-// (rom/step_guard.h), since a latent space holds only the motions its training runs made.
+// (rom/step/step_guard.h), since a latent space holds only the motions its training runs made.
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>

@@ -5,12 +5,12 @@
 #include <vector>
 
 #include "nn/gauss_newton.h"
-#include "rom/sampling.h"
+#include "rom/step/sampling.h"
 
 namespace nsf {
 
-// Where the step's fields come from, by source name (rom/field_source.h; `nsf rom --help` and
-// docs/ROM.md, "Field sources", list them). Empty: the model's own decoders ("network" for the
+// Where the step's fields come from, by source name (rom/fields/field_source.h; `nsf rom --help`
+// and docs/ROM.md, "Field sources", list them). Empty: the model's own decoders ("network" for the
 // paper's MLP fields, "basis" for per-point bases), and for C, "none" when the stress is CROM's
 // (the baseline has no affine field).
 struct FieldChoice {
@@ -22,8 +22,8 @@ struct FieldChoice {
 
 struct RomOptions {
   // ROM step over the scene's Δt, rounded so that a frame is a whole number of ROM steps; a
-  // scene's "rom" section may set its own (rom/rom_section.h). The paper uses 1.5. What suits a
-  // scene is measured, not derived: on metal_small 1.5 gave δ 3.3 %, 1.0 gave 1.5 %; on the
+  // scene's "rom" section may set its own (rom/setup/rom_section.h). The paper uses 1.5. What suits
+  // a scene is measured, not derived: on metal_small 1.5 gave δ 3.3 %, 1.0 gave 1.5 %; on the
   // paper-size sand 4 gives 3.6 % against 5.2 % at 1.0
   // (docs/experiments/2026-11-25-larger-rom-steps.md).
   double dt_ratio = 1.0;
@@ -33,9 +33,9 @@ struct RomOptions {
   // > 0: the inversion's latent prior with this ε in metres (GaussNewtonOptions::prior_length),
   // built from the latents the model stores of its training runs. 0: none (the paper).
   double latent_prior = 0;
-  int halo = 3;  // candidate margin in cells around I (rom/integration_set.h)
+  int halo = 3;  // candidate margin in cells around I (rom/step/integration_set.h)
   // > 0: the MPM step on N integrates with this many points per grid cell of the rest shape, each
-  // merging a group of particles (rom/quadrature.h); N, K and the inference on them shrink by
+  // merging a group of particles (rom/step/quadrature.h); N, K and the inference on them shrink by
   // the thinning factor. 0: every particle (the paper).
   int quadrature_per_cell = 0;
   // A step over fewer candidate points than this runs on one thread: its parallel loops are too

@@ -11,9 +11,9 @@
 #include "core/error.h"
 #include "mpm/colliders/collider_limits.h"
 #include "mpm/colliders/rigid_collider.h"
-#include "rom/latent_stepper.h"
 #include "rom/setup/rom_setup.h"
-#include "rom/step_guard.h"
+#include "rom/step/latent_stepper.h"
+#include "rom/step/step_guard.h"
 
 namespace nsf {
 

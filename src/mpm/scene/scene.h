@@ -50,7 +50,7 @@ void apply_overrides(nlohmann::json& scene, const std::vector<std::string>& over
 
 // Validates what the engine reads and builds the scene. Throws nsf::Error naming the key and value
 // at fault. The top-level keys are all checked, but the contents of "sweep" (data/sweep_spec.h),
-// "rom" (rom/rom_section.h) and "train" (nn/train_section.h) are left to their owners; the
+// "rom" (rom/setup/rom_section.h) and "train" (nn/train_section.h) are left to their owners; the
 // commands check those too when they load a scene (rom/setup/scene_file.h). Relative file paths in
 // the scene (mesh shapes) resolve against base_dir, normally the scene file's directory; empty
 // means the working directory.

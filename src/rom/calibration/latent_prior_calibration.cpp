@@ -17,8 +17,8 @@
 #include "nn/model.h"
 #include "nn/neural_fields.h"
 #include "rom/eval/rom_evaluation.h"
-#include "rom/rom_diverged.h"
 #include "rom/setup/scene_file.h"
+#include "rom/step/rom_diverged.h"
 
 namespace nsf {
 

@@ -1,6 +1,6 @@
 #include "rom/eval/rom_evaluation.h"
 
-#include "rom/step_guard.h"
+#include "rom/step/step_guard.h"
 
 #include <malloc.h>
 #include <omp.h>
@@ -25,7 +25,7 @@
 #include "nn/field_checks.h"
 #include "nn/torch_settings.h"
 #include "rom/eval/baseline_inputs.h"
-#include "rom/step_guard.h"
+#include "rom/step/step_guard.h"
 
 namespace nsf {
 

@@ -34,7 +34,7 @@ struct RomEvalOptions {
   int gzip = 0;            // deflate level of both run files (0 = off; io/run_writer.h)
   int threads = 0;         // OpenMP and torch threads, for both engines alike; 0: all cores
   bool quiet = false;
-  // Also measure the error budget on the truth's frames (rom/error_budget.h; needs a truth).
+  // Also measure the error budget on the truth's frames (rom/eval/error_budget.h; needs a truth).
   bool budget = false;
   // The simple baselines of rom/eval/baselines.h, against the same truth (needs one): look-up and
   // interpolation from this dataset's training runs; the coarse engine on coarse_scene (else

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "rom/error_budget.h"
 #include "rom/eval/baselines.h"
-#include "rom/latent_stepper.h"
+#include "rom/eval/error_budget.h"
+#include "rom/step/latent_stepper.h"
 
 namespace nsf {
 
@@ -63,7 +63,7 @@ struct RomReport {
   double rom_peak_mib = 0, fom_peak_mib = -1, baseline_mib = 0;
   bool peak_reset = false;  // the kernel restarted the peak between the phases
   std::vector<std::string> warnings;
-  // Where a collider first left the model's training box (rom/step_guard.h); "" for never.
+  // Where a collider first left the model's training box (rom/step/step_guard.h); "" for never.
   std::string training_note;
   std::string truth_file, rom_file;
   double speedup() const { return fom_seconds > 0 ? fom_seconds / rom_seconds : 0.0; }

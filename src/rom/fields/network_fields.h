@@ -5,7 +5,7 @@
 
 #include "nn/coordinate_networks.h"
 #include "nn/neural_fields.h"
-#include "rom/field_source.h"
+#include "rom/fields/field_source.h"
 
 namespace nsf {
 

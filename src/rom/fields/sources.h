@@ -1,7 +1,7 @@
 #pragma once
-// The built-in field sources (rom/field_source.h), one file each; rom/field_registry.cpp lists
-// them under their names.
-#include "rom/field_source.h"
+// The built-in field sources (rom/fields/field_source.h), one file each;
+// rom/fields/field_registry.cpp lists them under their names.
+#include "rom/fields/field_source.h"
 
 namespace nsf {
 
@@ -17,7 +17,8 @@ std::unique_ptr<PointFieldSource> make_basis_affine(const FieldContext& context)
 std::unique_ptr<PointFieldSource> make_crom_stress(const FieldContext& context);
 // C = 0.
 std::unique_ptr<PointFieldSource> make_zero_affine(const FieldContext& context);
-// Each particle's own F^E, plastic state and C, as full order keeps them (rom/tracked_particles.h).
+// Each particle's own F^E, plastic state and C, as full order keeps them
+// (rom/step/tracked_particles.h).
 std::unique_ptr<PointFieldSource> make_tracked_stress(const FieldContext& context);
 std::unique_ptr<PointFieldSource> make_tracked_affine(const FieldContext& context);
 // v on N: g's backward difference (the paper); each point's own G2P velocity of the step before.

@@ -1,9 +1,9 @@
-// τ, C and v from each particle's own tracked state (rom/tracked_particles.h), as full order has
-// them: τ and C an ablation of h and l that says how much of the ROM's error is theirs; v each
+// τ, C and v from each particle's own tracked state (rom/step/tracked_particles.h), as full order
+// has them: τ and C an ablation of h and l that says how much of the ROM's error is theirs; v each
 // point's own G2P velocity of the step before, in place of g's backward difference.
 #include "core/error.h"
 #include "rom/fields/sources.h"
-#include "rom/tracked_particles.h"
+#include "rom/step/tracked_particles.h"
 
 namespace nsf {
 

@@ -4,7 +4,7 @@
 
 #include "core/error.h"
 #include "data/sweep_spec.h"
-#include "rom/rom_section.h"
+#include "rom/setup/rom_section.h"
 
 namespace nsf {
 

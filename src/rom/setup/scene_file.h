@@ -13,7 +13,7 @@
 #include "data/sweep_spec.h"
 #include "mpm/scene/scene.h"
 #include "nn/train_section.h"
-#include "rom/rom_section.h"
+#include "rom/setup/rom_section.h"
 
 namespace nsf {
 

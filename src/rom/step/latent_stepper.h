@@ -32,7 +32,7 @@ struct RomDiagnostics {
   long integration_misses = 0;    // with verify_integration_set: particles of N not found
   double last_residual = 0;       // rms ‖g − x‖ on S after the last inversion (m)
   // With QDEIM's samples (rom.sampling = "qdeim"): the condition number of the orthonormal
-  // tangent basis of g restricted to S (rom/sample_selection.h); −1 otherwise.
+  // tangent basis of g restricted to S (rom/step/sample_selection.h); −1 otherwise.
   double sample_condition = -1;
   // How far ẑ_n is from the latents the model was trained on (the surface its training runs span
   // over μ and time; nn/latent_prior.h), in training spreads; −1 for a model that does not store
@@ -60,7 +60,7 @@ class LatentStepper {
   void step();
   void advance_frame();  // steps_per_frame() steps
 
-  // The latent pair and the clock of the run: what a guard (rom/step_guard.h) keeps before a
+  // The latent pair and the clock of the run: what a guard (rom/step/step_guard.h) keeps before a
   // step and puts back to redo it. The tracked state's own F and plastic state are not in it.
   struct Checkpoint {
     Latent z, z_prev;

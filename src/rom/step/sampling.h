@@ -20,7 +20,7 @@ struct SampleChange {
 struct SamplingSpec {
   int count = 256;  // |S| at t = 0
   // "random", "cluster", or "qdeim": the particles QDEIM picks on g's tangent directions
-  // first (rom/sample_selection.h; the latent stepper ranks them), then random ones.
+  // first (rom/step/sample_selection.h; the latent stepper ranks them), then random ones.
   std::string mode = "random";
   Vec3 center = Vec3::Zero();  // cluster: centre in rest space (m) ...
   double sigma = 0;            // ... and Gaussian width (m) of the sampling weight

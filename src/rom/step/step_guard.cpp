@@ -1,11 +1,11 @@
-#include "rom/step_guard.h"
+#include "rom/step/step_guard.h"
 
 #include <algorithm>
 #include <cstdio>
 
 #include "core/error.h"
 #include "mpm/colliders/rigid_collider.h"
-#include "rom/rom_diverged.h"
+#include "rom/step/rom_diverged.h"
 
 namespace nsf {
 

@@ -1,11 +1,11 @@
-#include "rom/rom_section.h"
+#include "rom/setup/rom_section.h"
 
 #include <cmath>
 #include <initializer_list>
 #include <utility>
 
 #include "core/error.h"
-#include "rom/field_source.h"
+#include "rom/fields/field_source.h"
 
 namespace nsf {
 

@@ -1,12 +1,12 @@
-#include "rom/tracked_particles.h"
+#include "rom/step/tracked_particles.h"
 
 #include <numeric>
 
 #include "core/error.h"
 #include "mpm/materials/material.h"
 #include "mpm/particles.h"
-#include "rom/field_source.h"
-#include "rom/rom_diverged.h"
+#include "rom/fields/field_source.h"
+#include "rom/step/rom_diverged.h"
 
 namespace nsf {
 

@@ -1,4 +1,4 @@
-#include "rom/sample_selection.h"
+#include "rom/step/sample_selection.h"
 
 #include <algorithm>
 #include <limits>

@@ -1,4 +1,4 @@
-#include "rom/integration_set.h"
+#include "rom/step/integration_set.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 #include <mutex>
 
 #include "core/error.h"
-#include "rom/field_source.h"
+#include "rom/fields/field_source.h"
 #include "rom/fields/sources.h"
 
 namespace nsf {

@@ -1,4 +1,4 @@
-#include "rom/error_budget.h"
+#include "rom/eval/error_budget.h"
 
 #include <cmath>
 

@@ -1,5 +1,5 @@
 #pragma once
-// A scene's optional "rom" section: the sample particles (rom/sampling.h), the ROM's own time
+// A scene's optional "rom" section: the sample particles (rom/step/sampling.h), the ROM's own time
 // step, its latent prior, its quadrature, its Gauss–Newton cap and its field sources — the
 // settings measured best for the scene (docs/ROM.md). The command line overrides each of them.
 #include <memory>
@@ -10,7 +10,7 @@
 
 #include "nn/neural_fields.h"
 #include "rom/rom_options.h"
-#include "rom/sampling.h"
+#include "rom/step/sampling.h"
 
 namespace nsf {
 

@@ -1,4 +1,4 @@
-#include "rom/latent_stepper.h"
+#include "rom/step/latent_stepper.h"
 
 #include <omp.h>
 
@@ -13,12 +13,12 @@
 #include "mpm/simulation.h"
 #include "nn/latent_inversion.h"
 #include "nn/latent_prior.h"
-#include "rom/field_source.h"
-#include "rom/integration_set.h"
-#include "rom/quadrature.h"
-#include "rom/rom_diverged.h"
-#include "rom/sample_selection.h"
-#include "rom/tracked_particles.h"
+#include "rom/fields/field_source.h"
+#include "rom/step/integration_set.h"
+#include "rom/step/quadrature.h"
+#include "rom/step/rom_diverged.h"
+#include "rom/step/sample_selection.h"
+#include "rom/step/tracked_particles.h"
 
 namespace nsf {
 
@@ -56,8 +56,8 @@ struct LatentStepper::Impl {
   std::vector<Vec3> xN, vN;
   std::vector<Mat3> tauN, CN;
   std::unique_ptr<LatentPrior> prior;  // when the model stores its training latents
-  // Per particle of the scene, then per merged quadrature point (rom/quadrature.h): what the ROM
-  // needs of the full particle set. mass and vol0 are the particles' own.
+  // Per particle of the scene, then per merged quadrature point (rom/step/quadrature.h): what the
+  // ROM needs of the full particle set. mass and vol0 are the particles' own.
   size_t np = 0;  // |P|
   PointTable table;
   std::vector<double> mass, vol0;
@@ -75,7 +75,7 @@ struct LatentStepper::Impl {
   std::vector<uint32_t> N;
   std::vector<Vec3> x_cache;  // g on all particles at step cache_step
   long cache_step = -1;
-  // The quadrature points that can join N (every particle unless thinned, rom/quadrature.h)
+  // The quadrature points that can join N (every particle unless thinned, rom/step/quadrature.h)
   // with their masses and volumes; when thinned, the points prepared for g.
   ThinnedQuadrature quad;
   NeuralFields::Points quad_points;
@@ -84,7 +84,8 @@ struct LatentStepper::Impl {
   bool xK_last_valid = false;
   long refreshed_at = -1;  // step of the last refresh: g(X, ẑ_n) on K is then known
 
-  // The field sources (rom/field_source.h), chosen once, and the tracked state they may read.
+  // The field sources (rom/fields/field_source.h), chosen once, and the tracked state they may
+  // read.
   std::unique_ptr<TrackedParticles> tracked;
   std::unique_ptr<FieldContext> context;
   std::unique_ptr<DeformationSource> g;
@@ -176,7 +177,7 @@ struct LatentStepper::Impl {
   // QDEIM's particles on g's tangent directions first, then `fill` (a random ranking): the
   // tangents ∂g/∂ẑ of every particle at the rest state's latent and at up to kTangentLatents of
   // the training runs' latents, whose leading left singular vectors QDEIM picks rows of
-  // (rom/sample_selection.h). Their conditioning on the first |S| is kept for the diagnostics.
+  // (rom/step/sample_selection.h). Their conditioning on the first |S| is kept for the diagnostics.
   std::vector<uint32_t> qdeim_ranking(const std::vector<uint32_t>& fill) {
     constexpr int64_t kTangentLatents = 8;
     std::vector<uint32_t> all(np);

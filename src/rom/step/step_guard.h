@@ -20,7 +20,7 @@
 // faster than they moved it, marks the run as outside the training box; the step goes on.
 #include <string>
 
-#include "rom/latent_stepper.h"
+#include "rom/step/latent_stepper.h"
 
 namespace nsf {
 

@@ -1,4 +1,4 @@
-#include "rom/quadrature.h"
+#include "rom/step/quadrature.h"
 
 #include <algorithm>
 #include <cmath>

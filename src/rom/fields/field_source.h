@@ -5,7 +5,7 @@
 // built (as materials are by their registry): the trained decoders (the paper's networks, or the
 // per-point bases of a basis model), CROM's τ(∂g/∂X), C = 0, the particles' own tracked state; and
 // the velocities P2G carries (g's backward difference, or each point's own). A new source is one
-// file in src/rom/fields/ plus a line in rom/field_registry.cpp.
+// file in src/rom/fields/ plus a line in rom/fields/field_registry.cpp.
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
@@ -24,7 +24,7 @@ struct Particles;
 class TrackedParticles;
 
 // Every point that can join N, numbered as the stepper numbers them: the scene's particles
-// (ids < particles), then the merged points of a thinned quadrature (rom/quadrature.h). The
+// (ids < particles), then the merged points of a thinned quadrature (rom/step/quadrature.h). The
 // merged points change when the sample set does, and sources are told (set_points).
 struct PointTable {
   size_t particles = 0;  // |P|
@@ -101,8 +101,8 @@ using DeformationFactory = std::function<std::unique_ptr<DeformationSource>(cons
 using PointFieldFactory = std::function<std::unique_ptr<PointFieldSource>(const FieldContext&)>;
 using VelocityFactory = std::function<std::unique_ptr<VelocitySource>(const FieldContext&)>;
 
-// The registries (rom/field_registry.cpp). `make_*` throw nsf::Error naming the known sources
-// for an unknown name.
+// The registries (rom/fields/field_registry.cpp). `make_*` throw nsf::Error naming the known
+// sources for an unknown name.
 enum class FieldRole { stress, affine };
 void register_deformation_source(const std::string& name, DeformationFactory factory);
 void register_point_field_source(FieldRole role, const std::string& name,

@@ -1,4 +1,4 @@
-#include "rom/sampling.h"
+#include "rom/step/sampling.h"
 
 #include <algorithm>
 #include <cmath>
