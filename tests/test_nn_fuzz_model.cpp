@@ -25,10 +25,10 @@
 #include "nn/field_checks.h"
 #include "nn/gauss_newton.h"
 #include "nn/latent_inversion.h"
-#include "nn/latent_prior.h"
 #include "nn/model.h"
 #include "nn/network_samples.h"
 #include "nn/neural_fields.h"
+#include "rom/inversion/latent_prior.h"
 
 #include <torch/torch.h>
 
@@ -229,8 +229,8 @@ void load_and_use(const std::string& path) {
   std::vector<nsf::Vec3> target;
   for (uint32_t p : ids) target.push_back(X[p] + nsf::Vec3(0.001, 0, 0));
   nsf::GaussNewtonOptions o;
-  o.prior = &prior;
-  o.prior_length = 0.001;
+  o.penalty = &prior;
+  o.penalty_length = 0.001;
   nsf::invert_deformation(*nsf::sample_deformation(m, X, ids), target, z, o);
 }
 

@@ -22,7 +22,6 @@
 #include "mpm/simulation.h"
 #include "nn/dataset.h"
 #include "nn/latent_inversion.h"
-#include "nn/latent_prior.h"
 #include "nn/model.h"
 #include "nn/network_samples.h"
 #include "nn/neural_fields.h"
@@ -33,6 +32,7 @@
 #include "rom/eval/results_page.h"
 #include "rom/eval/rom_evaluation.h"
 #include "rom/fields/field_source.h"
+#include "rom/inversion/latent_prior.h"
 #include "rom/setup/rom_setup.h"
 #include "rom/step/integration_set.h"
 #include "rom/step/latent_stepper.h"
@@ -142,8 +142,8 @@ TEST(RomInversion, LatentPriorKeepsALatentOnTheTrainingSurfaceAndPullsOneOffItTo
   nsf::GaussNewtonOptions opt;
   opt.max_iterations = 30;
   opt.tolerance = 1e-8;
-  opt.prior = &prior;
-  opt.prior_length = 0.05;
+  opt.penalty = &prior;
+  opt.penalty_length = 0.05;
 
   const Eigen::VectorXd on = base + 1.5 * along_t + 0.5 * along_mu;
   ASSERT_LT(prior.distance2(on), 1e-20);
@@ -157,7 +157,7 @@ TEST(RomInversion, LatentPriorKeepsALatentOnTheTrainingSurfaceAndPullsOneOffItTo
   ASSERT_GT(d_off, 0.5);
   double last = d_off;
   for (double eps : {0.001, 0.01, 0.1}) {
-    opt.prior_length = eps;
+    opt.penalty_length = eps;
     const nsf::InversionResult p = nsf::invert_deformation(m.model, m.Xn, target, off, opt);
     const double d = std::sqrt(prior.distance2(p.z));
     EXPECT_LT(d, last) << "epsilon " << eps;
@@ -165,7 +165,7 @@ TEST(RomInversion, LatentPriorKeepsALatentOnTheTrainingSurfaceAndPullsOneOffItTo
   }
   EXPECT_LT(last, 0.2 * d_off);
   // Without it (or ε = 0), the fit is the paper's: back to the latent that made the positions.
-  opt.prior_length = 0;
+  opt.penalty_length = 0;
   const nsf::InversionResult plain = nsf::invert_deformation(m.model, m.Xn, target, on, opt);
   EXPECT_LT((plain.z - off).norm(), 1e-3) << plain.z.transpose();
 }

@@ -9,7 +9,6 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "nn/latent_prior.h"
 
 namespace nsf {
 
@@ -76,21 +75,21 @@ InversionResult invert_deformation(SampleDeformation& samples, const std::vector
   Eigen::MatrixXd J;
   std::vector<Vec3> g, trial;
   const int iterations = options.taylor ? 1 : std::max(1, options.max_iterations);
-  // The latent prior's weight: |S| ε², so that its term and the samples' misfit share units (m²).
-  const double lambda = options.prior && options.prior_length > 0
-                            ? double(n) * options.prior_length * options.prior_length
+  // The penalty's weight: |S| ε², so that its term and the samples' misfit share units (m²).
+  const double lambda = options.penalty && options.penalty_length > 0
+                            ? double(n) * options.penalty_length * options.penalty_length
                             : 0.0;
-  const auto prior_at = [&](const Eigen::VectorXd& z) {
-    return lambda > 0 ? options.prior->nearest(z) : LatentPrior::Nearest{};
+  const auto penalty_at = [&](const Eigen::VectorXd& z) {
+    return lambda > 0 ? options.penalty->terms(z) : LatentPenalty::Terms{};
   };
-  // The prior's Gauss–Newton terms come from the closest point of its surface to ẑ; the line
-  // search finds it for the step it accepts, which is the next iteration's ẑ.
-  LatentPrior::Nearest near = prior_at(res.z);
+  // The penalty's Gauss–Newton terms at ẑ; the line search finds them for the step it accepts,
+  // which is the next iteration's ẑ.
+  LatentPenalty::Terms penalty = penalty_at(res.z);
   for (int it = 0; it < iterations; ++it) {
     samples.jacobian(res.z, J, g);
     Eigen::VectorXd residual(3 * n);
     for (int64_t p = 0; p < n; ++p) residual.segment<3>(3 * p) = g[p] - target[p];
-    const double r0 = residual.squaredNorm() + lambda * near.distance2;
+    const double r0 = residual.squaredNorm() + lambda * penalty.distance2;
     res.rms_residual = std::sqrt(residual.squaredNorm() / double(n));
     // Normal equations are r × r; a tiny Levenberg term keeps them solvable when some latent
     // direction does not move the samples at all.
@@ -98,8 +97,8 @@ InversionResult invert_deformation(SampleDeformation& samples, const std::vector
     JtJ.diagonal().array() += 1e-10 * (1.0 + JtJ.diagonal().maxCoeff());
     Eigen::VectorXd rhs = -(J.transpose() * residual);
     if (lambda > 0) {
-      JtJ += lambda * near.hessian;
-      rhs -= lambda * near.gradient;
+      JtJ += lambda * penalty.hessian;
+      rhs -= lambda * penalty.gradient;
     }
     Eigen::VectorXd dz = JtJ.ldlt().solve(rhs);
     if (!dz.allFinite())
@@ -112,15 +111,15 @@ InversionResult invert_deformation(SampleDeformation& samples, const std::vector
       break;
     }
     // Backtracking: a full Gauss–Newton step can overshoot where g is strongly nonlinear in ẑ;
-    // the latent must never fit the samples (plus the prior's term) worse than where it started.
+    // the latent must never fit the samples (plus the penalty's term) worse than where it started.
     bool accepted = false;
     for (int halvings = 0; halvings < 6; ++halvings) {
       const double d1 = squared_residual(samples, res.z + dz, target, trial);
-      LatentPrior::Nearest near1 = prior_at(res.z + dz);
-      const double r1 = d1 + lambda * near1.distance2;
+      LatentPenalty::Terms penalty1 = penalty_at(res.z + dz);
+      const double r1 = d1 + lambda * penalty1.distance2;
       if (r1 < r0) {
         res.z += dz;
-        near = std::move(near1);
+        penalty = std::move(penalty1);
         res.fitted.swap(trial);
         res.rms_residual = std::sqrt(d1 / double(n));
         accepted = true;

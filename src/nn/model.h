@@ -117,7 +117,8 @@ class NeuralModel {
   torch::Tensor rest;  // |P| × 3 physical rest positions X (float32), set with displacement
   // The latents h and l were trained on, one row per frame of each training run (runs × frames ×
   // r, float32), and each run's μ (runs; zeros without μ): the region of latent space the ROM's
-  // latent prior holds the inversion to (nn/latent_prior.h). Undefined in older model files.
+  // latent prior holds its inversion near (rom/inversion/latent_prior.h). Undefined in older
+  // model files.
   torch::Tensor trajectory_latents, trajectory_mu;
   // Wall time of the training that made this model, all stages (and resumed runs) together;
   // 0 in files written before nsf recorded it.

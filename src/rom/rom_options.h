@@ -30,8 +30,9 @@ struct RomOptions {
   SamplingSpec sampling;
   GaussNewtonOptions inversion;
   FieldChoice fields;
-  // > 0: the inversion's latent prior with this ε in metres (GaussNewtonOptions::prior_length),
-  // built from the latents the model stores of its training runs. 0: none (the paper).
+  // > 0: the inversion's latent prior (rom/inversion/latent_prior.h) with this ε in metres
+  // (GaussNewtonOptions::penalty_length), built from the latents the model stores of its training
+  // runs. 0: none (the paper).
   double latent_prior = 0;
   int halo = 3;  // candidate margin in cells around I (rom/step/integration_set.h)
   // > 0: the MPM step on N integrates with this many points per grid cell of the rest shape, each

@@ -12,8 +12,8 @@
 #include "core/error.h"
 #include "mpm/simulation.h"
 #include "nn/latent_inversion.h"
-#include "nn/latent_prior.h"
 #include "rom/fields/field_source.h"
+#include "rom/inversion/latent_prior.h"
 #include "rom/step/integration_set.h"
 #include "rom/step/quadrature.h"
 #include "rom/step/rom_diverged.h"
@@ -55,7 +55,9 @@ struct LatentStepper::Impl {
   // change places with sim's particle arrays (swap) rather than being copied into them.
   std::vector<Vec3> xN, vN;
   std::vector<Mat3> tauN, CN;
-  std::unique_ptr<LatentPrior> prior;  // when the model stores its training latents
+  // When the model stores its training latents: the latent prior, and what training_distance()
+  // measures from.
+  std::unique_ptr<LatentPrior> prior;
   // Per particle of the scene, then per merged quadrature point (rom/step/quadrature.h): what the
   // ROM needs of the full particle set. mass and vol0 are the particles' own.
   size_t np = 0;  // |P|
@@ -151,21 +153,21 @@ struct LatentStepper::Impl {
     if (!(opt.latent_prior >= 0 && std::isfinite(opt.latent_prior)))
       fail("rom: the latent prior's length must be a number of metres, 0 or more, got ",
            opt.latent_prior);
-    if (!fields.record().trajectory_latents.empty()) make_latent_prior();
+    prior = training_latent_prior(fields.record());
     if (opt.latent_prior > 0) {
       if (!prior)
         fail(
             "rom: the latent prior (--latent-prior, rom.latent_prior) needs the training runs' "
             "latents, and this model file has none (it was trained before nsf stored them): "
             "retrain it with nsf train, or run without the prior (--latent-prior 0)");
-      opt.inversion.prior = prior.get();
-      opt.inversion.prior_length = opt.latent_prior;
+      opt.inversion.penalty = prior.get();
+      opt.inversion.penalty_length = opt.latent_prior;
     }
     // ẑ_0: the encoder's latent of the rest state, refined on S so that step 1 starts from the
     // latent the inversion itself would pick; ẑ_{-1}: fitted to X − Δt·v⁰.
     GaussNewtonOptions fit{8, 1e-7, false};
-    fit.prior = opt.inversion.prior;
-    fit.prior_length = opt.inversion.prior_length;
+    fit.penalty = opt.inversion.penalty;
+    fit.penalty_length = opt.inversion.penalty_length;
     z = fields.rest_latent(std::vector<Vec3>(table.X.begin(), table.X.begin() + np));
     std::vector<Vec3> target(S.size());
     for (size_t k = 0; k < S.size(); ++k) target[k] = table.X[S[k]];
@@ -219,20 +221,6 @@ struct LatentStepper::Impl {
     stress = make_point_field_source(FieldRole::stress, c.stress, *context);
     affine = make_point_field_source(FieldRole::affine, c.affine, *context);
     velocity = make_velocity_source(c.velocity, *context);
-  }
-
-  // The training runs' latents, in order of μ: the surface the latent prior holds the inversion
-  // near, and what training_distance() measures from. Each latent component's spread over them is
-  // the unit in which the prior's distance is measured.
-  void make_latent_prior() {
-    const ModelRecord& m = fields.record();
-    std::vector<size_t> order(m.trajectory_latents.size());
-    std::iota(order.begin(), order.end(), size_t(0));
-    std::stable_sort(order.begin(), order.end(),
-                     [&](size_t a, size_t b) { return m.trajectory_mu[a] < m.trajectory_mu[b]; });
-    std::vector<std::vector<Eigen::VectorXd>> runs;
-    for (size_t j : order) runs.push_back(m.trajectory_latents[j]);
-    prior = std::make_unique<LatentPrior>(runs, m.latent_spread);
   }
 
   void set_samples(int count) {

@@ -35,8 +35,8 @@ struct RomDiagnostics {
   // tangent basis of g restricted to S (rom/step/sample_selection.h); −1 otherwise.
   double sample_condition = -1;
   // How far ẑ_n is from the latents the model was trained on (the surface its training runs span
-  // over μ and time; nn/latent_prior.h), in training spreads; −1 for a model that does not store
-  // them. Far from it, h and l answer for states they never saw.
+  // over μ and time; rom/inversion/latent_prior.h), in training spreads; −1 for a model that does
+  // not store them. Far from it, h and l answer for states they never saw.
   double training_distance = -1;
   // Σ over steps of the samples' kinetic energy the inversion keeps, over Σ of what the MPM step
   // gave them: below 1, the projection onto g's tangent bleeds velocity every step.

@@ -5,28 +5,32 @@
 // triangulated grid of their frames. The inversion may drift along latent directions that hardly
 // move the sample particles but move h and l a lot
 // (docs/experiments/2026-11-25-delta-floor-and-stress.md); the distance to this surface, in units
-// of each component's training spread, penalises that. Torch-free: the stepper hands it the model's
-// stored latents.
+// of each component's training spread, penalises that: it is the Gauss–Newton fit's LatentPenalty
+// (nn/gauss_newton.h). Torch-free: built from the latents the model's run-time record stores.
 #include <Eigen/Core>
 #include <atomic>
+#include <memory>
 #include <vector>
+
+#include "nn/gauss_newton.h"
+#include "nn/model_record.h"
 
 namespace nsf {
 
-class LatentPrior {
+class LatentPrior final : public LatentPenalty {
  public:
   // runs[j][i]: the latent of frame i of the run with the j-th smallest μ. Runs of unequal
   // length are cut to the shortest (a sweep's runs all have the scene's frame count). spread:
   // each latent component's training spread, the unit of distance (the model's norm_z).
   LatentPrior(const std::vector<std::vector<Eigen::VectorXd>>& runs, const Eigen::VectorXd& spread);
 
-  struct Nearest {
-    double distance2 = 0;      // squared distance to the surface, in training spreads
-    Eigen::VectorXd gradient;  // ½ ∂distance²/∂ẑ
-    Eigen::MatrixXd hessian;  // ½ ∂²distance²/∂ẑ² of the closest feature's plane (Gauss–Newton)
-  };
+  // distance2: the squared distance to the surface, in training spreads; gradient: its half
+  // derivative; hessian: half the second derivative of the distance to the plane of the closest
+  // feature (Gauss–Newton's).
+  using Nearest = LatentPenalty::Terms;
   Nearest nearest(const Eigen::VectorXd& z) const;
   double distance2(const Eigen::VectorXd& z) const;
+  Terms terms(const Eigen::VectorXd& z) const override { return nearest(z); }
 
  private:
   // One triangle of the surface in whitened coordinates: corners a, b, c, edges e1 = b − a and
@@ -53,5 +57,9 @@ class LatentPrior {
   mutable std::atomic<size_t> hint_{0};
   Eigen::VectorXd spread_;
 };
+
+// The prior of a model's training runs (its record's latents, runs in order of μ, and their
+// spreads), or null where the model stores no training latents (a file older than that).
+std::unique_ptr<LatentPrior> training_latent_prior(const ModelRecord& model);
 
 }  // namespace nsf

@@ -1,7 +1,7 @@
-// The latent prior (nn/latent_prior.h): distance to the surface the training runs' latents span,
-// its Gauss–Newton terms, and the inversion held near it.
-// GCC 12 reports false -Wmaybe-uninitialized warnings from inside Eigen's AVX-512 kernels for
-// dynamic-size matrices (in the intrinsics headers, not in this code).
+// The latent prior (rom/inversion/latent_prior.h): distance to the surface the training runs'
+// latents span, its Gauss–Newton terms, and the inversion held near it. GCC 12 reports false
+// -Wmaybe-uninitialized warnings from inside Eigen's AVX-512 kernels for dynamic-size matrices (in
+// the intrinsics headers, not in this code).
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <random>
 
 #include "error_matchers.h"
-#include "nn/latent_prior.h"
+#include "rom/inversion/latent_prior.h"
 
 namespace {
 

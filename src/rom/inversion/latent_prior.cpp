@@ -2,12 +2,13 @@
 // dynamic-size products (in the intrinsics headers, not in this code).
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
-#include "nn/latent_prior.h"
+#include "rom/inversion/latent_prior.h"
 
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "core/error.h"
 
@@ -155,6 +156,19 @@ LatentPrior::Nearest LatentPrior::nearest(const Eigen::VectorXd& z) const {
   const Eigen::MatrixXd normal = Eigen::MatrixXd::Identity(w.size(), w.size()) - T * T.transpose();
   n.hessian = inv.asDiagonal() * normal * inv.asDiagonal();
   return n;
+}
+
+// The training runs' latents, in order of μ: the surface the latent prior holds the inversion near.
+// Each latent component's spread over them is the unit in which the distance is measured.
+std::unique_ptr<LatentPrior> training_latent_prior(const ModelRecord& m) {
+  if (m.trajectory_latents.empty()) return nullptr;
+  std::vector<size_t> order(m.trajectory_latents.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return m.trajectory_mu[a] < m.trajectory_mu[b]; });
+  std::vector<std::vector<Eigen::VectorXd>> runs;
+  for (size_t j : order) runs.push_back(m.trajectory_latents[j]);
+  return std::make_unique<LatentPrior>(runs, m.latent_spread);
 }
 
 }  // namespace nsf
