@@ -13,7 +13,7 @@
 #include "mpm/simulation.h"
 #include "nn/latent_inversion.h"
 #include "rom/fields/field_source.h"
-#include "rom/inversion/latent_prior.h"
+#include "rom/inversion/rom_inversion.h"
 #include "rom/step/integration_set.h"
 #include "rom/step/quadrature.h"
 #include "rom/step/rom_diverged.h"
@@ -55,9 +55,8 @@ struct LatentStepper::Impl {
   // change places with sim's particle arrays (swap) rather than being copied into them.
   std::vector<Vec3> xN, vN;
   std::vector<Mat3> tauN, CN;
-  // When the model stores its training latents: the latent prior, and what training_distance()
-  // measures from.
-  std::unique_ptr<LatentPrior> prior;
+  // The fit of ẑ to the samples' positions, under the latent prior where one is on.
+  std::unique_ptr<RomInversion> inversion;
   // Per particle of the scene, then per merged quadrature point (rom/step/quadrature.h): what the
   // ROM needs of the full particle set. mass and vol0 are the particles' own.
   size_t np = 0;  // |P|
@@ -150,30 +149,15 @@ struct LatentStepper::Impl {
     set_samples(sample_count_at(opt.sampling, 0, T));
     tracked->check(cfl_bound);
 
-    if (!(opt.latent_prior >= 0 && std::isfinite(opt.latent_prior)))
-      fail("rom: the latent prior's length must be a number of metres, 0 or more, got ",
-           opt.latent_prior);
-    prior = training_latent_prior(fields.record());
-    if (opt.latent_prior > 0) {
-      if (!prior)
-        fail(
-            "rom: the latent prior (--latent-prior, rom.latent_prior) needs the training runs' "
-            "latents, and this model file has none (it was trained before nsf stored them): "
-            "retrain it with nsf train, or run without the prior (--latent-prior 0)");
-      opt.inversion.penalty = prior.get();
-      opt.inversion.penalty_length = opt.latent_prior;
-    }
+    inversion = std::make_unique<RomInversion>(fields.record(), opt.inversion, opt.latent_prior);
     // ẑ_0: the encoder's latent of the rest state, refined on S so that step 1 starts from the
     // latent the inversion itself would pick; ẑ_{-1}: fitted to X − Δt·v⁰.
-    GaussNewtonOptions fit{8, 1e-7, false};
-    fit.penalty = opt.inversion.penalty;
-    fit.penalty_length = opt.inversion.penalty_length;
     z = fields.rest_latent(std::vector<Vec3>(table.X.begin(), table.X.begin() + np));
     std::vector<Vec3> target(S.size());
     for (size_t k = 0; k < S.size(); ++k) target[k] = table.X[S[k]];
-    z = invert_deformation(*g_S, target, z, fit).z;
+    z = inversion->fit_initial(*g_S, target, z);
     for (size_t k = 0; k < S.size(); ++k) target[k] = table.X[S[k]] - dt * v0[S[k]];
-    z_prev = invert_deformation(*g_S, target, z, fit).z;
+    z_prev = inversion->fit_initial(*g_S, target, z);
   }
 
   // QDEIM's particles on g's tangent directions first, then `fill` (a random ranking): the
@@ -468,15 +452,7 @@ struct LatentStepper::Impl {
     ScopedTimer timer(times.inversion);
     std::optional<ScopedBlasThreads> fit_threads;
     if (opt.inversion.threads > 0) fit_threads.emplace(opt.inversion.threads);
-    InversionResult res;
-    try {
-      res = invert_deformation(*g_S, xs_new, z, opt.inversion);
-    } catch (const Error& e) {  // a non-finite fit: the step before had already run away
-      fail_diverged("rom: at step ", n, " (t = ", t, " s) ", e.what());
-    }
-    if (!res.z.allFinite())
-      fail_diverged("rom: the latent fitted at step ", n, " (t = ", t,
-                    " s) is not finite: the latent dynamics diverged");
+    const InversionResult res = inversion->fit_step(*g_S, xs_new, z, n, t);
     z_prev = z;
     z = res.z;
     last_residual = res.rms_residual;
@@ -552,7 +528,7 @@ const Latent& LatentStepper::latent() const {
   return impl_->z;
 }
 const GaussNewtonOptions& LatentStepper::inversion_options() const {
-  return impl_->opt.inversion;
+  return impl_->inversion->options();
 }
 std::vector<std::unique_ptr<Collider>>& LatentStepper::colliders() {
   return impl_->sim->colliders();
@@ -625,7 +601,7 @@ RomDiagnostics LatentStepper::diagnostics() const {
   d.integration_misses = m.misses;
   d.last_residual = m.last_residual;
   d.sample_condition = m.sample_condition;
-  d.training_distance = m.prior ? std::sqrt(m.prior->distance2(m.z)) : -1.0;
+  d.training_distance = m.inversion->training_distance(m.z);
   d.energy_kept = m.energy_after_mpm > 0 ? m.energy_after_inversion / m.energy_after_mpm : 1.0;
   d.courant = m.last_courant;
   return d;
