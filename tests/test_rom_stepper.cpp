@@ -38,6 +38,7 @@
 #include "rom/step/latent_stepper.h"
 #include "rom/step/rom_diverged.h"
 #include "rom/step/step_guard.h"
+#include "rom/step/stepper_checks.h"
 
 namespace fs = std::filesystem;
 using nsf::Mat3;
@@ -395,9 +396,15 @@ nsf::RomOptions verified_cluster_options() {
   o.sampling.mode = "cluster";
   o.sampling.center = Vec3(0.2, 0.26, 0.5);
   o.sampling.sigma = 0.04;
-  o.verify_integration_set = true;
   o.halo = 2;
   return o;
+}
+
+// N found by brute force beside the candidate scheme at every step, its misses counted.
+void verify_integration_set(nsf::LatentStepper& rom) {
+  nsf::StepperChecks checks;
+  checks.verify_integration_set = true;
+  nsf::set_stepper_checks(rom, checks);
 }
 
 TEST_F(RomEndToEnd, CandidateSchemeFindsExactlyTheIntegrationParticlesAlongTheRun) {
@@ -405,6 +412,7 @@ TEST_F(RomEndToEnd, CandidateSchemeFindsExactlyTheIntegrationParticlesAlongTheRu
   nsf::Scene scene = nsf::load_scene(kTinyScene, {"objects[0].velocity=[1.0,-1.0,0]"});
   const int frames = scene.settings.frames;
   nsf::LatentStepper rom(f, std::move(scene), test_mu(), verified_cluster_options());
+  verify_integration_set(rom);
   for (int k = 0; k < frames; ++k) rom.advance_frame();
   const nsf::RomDiagnostics d = rom.diagnostics();
   EXPECT_EQ(d.integration_misses, 0);
@@ -423,6 +431,7 @@ TEST_F(RomEndToEnd, ThinnedQuadratureKeepsNExactAmongTheQuadraturePoints) {
   nsf::Scene scene = nsf::load_scene(kTinyScene, {"objects[0].velocity=[1.0,-1.0,0]"});
   const int frames = scene.settings.frames;
   nsf::LatentStepper rom(f, std::move(scene), test_mu(), o);
+  verify_integration_set(rom);
   // 864 particles in 108 cells of 2³: one merged point per cell, and the 8 samples themselves.
   const nsf::RomDiagnostics d = rom.diagnostics();
   EXPECT_EQ(d.quadrature_points, 108u + 8u);
@@ -447,7 +456,6 @@ TEST_F(RomEndToEnd, ConstantDataOfNKeptBetweenStepsGivesTheRefilledRunBitForBit)
   // (the network model: the basis model diverges from 8 clustered samples on this tiny scene).
   // Random samples whose count drops at T/2: the thinned quadrature is rebuilt around the new S.
   nsf::RomOptions cluster = verified_cluster_options(), shrinking;
-  cluster.verify_integration_set = false;
   shrinking.sampling.count = 16;
   shrinking.sampling.schedule = {{0.5, 12}};
   struct Case {
@@ -461,10 +469,11 @@ TEST_F(RomEndToEnd, ConstantDataOfNKeptBetweenStepsGivesTheRefilledRunBitForBit)
     for (const std::string& m : c.models) {
       nsf::NeuralFields f = nsf::NeuralFields::load(m);
       const int frames = nsf::load_scene(kTinyScene).settings.frames;
-      o.refill_constant_data = false;
       nsf::LatentStepper kept(f, nsf::load_scene(kTinyScene, c.overrides), test_mu(), o);
-      o.refill_constant_data = true;
       nsf::LatentStepper refilled(f, nsf::load_scene(kTinyScene, c.overrides), test_mu(), o);
+      nsf::StepperChecks refill;
+      refill.refill_constant_data = true;
+      nsf::set_stepper_checks(refilled, refill);
       int changes = 0;
       std::vector<uint32_t> last;
       for (int k = 0; k < frames * kept.steps_per_frame(); ++k) {

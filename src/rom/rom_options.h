@@ -42,12 +42,6 @@ struct RomOptions {
   // A step over fewer candidate points than this runs on one thread: its parallel loops are too
   // small for a second thread to pay for waking up (docs/ROM.md). 0: always on every thread.
   size_t serial_below_points = 8192;
-  // Also find N by brute force (g on every particle) each step and count the particles the
-  // candidate scheme missed. For tests and checks; costs a full evaluation of g per step.
-  bool verify_integration_set = false;
-  // For tests: hand the engine N's constant data (rest position, mass, volume, material) every
-  // step, not only when N differs from the last step's list. The results are the same bit for bit.
-  bool refill_constant_data = false;
 
   // The sources by name, with the defaults filled in for a model whose decoders are `decoder`.
   FieldChoice resolved_fields(const std::string& decoder) const {

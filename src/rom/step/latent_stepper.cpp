@@ -1,4 +1,5 @@
 #include "rom/step/latent_stepper.h"
+#include "rom/step/stepper_checks.h"
 
 #include <omp.h>
 
@@ -44,6 +45,7 @@ class OneThreadBelow {
 }  // namespace
 
 struct LatentStepper::Impl {
+  StepperChecks checks;  // only a test turns them on (rom/step/stepper_checks.h)
   NeuralFields& fields;
   RomOptions opt;
   double mu;
@@ -99,7 +101,7 @@ struct LatentStepper::Impl {
   double last_margin = std::numeric_limits<double>::infinity();
   double sample_condition = -1;  // of g's tangents on S, with QDEIM's samples
   double energy_after_mpm = 0, energy_after_inversion = 0;  // summed over steps, on S
-  long refreshes = 0, misses = 0;
+  long refreshes = 0, misses = -1;  // misses: −1 until the brute-force check of N runs
   RomTimes times;
 
   Impl(NeuralFields& f, Scene scene, double mu_, const RomOptions& o)
@@ -390,7 +392,7 @@ struct LatentStepper::Impl {
       // checks the samples too.
       check_finite_inside(xN, N, "integration");
     }
-    if (opt.verify_integration_set) verify_integration_set();
+    if (checks.verify_integration_set) verify_integration_set();
     sum_N += double(N.size());
     sum_K += double(K.ids().size());
     xK_last.swap(xK);  // g(X, ẑ_n) on K: next step's g(X, ẑ_{n−1}) if K stays
@@ -398,7 +400,7 @@ struct LatentStepper::Impl {
 
   // N's constant data into sim's particles, when N is not the list they already hold.
   void make_resident() {
-    if (N == resident && !opt.refill_constant_data) return;
+    if (N == resident && !checks.refill_constant_data) return;
     Particles& P = sim->particles();
     const size_t m = N.size();
     P.X.resize(m), P.F.resize(m), P.mass.resize(m), P.vol0.resize(m), P.mat.resize(m);
@@ -481,6 +483,7 @@ struct LatentStepper::Impl {
     fields.deform(thinned() ? quad_points : all_points, z, x);
     std::vector<uint32_t> ours = N;
     std::sort(ours.begin(), ours.end());
+    misses = std::max(misses, 0L);
     for (uint32_t row : nsf::integration_particles(marks, x))
       if (!std::binary_search(ours.begin(), ours.end(), quad.ids[row])) ++misses;
   }
@@ -605,6 +608,10 @@ RomDiagnostics LatentStepper::diagnostics() const {
   d.energy_kept = m.energy_after_mpm > 0 ? m.energy_after_inversion / m.energy_after_mpm : 1.0;
   d.courant = m.last_courant;
   return d;
+}
+
+void set_stepper_checks(LatentStepper& stepper, const StepperChecks& checks) {
+  stepper.impl_->checks = checks;
 }
 
 }  // namespace nsf

@@ -29,8 +29,8 @@ struct RomDiagnostics {
   double mean_N = 0, mean_K = 0;  // mean |N| and candidates |K| over the steps so far
   size_t quadrature_points = 0;   // points that can join N (|P| unless thinned)
   long refreshes = 0;             // candidate sets rebuilt from all positions
-  long integration_misses = 0;    // with verify_integration_set: particles of N not found
-  double last_residual = 0;       // rms ‖g − x‖ on S after the last inversion (m)
+  long integration_misses = -1;  // N missed (StepperChecks::verify_integration_set); −1: unchecked
+  double last_residual = 0;      // rms ‖g − x‖ on S after the last inversion (m)
   // With QDEIM's samples (rom.sampling = "qdeim"): the condition number of the orthonormal
   // tangent basis of g restricted to S (rom/step/sample_selection.h); −1 otherwise.
   double sample_condition = -1;
@@ -115,6 +115,7 @@ class LatentStepper {
   double grid_dx() const;
 
  private:
+  friend void set_stepper_checks(LatentStepper&, const struct StepperChecks&);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
