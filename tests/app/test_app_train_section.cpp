@@ -265,7 +265,8 @@ TEST(TrainSection, EachRecipeOfAListCalibratesTheKindOfRunItsSetMakes) {
                              {"gives 2 calibration recipes", "no recipe 3"});
 }
 
-// Every "train" snippet in docs/SCENES.md parses (tests/test_scene.cpp checks the other kinds).
+// Every "train" snippet in docs/SCENES.md parses (tests/unit/data/test_scene.cpp checks the other
+// kinds).
 TEST(TrainSection, DocsSnippetsParse) {
   std::ifstream in(std::filesystem::path(NSF_SOURCE_DIR) / "docs" / "SCENES.md");
   ASSERT_TRUE(in);

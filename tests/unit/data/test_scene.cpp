@@ -231,9 +231,9 @@ TEST(SceneValidation, RejectsUnknownKeysWrongTypesAndOutOfRangeValues) {
   expect_rejected(j, {"colliders[0].normal"});
 }
 
-// The sections the engine does not read are left to their owners: tests/test_sweep.cpp,
-// test_nn_train_section.cpp, test_rom_section.cpp, and test_app_scene_file.cpp for the commands'
-// check of the whole scene.
+// The sections the engine does not read are left to their owners: test_sweep.cpp,
+// app/test_app_train_section.cpp, unit/rom/test_rom_section.cpp, and
+// unit/rom/test_rom_scene_file.cpp for the commands' check of the whole scene.
 TEST(SceneValidation, LeavesTheSweepRomAndTrainSectionsToTheirOwners) {
   json j = small_scene();
   j["sweep"] = {{"parameter", "E"}, {"sett", {"material.E={mu}"}}};
@@ -533,7 +533,7 @@ TEST(Docs, SceneSnippetsAreValid) {
       EXPECT_NO_THROW(build_scene(scene));
       EXPECT_NO_THROW(parse_sweep(scene["sweep"], scene));
     } else if (j.contains("train")) {
-      // The section's contents: TrainSection.DocsSnippetsParse (test_nn_train_section.cpp).
+      // The section's contents: TrainSection.DocsSnippetsParse (test_app_train_section.cpp).
       json scene = small_scene();
       scene["train"] = j["train"];
       EXPECT_NO_THROW(build_scene(scene));

@@ -97,20 +97,6 @@ TEST(Text, BiggerSizesDrawBiggerText) {
   EXPECT_TRUE(fs::exists(font_path()));
 }
 
-TEST(Text, AMissingFontFileIsANamedError) {
-  // The font is opened once per process, so the check runs in a fresh nsf.
-  const fs::path d = testing::fresh_dir("text_missing_font");
-  const std::string run = (d / "run.h5").string(), out = (d / "frames").string();
-  testing::write_synthetic_run(run, 2);
-  std::string log;
-  const int rc = testing::run_cli("render '" + run + "' -q --no-video --out '" + out + "'", log,
-                                  "NSF_FONT=/nonexistent/font.ttf");
-  EXPECT_NE(rc, 0);
-  EXPECT_NE(log.find("NSF_FONT=/nonexistent/font.ttf"), std::string::npos) << log;
-  EXPECT_FALSE(fs::exists(out)) << "nothing is drawn without a font";
-  fs::remove_all(d);
-}
-
 TEST(Legend, ObjectsAreNamedByIndexAndMaterialNotByShapeType) {
   const SceneHints h = scene_hints(R"({"objects": [
       {"shape": {"type": "difference", "children": []}, "material": {"type": "von_mises"}},

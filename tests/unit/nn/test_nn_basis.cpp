@@ -17,12 +17,11 @@
 #include <string>
 #include <vector>
 
-#include "cli_runner.h"
+#include "basis_model_fixture.h"
 #include "core/crc32.h"
 #include "core/error.h"
 #include "error_matchers.h"
 #include "nn/basis_decoders.h"
-#include "nn/checked_archive.h"
 #include "nn/checked_bytes.h"
 #include "nn/dataset.h"
 #include "nn/evaluate.h"
@@ -45,6 +44,10 @@ using nsf::NeuralFields;
 using nsf::Vec3;
 
 using nsf::test::bit_identical;
+using nsf::testing::basis::basis_options;
+using nsf::testing::basis::BasisModel;
+using nsf::testing::basis::kParticles;
+using nsf::testing::basis::outputs;
 
 namespace {
 
@@ -206,74 +209,6 @@ TEST(PointInterpolation, MlsIsExactForAffineFieldsAndPointsOnParticlesAreExact) 
       nsf::testing::error_of([&] { nsf::interpolate_points(P.X, points, "cubic"); }),
       "unknown scheme 'cubic'");
 }
-
-namespace {
-
-constexpr int kParticles = 300;
-
-nsf::TrainOptions basis_options() {
-  nsf::TrainOptions o;
-  nsf::TrainConfig& c = o.config;
-  c.net.latent_dim = 2;
-  c.net.encoder_hidden = 16;
-  c.net.decoder = nsf::DecoderFamily::basis;
-  c.net.modes = {4, 4, 4};
-  c.net.coefficient_width = 32;
-  c.net.coefficient_depth = 2;
-  c.steps = {2000, 1000, 1000};
-  c.frames_per_batch = {4, 8, 8};
-  c.checkpoint_every = 50;
-  c.refine_latents = 3;
-  c.seed = 3;
-  c.quiet = true;
-  return o;
-}
-
-// Every field of a model at every particle of one frame, and at two points between particles.
-// torch_free: loaded from the file's run-time record (the runtime's way), with the latent of the
-// same frame encoded by the full model.
-std::vector<double> outputs(const std::string& model, const std::string& data,
-                            bool torch_free = false) {
-  const nsf::Dataset d(data);
-  const Latent z = NeuralFields::load(model).encode(d.read_positions(d.test()[0], 5));
-  NeuralFields nf = torch_free ? NeuralFields::load_basis(model) : NeuralFields::load(model);
-  std::vector<Vec3> X = d.rest_positions();
-  X.push_back(Vec3(0.5, 0.5, 0.5)), X.push_back(Vec3(0.4, 0.6, 0.3));
-  const NeuralFields::Points all = nf.prepare(d.rest_positions()), extra = nf.prepare(X);
-  const Latent zdot = nf.bases()->latent_velocity(z, d.read_field(d.test()[0], 5, "v").data());
-  std::vector<double> out(z.data(), z.data() + z.size());
-  for (const NeuralFields::Points* pts : {&all, &extra}) {
-    std::vector<Vec3> x;
-    std::vector<nsf::Mat3> tau, C;
-    nf.deform(*pts, z, x);
-    nf.stress(*pts, z, d.test()[0].mu, tau, &zdot);
-    nf.affine(*pts, z, C, d.test()[0].mu, &zdot);
-    for (const Vec3& v : x) out.insert(out.end(), v.data(), v.data() + 3);
-    for (const auto& m : tau) out.insert(out.end(), m.data(), m.data() + 9);
-    for (const auto& m : C) out.insert(out.end(), m.data(), m.data() + 9);
-  }
-  return out;
-}
-
-}  // namespace
-
-class BasisModel : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    nsf::set_nn_threads(2);
-    root_ = fs::temp_directory_path() / ("nsf_basis_" + std::to_string(::getpid()));
-    fs::remove_all(root_);
-    nsf::test::write_synthetic_dataset(root_ / "data", kParticles);
-    report_ = nsf::train_model(data(), model(), basis_options());
-  }
-  static void TearDownTestSuite() { fs::remove_all(root_); }
-  static std::string data() { return (root_ / "data").string(); }
-  static std::string model() { return (root_ / "basis.nsf").string(); }
-  static fs::path root_;
-  static nsf::TrainReport report_;
-};
-fs::path BasisModel::root_;
-nsf::TrainReport BasisModel::report_;
 
 // The synthetic fields have rank 2 in (a, b): four modes hold them, so the bases reproduce every
 // frame (held-out too) to round-off, and the trained coefficients come close.
@@ -439,23 +374,6 @@ TEST_F(BasisModel, RecordParserSurvivesCraftedBytes) {
     }
   }
   EXPECT_GT(refused, 100);
-}
-
-// `nsf upgrade` gives a model file saved before nsf stored the record (the torch archive alone)
-// the record, and the runtime then reads the same fields.
-TEST_F(BasisModel, UpgradeAddsTheRecordToAnOlderFile) {
-  const std::string old = (root_ / "old.nsf").string();
-  {
-    torch::serialize::OutputArchive a;
-    nsf::NeuralModel::load(model()).write(a);
-    nsf::save_checked_archive(a, old, "model file");
-  }
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { NeuralFields::load_basis(old); }),
-                                "no run-time record");
-  const nsf::testing::CliResult r = nsf::testing::run_cli("upgrade " + old);
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  nsf::testing::expect_contains(r.output, "with its run-time record");
-  EXPECT_TRUE(bit_identical(outputs(model(), data(), true), outputs(old, data(), true)));
 }
 
 TEST_F(BasisModel, ResumedTrainingGivesTheSameModel) {

@@ -1,5 +1,5 @@
 /* The C API's header as C99 sees it (built with -std=c99 -pedantic -Werror, CMakeLists.txt):
- * one run from C, for tests/test_c_api.cpp. */
+ * one run from C, for tests/unit/runtime/test_c_api.cpp. */
 #include <nsf/nsf.h>
 #include <stdio.h>
 

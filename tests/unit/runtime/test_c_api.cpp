@@ -521,7 +521,8 @@ TEST_F(CApi, NoExceptionEscapes) {
   EXPECT_NE(last_error().find("diverged"), std::string::npos) << last_error();
 }
 
-// The header as C99 compiles it (tests/c_api_c99.c, -std=c99 -pedantic -Werror) runs the model.
+// The header as C99 compiles it (tests/unit/runtime/c_api_c99.c, -std=c99 -pedantic -Werror) runs
+// the model.
 TEST_F(CApi, FromC99) {
   char message[512];
   EXPECT_EQ(nsf_test_c99_run(model().c_str(), kScene.c_str(), message, sizeof message), NSF_OK)
