@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The latent stream under load (docs/BENCHMARKS.md, "The latent stream"): `nsf serve` on loopback
-# at real time, first alone, then with N clients for S seconds (tests/test_net_load.cpp: frames
+# at real time, first alone, then with N clients for S seconds (tests/unit/net/test_net_load.cpp: frames
 # lost, latency step -> client), then as fast as it steps, alone and with the N clients.
 # Usage: bench/serve_load.sh MODEL SCENE [N] [S] -- [nsf serve options, e.g. --mu 0.1]
 # Needs build/nsf and build/nsf_tests.

@@ -17,7 +17,7 @@ PACKAGES=(
   python3-venv python3-setuptools python3-wheel python3-wheel-whl
   # The exported files read back by meshio, VTK and the Xdmf3 library (tests/check_export_readers.py).
   python3-meshio python3-vtk9 libxdmf3
-  # The page of `nsf serve` checked in a headless browser (tests/test_app_serve.cpp, ...Chromium...).
+  # The page of `nsf serve` checked in a headless browser (tests/cli/test_app_serve.cpp, ...Chromium...).
   chromium
 )
 
