@@ -1,7 +1,8 @@
 #pragma once
 // Switches only a test turns on in a stepper: each costs a brute-force pass per step, or undoes
 // an optimisation, to check it against the plain way. No command, scene or host reaches them
-// (they are not RomOptions); tests/test_rom_stepper.cpp sets them on a stepper it has made.
+// (they are not RomOptions); tests/unit/rom/eval/test_rom_end_to_end.cpp sets them on a stepper it
+// has made.
 
 namespace nsf {
 
