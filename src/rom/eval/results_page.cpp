@@ -178,9 +178,26 @@ std::string fill(std::string text, const std::map<std::string, std::string>& val
   return text;
 }
 
-// The rows stored as DIR/*.json, none when DIR does not exist. A file that is not a row (no
-// scene, label or picture) is named, so that a stray record in the directory is found.
-std::vector<nlohmann::json> stored_rows(const std::string& dir) {
+// A row's keys the tables read, checked before any is read (a record of another kind in
+// docs/results/ used to end `nsf report` with an internal error).
+void check_row(const nlohmann::json& j, const std::string& where) {
+  for (const char* key : {"scene", "label", "picture"})
+    if (!j.contains(key) || !j[key].is_string())
+      fail(where, ": a row without a string \"", key, "\" (scene ",
+           j.value("scene", nlohmann::json()).dump(),
+           "): each *.json there must be a row that nsf report, demo or rom --json wrote");
+  for (const char* key : {"mu", "particles", "r", "gamma", "samples", "samples_end", "mean_N",
+                          "frames", "speedup", "rom_seconds", "fom_seconds", "fom_peak_mib",
+                          "rom_peak_mib", "inference_seconds", "mpm_seconds", "inversion_seconds",
+                          "refresh_seconds", "rom_steps_per_frame", "fom_steps_per_frame"})
+    if (!j.contains(key) || !j[key].is_number())
+      fail(where, ": the row of ", j["scene"].get<std::string>(), " (",
+           j["label"].get<std::string>(), ") has no number \"", key, "\"");
+}
+
+// What is stored as DIR/*.json, none when DIR does not exist; with results_rows, each checked as
+// a row. A file that is not one is named, so that a stray record in the directory is found.
+std::vector<nlohmann::json> stored_rows(const std::string& dir, bool results_rows) {
   namespace fs = std::filesystem;
   std::vector<nlohmann::json> rows;
   std::error_code ec;
@@ -194,26 +211,10 @@ std::vector<nlohmann::json> stored_rows(const std::string& dir) {
     nlohmann::json row = nlohmann::json::parse(in, nullptr, false);
     if (row.is_discarded() || !row.is_object())
       fail(p.string(), ": not a JSON object (a results row, or a summary in generalize/)");
+    if (results_rows) check_row(row, p.string());
     rows.push_back(std::move(row));
   }
   return rows;
-}
-
-// A row's keys the tables read, checked before any is read (a record of another kind in
-// docs/results/ used to end `nsf report` with an internal error).
-void check_row(const nlohmann::json& j, const std::string& dir) {
-  for (const char* key : {"scene", "label", "picture"})
-    if (!j.contains(key) || !j[key].is_string())
-      fail(dir, ": a row without a string \"", key, "\" (scene ",
-           j.value("scene", nlohmann::json()).dump(),
-           "): each *.json there must be a row that nsf report, demo or rom --json wrote");
-  for (const char* key : {"mu", "particles", "r", "gamma", "samples", "samples_end", "mean_N",
-                          "frames", "speedup", "rom_seconds", "fom_seconds", "fom_peak_mib",
-                          "rom_peak_mib", "inference_seconds", "mpm_seconds", "inversion_seconds",
-                          "refresh_seconds", "rom_steps_per_frame", "fom_steps_per_frame"})
-    if (!j.contains(key) || !j[key].is_number())
-      fail(dir, ": the row of ", j["scene"].get<std::string>(), " (", j["label"].get<std::string>(),
-           ") has no number \"", key, "\"");
 }
 
 }  // namespace
@@ -221,7 +222,7 @@ void check_row(const nlohmann::json& j, const std::string& dir) {
 std::string results_markdown(const std::vector<nlohmann::json>& rows_in, const std::string& command,
                              const std::vector<nlohmann::json>& generalize) {
   std::vector<nlohmann::json> rows = rows_in;
-  for (const nlohmann::json& j : rows) check_row(j, "results");
+  for (const nlohmann::json& j : rows) check_row(j, "a results row");
   std::sort(rows.begin(), rows.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
     return std::make_pair(a["scene"].get<std::string>(), a["label"].get<std::string>()) <
            std::make_pair(b["scene"].get<std::string>(), b["label"].get<std::string>());
@@ -236,7 +237,7 @@ std::string results_markdown(const std::vector<nlohmann::json>& rows_in, const s
 }
 
 size_t write_results_page(const std::string& docs) {
-  const std::vector<nlohmann::json> rows = stored_rows(docs + "/results");
+  const std::vector<nlohmann::json> rows = stored_rows(docs + "/results", true);
   // The page holds the rows of every size ever made (each kept in results/*.json), so it names
   // both invocations rather than the last one. Written whole or not at all: the old page stays.
   write_file_atomic(docs + "/RESULTS.md",
@@ -244,7 +245,7 @@ size_t write_results_page(const std::string& docs) {
                                      "nsf report --size small|paper [--quadrature k] [--tracked] "
                                      "[--beyond-sweep] [--decoder F]`, the `*_paper` rows with "
                                      "`--size paper",
-                                     stored_rows(docs + "/results/generalize")));
+                                     stored_rows(docs + "/results/generalize", false)));
   return rows.size();
 }
 

@@ -193,7 +193,7 @@ TEST(RomResults, AStrayRecordAmongTheRowsIsANamedErrorAndThePageStays) {
   std::ofstream(docs / "results" / "tool_check.json") << R"({"command": "pvpython x", "ok": true})";
   EXPECT_NE(error_of([&] {
               nsf::write_results_page(docs.string());
-            }).find("a row without a string \"scene\""),
+            }).find("tool_check.json: a row without a string \"scene\""),
             std::string::npos);
   std::ofstream(docs / "results" / "tool_check.json") << "{not json";
   EXPECT_NE(error_of([&] {
