@@ -30,6 +30,17 @@ inline CLI::Option* add_gzip_option(CLI::App* cmd, int& level) {
       ->check(in_range(0, 9));
 }
 
+// --profile: which settings of the scene's rom section a reduced-order run reads
+// (rom/setup/rom_setup.h).
+inline CLI::Option* add_profile_option(CLI::App* cmd, std::string& profile) {
+  return cmd
+      ->add_option("--profile", profile,
+                   "Settings of the scene's rom section: auto (its rom.unseen profile for a scene "
+                   "outside the model's training family, else the family's), family or unseen")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "family", "unseen"}));
+}
+
 inline CLI::Option* add_quiet_flag(CLI::App* cmd, bool& quiet,
                                    const std::string& help = "No progress lines") {
   return cmd->add_flag("--quiet,-q", quiet, help);

@@ -59,6 +59,7 @@ void TrainingBox::include(const TrainingBox& other) {
     it->max_speed = std::max(it->max_speed, c.max_speed);
     it->max_angular_speed = std::max(it->max_angular_speed, c.max_angular_speed);
   }
+  scene.include(other.scene);
 }
 
 std::vector<std::string> TrainingBox::describe() const {
@@ -75,6 +76,11 @@ std::vector<std::string> TrainingBox::describe() const {
                   e.collider, e.lo[0], e.hi[0], e.lo[1], e.hi[1], e.lo[2], e.hi[2], e.max_speed);
     out.push_back(line);
   }
+  if (!scene.empty()) {
+    std::snprintf(line, sizeof line, "the scene's %zu values over %d runs, %zu of them varying",
+                  scene.values(), scene.runs(), scene.varying());
+    out.push_back(line);
+  }
   return out;
 }
 
@@ -88,7 +94,9 @@ nlohmann::json TrainingBox::to_json() const {
                  {"hi", vec(e.hi)},
                  {"max_speed", e.max_speed},
                  {"max_angular_speed", e.max_angular_speed}});
-  return {{"parameters", p}, {"colliders", c}};
+  nlohmann::json j = {{"parameters", p}, {"colliders", c}};
+  if (!scene.empty()) j["scene"] = scene.to_json();
+  return j;
 }
 
 TrainingBox TrainingBox::from_json(const nlohmann::json& j, const std::string& where) {
@@ -120,6 +128,7 @@ TrainingBox TrainingBox::from_json(const nlohmann::json& j, const std::string& w
       fail(where, ": collider ", e.collider, "'s envelope has lo above hi or a negative speed");
     box.colliders.push_back(e);
   }
+  if (j.contains("scene")) box.scene = SceneFamily::from_json(j.at("scene"), where);
   return box;
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "data/scene_family.h"
 #include "mpm/colliders/collider.h"
 
 namespace nsf {
@@ -29,8 +30,10 @@ struct ColliderEnvelope {
 struct TrainingBox {
   std::vector<ParameterRange> parameters;
   std::vector<ColliderEnvelope> colliders;
+  // Every value of the training runs' scenes (empty in files written before nsf recorded it).
+  SceneFamily scene;
 
-  bool empty() const { return parameters.empty() && colliders.empty(); }
+  bool empty() const { return parameters.empty() && colliders.empty() && scene.empty(); }
   // Grows this box to hold `other` too (parameters and colliders matched by name and index).
   void include(const TrainingBox& other);
 

@@ -132,7 +132,13 @@ TrainingBox run_box(const RunReader& r, const SimulationFile& s) {
         {{"name", r.attribute_string("sweep_parameter")}, {"range", {s.mu, s.mu}}});
   }
   if (r.has_attribute("collider_envelope")) j["colliders"] = parsed("collider_envelope");
-  return TrainingBox::from_json(j, s.path + ": the training box its attributes give");
+  TrainingBox box = TrainingBox::from_json(j, s.path + ": the training box its attributes give");
+  if (!r.scene_json().empty()) {
+    const nlohmann::json scene = nlohmann::json::parse(r.scene_json(), nullptr, false);
+    if (scene.is_discarded()) fail(s.path, ": attribute 'scene_json' is not valid JSON");
+    box.scene = SceneFamily::of(scene);
+  }
+  return box;
 }
 
 std::string joined(const std::vector<std::string>& names) {
@@ -237,6 +243,12 @@ Dataset::Dataset(const std::string& dir, bool allow_incomplete) : dir_(dir) {
 Dataset::~Dataset() = default;
 Dataset::Dataset(Dataset&&) noexcept = default;
 Dataset& Dataset::operator=(Dataset&&) noexcept = default;
+
+TrainingBox training_box(const Dataset& data) {
+  TrainingBox box;
+  for (const SimulationFile& r : data.train()) box.include(r.box);
+  return box;
+}
 
 const std::string& Dataset::scene_json() const {
   return readers_.front()->scene_json();

@@ -81,6 +81,9 @@ class Dataset {
   std::vector<std::unique_ptr<RunReader>> readers_;  // train runs, then test runs
 };
 
+// The box the training runs span (data/training_box.h): the union of the train split's runs.
+TrainingBox training_box(const Dataset& data);
+
 // The training frames, all (run, frame) pairs of the train split, cached in RAM while they fit
 // a budget and streamed from the run files otherwise. A process of a team of `shares`
 // (`mpirun -np K nsf train`, nn/train/gradient_team.h) holds only its share: the frames i with

@@ -39,6 +39,9 @@ struct RomOptions {
   // merging a group of particles (rom/step/quadrature.h); N, K and the inference on them shrink by
   // the thinning factor. 0: every particle (the paper).
   int quadrature_per_cell = 0;
+  // > 0: the CFL factor the tracked state's explicit step is held to (the step's bound is
+  // cfl · Δx / wave speed), in place of the scene's simulation.cfl, which bounds full order's.
+  double cfl = 0;
   // A step over fewer candidate points than this runs on one thread: its parallel loops are too
   // small for a second thread to pay for waking up (docs/ROM.md). 0: always on every thread.
   size_t serial_below_points = 8192;

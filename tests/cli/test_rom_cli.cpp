@@ -13,6 +13,7 @@
 #include "cli_runner.h"
 #include "io/run_reader.h"
 #include "nn/dataset.h"
+#include "nn/model.h"
 #include "rom_end_to_end.h"
 
 namespace fs = std::filesystem;
@@ -135,6 +136,58 @@ TEST_F(RomEndToEnd, BaselinesSitBesideTheRomInItsSummaryAndRow) {
     EXPECT_THAT(bad.output, HasSubstr(path));
     EXPECT_THAT(bad.output, Not(HasSubstr("reduced order:"))) << option;
   }
+}
+
+// A model from before nsf kept its training family learns it from its dataset (`nsf upgrade
+// --data`, which refuses another dataset), and `nsf rom` then says when a scene leaves it;
+// `--profile` picks the scene's settings whatever the family says.
+TEST_F(RomEndToEnd, UpgradeRecordsTheFamilyAndRomSaysWhenASceneLeavesIt) {
+  const std::string m = (root_ / "family.nsf").string(), data = (root_ / "data").string();
+  fs::copy_file(basis_model(), m, fs::copy_options::overwrite_existing);
+  {  // as an older nsf wrote it: no family
+    nsf::NeuralModel old = nsf::NeuralModel::load(m);
+    old.training_box.scene = nsf::SceneFamily();
+    old.save(m);
+  }
+  const std::string rom = "rom '" + m + "' '" + kTinyScene + "' --mu 1.0 -j 2 --no-full-order ";
+  const std::string lower = "--set 'colliders[0].point=[0,0.07,0]' ";
+  auto r = nsf::testing::run_cli(rom + lower);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, Not(HasSubstr("training family")));
+
+  r = nsf::testing::run_cli("upgrade '" + m + "' --data '" + data + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(nsf::NeuralModel::load(m).training_box.scene.runs(),
+            int(nsf::Dataset(data).train().size()));
+  r = nsf::testing::run_cli(rom);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, Not(HasSubstr("training family")));
+  r = nsf::testing::run_cli(rom + lower);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("outside the model's training family (/colliders/0/point/1"));
+  const std::string unseen = R"(--set 'rom.unseen={"samples": 30}' )";
+  r = nsf::testing::run_cli(rom + lower + unseen + "--profile family");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("on the family's settings as asked"));
+  EXPECT_THAT(r.output, Not(HasSubstr("|S| = 30")));
+  r = nsf::testing::run_cli(rom + unseen + "--profile unseen");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("|S| = 30"));
+  r = nsf::testing::run_cli(rom + "--profile sideways");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+
+  // Another dataset of the scene (here a part of this one) is refused, and the file kept.
+  const std::string before = nsf::testing::read_text(m);
+  const fs::path other = root_ / "other_data";
+  fs::create_directories(other);
+  for (const auto& e : fs::directory_iterator(data))
+    if (e.path().filename().string().rfind("train_0", 0) == 0 ||
+        e.path().filename().string().rfind("test_", 0) == 0)
+      fs::copy_file(e.path(), other / e.path().filename(), fs::copy_options::overwrite_existing);
+  r = nsf::testing::run_cli("upgrade '" + m + "' --data '" + other.string() + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_THAT(r.output, HasSubstr(other.string()));
+  EXPECT_EQ(nsf::testing::read_text(m), before);
 }
 
 // `nsf demo` end to end on the tiny scene, reusing the fixture's dataset and basis model: its

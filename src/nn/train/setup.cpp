@@ -42,8 +42,7 @@ void Trainer::compute_statistics() {
   // μ statistics over runs (not frames): each run is one parameter sample.
   std::vector<double> ms(1, 0.0), mq(1, 0.0);
   model_.mu_min = model_.mu_max = data_.train()[0].mu;
-  model_.training_box = TrainingBox();
-  for (const SimulationFile& r : data_.train()) model_.training_box.include(r.box);
+  model_.training_box = training_box(data_);
   for (const SimulationFile& r : data_.train()) {
     ms[0] += r.mu, mq[0] += r.mu * r.mu;
     model_.mu_min = std::min(model_.mu_min, r.mu), model_.mu_max = std::max(model_.mu_max, r.mu);

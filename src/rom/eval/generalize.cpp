@@ -233,6 +233,10 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
     d["warnings"] = r.warnings;
     // Whether the draw took a collider out of the box the model was trained on.
     d["outside_training"] = !r.training_note.empty();
+    // What of its scene the model's training runs never took (data/scene_family.h), and the
+    // settings that followed from it (the scene's rom.unseen profile, or the family's).
+    d["outside_family"] = r.outside_family;
+    d["profile"] = r.profile;
     rows.push_back(d);
     delta.push_back(r.delta);
     repr.push_back(r.budget ? r.budget->encoded.delta : -1);
@@ -315,7 +319,8 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
                   {"sampling", g.report->sampling},
                   {"sample_condition", g.report->sample_condition},
                   {"quadrature_per_cell", g.report->quadrature_per_cell},
-                  {"field_sources", g.report->field_sources}};
+                  {"field_sources", g.report->field_sources},
+                  {"profile", g.report->profile}};
       break;
     }
   return j;

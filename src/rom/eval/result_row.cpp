@@ -40,6 +40,9 @@ void add_setup(const RomReport& r, nlohmann::json& j) {
     j["sample_condition"] = r.sample_condition;
   }
   j["latent_prior_source"] = r.latent_prior_source;
+  // Only a run outside the training family says so: the in-sweep rows stay as they were.
+  if (!r.outside_family.empty()) j["outside_family"] = r.outside_family;
+  if (r.profile != "family") j["profile"] = r.profile;
 }
 
 // What it measured against full order: δ and the field errors, with the budget's encoded and

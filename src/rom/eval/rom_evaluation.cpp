@@ -84,6 +84,8 @@ void describe_setup(const RomEvalOptions& o, const NeuralFields& fields, const R
   rep.dt_ratio = s.options.dt_ratio;
   rep.dt_ratio_source = s.dt_ratio_source;
   rep.latent_prior_source = s.latent_prior_source;
+  rep.profile = s.profile;
+  rep.outside_family = s.outside_family;
   rep.particles = s.scene.particles.size();
   rep.latent_dim = fields.latent_dim();
   rep.train_seconds = fields.train_seconds();
@@ -328,6 +330,7 @@ RomSettingChoices setting_choices(const RomEvalOptions& o) {
   c.rom = o.rom;
   c.dt_ratio = o.dt_ratio, c.latent_prior = o.latent_prior, c.quadrature = o.quadrature;
   c.gn_iterations = o.gn_iterations, c.samples = o.samples, c.seed = o.seed;
+  c.profile = o.profile;
   return c;
 }
 

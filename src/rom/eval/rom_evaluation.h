@@ -24,6 +24,7 @@ struct RomEvalOptions {
   std::optional<double> latent_prior;  // ε (m); default: the scene's, else the model's, else 0
   std::optional<int> quadrature;       // points per cell; default: the scene's, else rom's (0)
   std::optional<int> gn_iterations;    // Gauss–Newton cap; default: the scene's, else rom's
+  std::string profile = "auto";        // RomSettingChoices::profile
   // rom.fields names the sources the command line chose; each empty one takes the scene's.
   RomOptions rom;
   std::string out_path;    // ROM run file; empty: none

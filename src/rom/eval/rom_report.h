@@ -37,6 +37,10 @@ struct RomReport {
   // Where it came from: "command line", "scene" (its rom section), "model" (`nsf calibrate
   // --dt-ratios`) or "default" (1).
   std::string dt_ratio_source;
+  // The scene's settings read ("family" or "unseen") and what of the scene lies outside the
+  // model's training family (RomSetup).
+  std::string profile = "family";
+  std::vector<std::string> outside_family;
   // LatentStepper::training_distance over frames 1…N; −1 when the model has no training latents.
   double training_distance_mean = 0, training_distance_max = 0;
   // The inversion's rms residual ‖g − x‖ on S after each frame's last step (RomDiagnostics::

@@ -66,6 +66,12 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
   s.quadrature =
       integer("quadrature", 0, 1000, "integration points per grid cell; 0: every particle");
   s.gn_iterations = integer("gn_iterations", 1, 100, "the Gauss-Newton iteration cap");
+  s.cfl = number("cfl", false, "the CFL factor the tracked state's step is held to");
+  if (s.cfl && *s.cfl > 1)
+    fail(
+        "scene key 'rom.cfl' must be at most 1 (an elastic wave crosses less than a cell per "
+        "step), got ",
+        *s.cfl);
   if (rom.contains("fields")) {
     const nlohmann::json& f = rom.at("fields");
     if (!f.is_object()) fail("scene key 'rom.fields' must be an object, got ", f.dump());
@@ -95,6 +101,7 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
   for (const char* family : kFamilies) common.erase(family), sampling.erase(family);
   nlohmann::json plain = common;
   plain.erase("tracked"), sampling.erase("tracked");
+  plain.erase("unseen"), sampling.erase("unseen"), common.erase("unseen");
   s.sampling = parse_sampling(sampling);
   if (rom.contains("tracked")) {
     const nlohmann::json& own = rom.at("tracked");
@@ -103,14 +110,18 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
       fail(
           "scene key 'rom.tracked.fields.stress': the tracked settings are for the tracked "
           "stress; set the stress source in rom.fields");
-    s.tracked =
-        overlay(plain, own, "tracked", "a run with the tracked state", {"mlp", "basis", "tracked"});
+    s.tracked = overlay(plain, own, "tracked", "a run with the tracked state",
+                        {"mlp", "basis", "tracked", "unseen"});
   }
+  if (rom.contains("unseen"))
+    s.unseen =
+        overlay(plain, rom.at("unseen"), "unseen", "a run outside the model's training family",
+                {"mlp", "basis", "tracked", "unseen"});
   for (const char* family : kFamilies)
     if (rom.contains(family))
       (parse_family(family, "rom") == DecoderFamily::mlp ? s.mlp : s.basis) =
           overlay(common, rom.at(family), family,
-                  std::string("a model with ") + family + " decoders", {"mlp", "basis"});
+                  std::string("a model with ") + family + " decoders", {"mlp", "basis", "unseen"});
   return s;
 }
 
@@ -143,6 +154,7 @@ RomOptions with_rom_section(RomOptions o, const RomSection& s, const ModelCalibr
                                                                         : o.latent_prior);
   o.quadrature_per_cell = s.quadrature.value_or(o.quadrature_per_cell);
   o.inversion.max_iterations = s.gn_iterations.value_or(o.inversion.max_iterations);
+  o.cfl = s.cfl.value_or(o.cfl);
   for (auto [mine, scenes] : {std::pair{&o.fields.deformation, &s.fields.deformation},
                               std::pair{&o.fields.stress, &s.fields.stress},
                               std::pair{&o.fields.affine, &s.fields.affine},
@@ -151,20 +163,19 @@ RomOptions with_rom_section(RomOptions o, const RomSection& s, const ModelCalibr
   return o;
 }
 
-std::vector<std::string> overrides_hidden_by_family(const nlohmann::json& rom,
-                                                    const std::string& family,
-                                                    const std::vector<std::string>& overrides) {
+std::vector<std::string> overrides_hidden_by(const nlohmann::json& rom, const std::string& profile,
+                                             const std::vector<std::string>& overrides) {
   std::vector<std::string> hidden;
-  if (!rom.is_object() || !rom.contains(family) || !rom.at(family).is_object()) return hidden;
-  const nlohmann::json& own = rom.at(family);
+  if (!rom.is_object() || !rom.contains(profile) || !rom.at(profile).is_object()) return hidden;
+  const nlohmann::json& own = rom.at(profile);
   for (const std::string& o : overrides) {
     const size_t eq = o.find('=');
     if (o.rfind("rom.", 0) != 0 || eq == std::string::npos) continue;
     const std::string key = o.substr(4, eq - 4);
     if (key.find('.') == std::string::npos && own.contains(key))
-      hidden.push_back("--set " + o + " does not reach this " + family +
-                       " model: the scene's rom." + family + "." + key + " = " +
-                       own.at(key).dump() + " wins (set rom." + family + "." + key + " instead)");
+      hidden.push_back("--set " + o + " does not reach this run: the scene's rom." + profile + "." +
+                       key + " = " + own.at(key).dump() + " wins (set rom." + profile + "." + key +
+                       " instead)");
   }
   return hidden;
 }

@@ -20,6 +20,7 @@ struct RomSection {
   std::optional<double> latent_prior;  // ε of the latent prior, m (RomOptions::latent_prior)
   std::optional<int> quadrature;       // points per cell (RomOptions::quadrature_per_cell)
   std::optional<int> gn_iterations;    // GaussNewtonOptions::max_iterations
+  std::optional<double> cfl;           // the tracked state's CFL factor (RomOptions::cfl)
   FieldChoice fields;                  // "fields": {"deformation", "stress", "affine"} by name
   // "mlp", "basis": settings for a model of that decoder family, over the ones above (a scene
   // whose two families were measured best at different steps, priors or sample counts).
@@ -28,6 +29,12 @@ struct RomSection {
   // over the ones above: that state integrates differently (an explicit stress within the CFL
   // bound, no h to drift from), so its best step and prior are its own. Null where not given.
   std::shared_ptr<const RomSection> tracked;
+  // "unseen": settings for a run outside the model's training family (a scene value its training
+  // runs never took: data/scene_family.h), over the common ones above, in place of the family's
+  // and tracked objects. The learned stress and a latent prior calibrated on the training runs
+  // hold a run to what those runs did; such a run is better served by the material law (the
+  // tracked state) and no prior. Null where not given.
+  std::shared_ptr<const RomSection> unseen;
 
   // The section as a model of `family` (NeuralFields::family()) reads it.
   const RomSection& for_family(DecoderFamily family) const;
@@ -60,11 +67,11 @@ ModelCalibration calibration_of(const NeuralFields& fields, const RomSection& ro
 RomOptions with_rom_section(RomOptions options, const RomSection& section,
                             const ModelCalibration& calibrated = {});
 
-// The scene overrides (`--set rom.KEY=VALUE`) whose KEY the rom section's `family` object sets
-// again, so that the override does not reach a model of that family: one line each, naming both.
-std::vector<std::string> overrides_hidden_by_family(const nlohmann::json& rom,
-                                                    const std::string& family,
-                                                    const std::vector<std::string>& overrides);
+// The scene overrides (`--set rom.KEY=VALUE`) whose KEY the rom section's `profile` object (a
+// decoder family's, "unseen") sets again, so that the override does not reach a run that reads
+// that object: one line each, naming both.
+std::vector<std::string> overrides_hidden_by(const nlohmann::json& rom, const std::string& profile,
+                                             const std::vector<std::string>& overrides);
 
 // Where ε and the step of with_rom_section's options came from, for a run whose command line
 // gave (or did not give) its own: "command line", "scene", "model" (its calibration) or

@@ -37,15 +37,41 @@ void apply_mu(const NeuralFields& fields, const std::string& model, const SceneF
   }
 }
 
+// Whether the run reads the scene's "unseen" profile, and the warning that says why.
+bool reads_unseen_profile(const std::string& profile, const SceneFile& file, RomSetup& s) {
+  if (profile != "auto" && profile != "family" && profile != "unseen")
+    fail("rom profile '", profile, "' is unknown (auto, family or unseen)");
+  const bool has = bool(file.sections.rom.unseen);
+  if (profile == "unseen" && !has)
+    fail("scene ", file.path,
+         " has no rom.unseen profile (docs/GENERALIZE.md, \"Outside the training family\")");
+  const bool outside = !s.outside_family.empty();
+  if (outside) {
+    std::string w = "this run lies outside the model's training family (" + s.outside_family[0];
+    if (s.outside_family.size() > 1)
+      w += "; " + std::to_string(s.outside_family.size() - 1) + " more";
+    w += "): the reduced model extrapolates";
+    w += profile == "family" ? ", on the family's settings as asked"
+         : has               ? ", on the scene's rom.unseen profile"
+                             : " (the scene has no rom.unseen profile)";
+    s.warnings.push_back(w);
+  }
+  return has && (profile == "unseen" || (profile == "auto" && outside));
+}
+
 // The one precedence rule of rom_setup.h.
 void choose_settings(const NeuralFields& fields, const SceneFile& file,
                      const RomSettingChoices& given, RomSetup& s) {
   const RomSection& scene_rom = file.sections.rom;
-  const ModelCalibration calibrated = calibration_of(fields, scene_rom, given.rom.fields.stress);
-  const RomSection& section = scene_rom.for_run(fields.family(), given.rom.fields.stress);
+  const bool unseen = reads_unseen_profile(given.profile, file, s);
+  s.profile = unseen ? "unseen" : "family";
+  const ModelCalibration calibrated =
+      unseen ? ModelCalibration{} : calibration_of(fields, scene_rom, given.rom.fields.stress);
+  const RomSection& section =
+      unseen ? *scene_rom.unseen : scene_rom.for_run(fields.family(), given.rom.fields.stress);
   if (file.json.contains("rom"))
-    for (std::string& w :
-         overrides_hidden_by_family(file.json.at("rom"), fields.decoder(), file.overrides))
+    for (std::string& w : overrides_hidden_by(file.json.at("rom"),
+                                              unseen ? "unseen" : fields.decoder(), file.overrides))
       s.warnings.push_back(std::move(w));
   RomOptions& ro = s.options = with_rom_section(given.rom, section, calibrated);
   if (given.dt_ratio) ro.dt_ratio = *given.dt_ratio;
@@ -68,6 +94,7 @@ RomSetup rom_setup(const NeuralFields& fields, const std::string& model, const S
   apply_mu(fields, model, file, mu, s);
   s.scene = build_scene_file(file, s.json);
   fields.check_scene(s.scene.name, s.scene.particles.X, "scene " + file.path);
+  s.outside_family = fields.training_box().scene.outside(s.json);
   choose_settings(fields, file, given, s);
   return s;
 }

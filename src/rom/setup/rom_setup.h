@@ -5,6 +5,9 @@
 //   the caller (command line, host options) > the scene's "rom" section (the profile of the
 //   model's family, or of the tracked state, first) > the model's calibration (nsf calibrate) >
 //   the default.
+// A run outside the model's training family (a scene value its training runs never took) reads
+// the scene's "unseen" profile instead, and no calibration: what was calibrated on the training
+// runs holds a run to them.
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -26,6 +29,9 @@ struct RomSettingChoices {
   std::optional<int> gn_iterations;    // Gauss–Newton cap
   std::optional<int> samples;          // |S| at t = 0
   std::optional<uint64_t> seed;        // of the sample choice
+  // Which settings of the scene's rom section: "auto" (the "unseen" profile for a run outside
+  // the training family, else the family's), "family" or "unseen".
+  std::string profile = "auto";
 };
 
 struct RomSetup {
@@ -37,6 +43,11 @@ struct RomSetup {
   RomOptions options;
   // Where ε and the step came from: "command line", "scene", "model" or "default".
   std::string latent_prior_source, dt_ratio_source;
+  // What of the scene lies outside the model's training family (data/scene_family.h), one line
+  // per value; empty inside it, or for a model that never recorded its family.
+  std::vector<std::string> outside_family;
+  // The settings read: "family" or "unseen" (the scene's rom.unseen profile).
+  std::string profile = "family";
   // μ outside the model's training range; `--set rom.KEY` overrides a family profile hides.
   std::vector<std::string> warnings;
 };

@@ -118,7 +118,8 @@ struct LatentStepper::Impl {
     mass = P.mass, vol0 = P.vol0;
     const std::vector<Vec3> v0 = P.v;
     const std::vector<Mat3> F0 = P.F;
-    const double cfl_bound = cfl_time_step_bound(scene);
+    const double cfl_bound =
+        cfl_time_step_bound(scene) * (opt.cfl > 0 ? opt.cfl / scene.settings.cfl : 1.0);
     const SimSettings& s = scene.settings;
     if (!(opt.dt_ratio > 0)) fail("rom: the time-step ratio must be positive, got ", opt.dt_ratio);
     // A frame holds a whole number of ROM steps, at least one: a larger ratio was clamped

@@ -67,8 +67,8 @@ void TrackedParticles::check(double cfl_bound) const {
   // Unlike h's stress, the tracked one is the explicit engine's and shares its bound.
   if (explicit_stress_ && dt_ > cfl_bound * (1 + 1e-9))
     fail_diverged("rom: ", what_, " integrates the material explicitly, so the ROM step ", dt_,
-                  " s must stay within the full-order CFL bound ", cfl_bound,
-                  " s: lower --dt-ratio");
+                  " s must stay within the CFL bound ", cfl_bound,
+                  " s: lower --dt-ratio (or raise the scene's rom.cfl)");
 }
 
 Mat3 TrackedParticles::update(size_t p) {

@@ -74,6 +74,11 @@ TEST(RomSection, TakesQuadratureIterationsAndFieldSources) {
 
   expect_rejected({{"quadrature", 1.5}}, {"rom.quadrature", "whole number"});
   expect_rejected({{"gn_iterations", 0}}, {"rom.gn_iterations", "1 to 100"});
+  // The tracked state's own CFL factor, in (0, 1].
+  EXPECT_EQ(with_rom_section(RomOptions(), parse_rom_section(json{{"cfl", 0.85}})).cfl, 0.85);
+  EXPECT_EQ(with_rom_section(RomOptions(), parse_rom_section(json::object())).cfl, 0.0);
+  expect_rejected({{"cfl", 0}}, {"rom.cfl", "positive"});
+  expect_rejected({{"cfl", 1.5}}, {"rom.cfl", "at most 1"});
   expect_rejected({{"fields", {{"affine", 3}}}}, {"rom.fields.affine", "name"});
   expect_rejected({{"fields", {{"density", "none"}}}},
                   {"rom.fields.density", "deformation, stress, affine, velocity"});
@@ -150,12 +155,12 @@ TEST(RomSection, EachDecoderFamilyReadsItsOwnSettingsOverTheCommonOnes) {
 
   // A --set of a common key that the family sets again does not reach the model: named.
   const json rom = json::parse(R"({"samples": 200, "basis": {"samples": 500, "dt_ratio": null}})");
-  const std::vector<std::string> hidden = overrides_hidden_by_family(
+  const std::vector<std::string> hidden = overrides_hidden_by(
       rom, "basis", {"rom.samples=1000", "rom.quadrature=2", "rom.dt_ratio=3", "simulation.dt=1"});
   ASSERT_EQ(hidden.size(), 2u);
   EXPECT_NE(hidden[0].find("rom.basis.samples = 500 wins"), std::string::npos) << hidden[0];
   EXPECT_NE(hidden[1].find("rom.basis.dt_ratio = null"), std::string::npos) << hidden[1];
-  EXPECT_TRUE(overrides_hidden_by_family(rom, "mlp", {"rom.samples=1000"}).empty());
+  EXPECT_TRUE(overrides_hidden_by(rom, "mlp", {"rom.samples=1000"}).empty());
 
   expect_rejected(json::parse(R"({"basis": 3})"), {"rom.basis", "must be an object"});
   expect_rejected(json::parse(R"({"mlp": {"basis": {}}})"), {"rom.mlp.basis", "hold no basis"});
@@ -201,6 +206,35 @@ TEST(RomSection, ARunWithTheTrackedStateReadsTheTrackedSettings) {
   expect_rejected(json::parse(R"({"tracked": {"fields": {"stress": "basis"}}})"),
                   {"rom.tracked.fields.stress"});
   expect_rejected(json::parse(R"({"tracked": {"dt_ratio": 0}})"), {"rom.tracked", "rom.dt_ratio"});
+}
+
+// The settings of a run outside the model's training family (rom/setup/rom_setup.h): the common
+// ones with the unseen object over them, and none of a family's or the tracked state's.
+TEST(RomSection, TheUnseenProfileMergesOverTheCommonSettingsAlone) {
+  const RomSection s = parse_rom_section(json::parse(R"({
+    "samples": 200, "quadrature": 2, "latent_prior": 0.001,
+    "unseen": {"samples": 100, "latent_prior": 0, "cfl": 0.85,
+               "fields": {"stress": "tracked", "affine": "tracked"}},
+    "basis": {"samples": 500}, "tracked": {"dt_ratio": 1.4}
+  })"));
+  ASSERT_TRUE(s.unseen);
+  EXPECT_EQ(s.unseen->sampling.count, 100);
+  EXPECT_EQ(s.unseen->quadrature, 2);
+  EXPECT_EQ(s.unseen->latent_prior, 0.0);
+  EXPECT_EQ(s.unseen->cfl, 0.85);
+  EXPECT_FALSE(s.unseen->dt_ratio);  // not the tracked object's
+  EXPECT_EQ(s.unseen->fields.stress, "tracked");
+  EXPECT_FALSE(s.unseen->unseen || s.unseen->basis || s.unseen->tracked);
+  // The family's and tracked objects neither hold nor see it.
+  EXPECT_EQ(s.for_run(nsf::DecoderFamily::basis).sampling.count, 500);
+  EXPECT_FALSE(s.for_run(nsf::DecoderFamily::basis).unseen);
+  EXPECT_FALSE(parse_rom_section(json::parse(R"({"samples": 9})")).unseen);
+
+  expect_rejected(json::parse(R"({"unseen": 1})"), {"rom.unseen", "must be an object"});
+  expect_rejected(json::parse(R"({"unseen": {"basis": {}}})"), {"rom.unseen.basis"});
+  expect_rejected(json::parse(R"({"unseen": {"tracked": {}}})"), {"rom.unseen.tracked"});
+  expect_rejected(json::parse(R"({"basis": {"unseen": {}}})"), {"rom.basis.unseen"});
+  expect_rejected(json::parse(R"({"unseen": {"samples": -1}})"), {"rom.unseen"});
 }
 
 }  // namespace

@@ -24,6 +24,7 @@
 #include "rom/eval/result_row.h"
 #include "rom/eval/rom_evaluation.h"
 #include "rom/fields/field_source.h"
+#include "rom/setup/rom_setup.h"
 #include "rom/step/latent_stepper.h"
 #include "rom/step/rom_diverged.h"
 #include "rom/step/step_guard.h"
@@ -595,6 +596,71 @@ TEST_F(RomEndToEnd, TheModelKeepsItsTrainingBoxAndAGuardSaysWhenAColliderLeavesI
   EXPECT_THAT(low.warnings.back(), HasSubstr("left the model's training box"));
 }
 
+// Issue #55 items 4 and 5: the model records every value of its training runs' scenes, so a run
+// whose scene holds another one (a collider placed or moved elsewhere, a new key) is known to lie
+// outside the family the latent space was trained on, and says so. It then reads the scene's
+// rom.unseen profile and not the calibration made on the training runs; inside the family
+// nothing changes.
+TEST_F(RomEndToEnd, ARunOutsideTheTrainingFamilySaysSoAndReadsTheUnseenProfile) {
+  const nsf::NeuralFields f = nsf::NeuralFields::load(basis_model());
+  const nsf::SceneFamily& family = f.training_box().scene;
+  EXPECT_EQ(family.runs(), int(nsf::Dataset((root_ / "data").string()).train().size()));
+  EXPECT_GE(family.varying(), 1u);  // the swept speed
+  const auto setup = [&](const std::vector<std::string>& overrides,
+                         const std::string& profile = "auto") {
+    nsf::RomSettingChoices c;
+    c.profile = profile;
+    return nsf::rom_setup(f, "the model", nsf::read_scene_file(kTinyScene, overrides), test_mu(),
+                          c);
+  };
+  const std::string unseen = R"(rom.unseen={"samples": 33, "latent_prior": 0.002})";
+  const nsf::RomSetup inside = setup({unseen});
+  EXPECT_TRUE(inside.outside_family.empty()) << inside.outside_family[0];
+  EXPECT_EQ(inside.profile, "family");
+  EXPECT_NE(inside.options.sampling.count, 33);
+
+  const std::string lower = "colliders[0].point=[0,0.07,0]";
+  const nsf::RomSetup bare = setup({lower});
+  ASSERT_EQ(bare.outside_family.size(), 1u);
+  EXPECT_THAT(bare.outside_family[0], HasSubstr("/colliders/0/point/1 = 0.07, outside [0.12,"));
+  EXPECT_EQ(bare.profile, "family");  // the scene has no unseen profile: said, and run as is
+  ASSERT_FALSE(bare.warnings.empty());
+  EXPECT_THAT(bare.warnings.back(), HasSubstr("outside the model's training family"));
+  EXPECT_THAT(bare.warnings.back(), HasSubstr("has no rom.unseen profile"));
+
+  const nsf::RomSetup out = setup({lower, unseen});
+  EXPECT_EQ(out.profile, "unseen");
+  EXPECT_EQ(out.options.sampling.count, 33);
+  EXPECT_EQ(out.options.latent_prior, 0.002);
+  EXPECT_EQ(out.latent_prior_source, "scene");
+  // A --set of a key the profile sets again does not reach the run: named.
+  const nsf::RomSetup hidden = setup({lower, unseen, "rom.samples=40"});
+  EXPECT_EQ(hidden.options.sampling.count, 33);
+  ASSERT_EQ(hidden.warnings.size(), 2u);
+  EXPECT_THAT(hidden.warnings[1], HasSubstr("rom.unseen.samples = 33 wins"));
+  // The caller may choose either profile.
+  EXPECT_EQ(setup({lower, unseen}, "family").profile, "family");
+  EXPECT_EQ(setup({unseen}, "unseen").options.sampling.count, 33);
+  nsf::testing::expect_error([&] { setup({}, "unseen"); }, {"has no rom.unseen profile"});
+  nsf::testing::expect_error([&] { setup({}, "other"); }, {"'other' is unknown"});
+
+  // `nsf rom` records both in its row only when the run lies outside.
+  nsf::RomEvalOptions e = options();
+  e.model_path = basis_model();
+  e.samples = 64;
+  const nlohmann::json in_row = nsf::result_json(nsf::evaluate_rom(e), kTinyScene, "m", "", "in");
+  EXPECT_FALSE(in_row.contains("outside_family"));
+  EXPECT_FALSE(in_row.contains("profile"));
+  e.overrides = {lower, R"(rom.unseen={"fields": {"stress": "tracked", "affine": "tracked"}})"};
+  e.samples.reset();
+  const nsf::RomReport r = nsf::evaluate_rom(e);
+  EXPECT_EQ(r.profile, "unseen");
+  EXPECT_THAT(r.field_sources, HasSubstr("tau tracked"));
+  const nlohmann::json out_row = nsf::result_json(r, kTinyScene, "m", "", "out");
+  EXPECT_EQ(out_row.at("profile"), "unseen");
+  EXPECT_EQ(out_row.at("outside_family").size(), 1u);
+}
+
 // The tracked state in place of h and l: each integration point carries its own F^E, plastic
 // state and C through the scene's material, as full order carries each particle's; a merged point
 // of a thinned quadrature carries one for its group. It must change the run and stay close to
@@ -646,7 +712,12 @@ TEST_F(RomEndToEnd, TrackedStateOnTheIntegrationPointsReplacesTheNetworks) {
   // time-step error, a scene whose Δt is past its CFL bound, is not (the calibration matched
   // both by the words "CFL bound" before, and took a bad scene for a diverged ε).
   EXPECT_THROW(nsf::evaluate_rom(o), nsf::RomDiverged);
+  // The scene's rom.cfl holds the tracked state to its own factor: a tight one refuses the
+  // scene's own step.
   o.dt_ratio.reset();
+  o.overrides = {"rom.cfl=0.01"};
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
+                                "raise the scene's rom.cfl");
   o.overrides = {"simulation.dt=0.05"};
   o.truth_path.clear();  // the full-order run, which refuses the step first
   o.full_order = true;
