@@ -146,6 +146,11 @@ NSF_C_API nsf_status nsf_runtime_last_recovery(const nsf_runtime* runtime, char*
  * nsf_runtime_last_recovery writes its text. */
 NSF_C_API nsf_status nsf_runtime_training_note(const nsf_runtime* runtime, char* out, size_t size,
                                                size_t* length);
+/* What the set-up warned of (Runtime::warnings: μ outside the training range, a scene outside
+ * the model's training family), one line each ending in '\n' ("" for none), written as
+ * nsf_runtime_last_recovery writes its text. */
+NSF_C_API nsf_status nsf_runtime_warnings(const nsf_runtime* runtime, char* out, size_t size,
+                                          size_t* length);
 
 /* The scene's colliders, in the order of its "colliders" list. The type ("box", "cylinder",
  * "plane") is written as nsf_runtime_last_recovery writes its text (16 bytes always suffice). */

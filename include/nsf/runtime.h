@@ -91,6 +91,10 @@ class NSF_API Runtime {
   void advance_frame();  // steps_per_frame() steps
   void step();           // one reduced-order step
   RuntimeHealth health() const;
+  // What the set-up warned of, one line each: μ outside the model's training range, a scene
+  // outside its training family (a value no training run's scene took; the run then reads the
+  // scene's rom.unseen profile: docs/GENERALIZE.md), a --set a profile hides.
+  std::vector<std::string> warnings() const;
 
   // Positions (x0 y0 z0 x1 …, metres) of every particle into out[0, 3·particle_count());
   // throws if `size` (in floats) is less.

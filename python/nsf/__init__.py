@@ -203,6 +203,14 @@ class Rom:
         time)."""
         return self._rt.health()
 
+    @property
+    def warnings(self):
+        """What the set-up warned of, a list of str: mu outside the model's training range, a
+        scene outside its training family (a value no training run's scene took, e.g. a collider
+        set elsewhere through `overrides`; the run then reads the scene's rom.unseen profile:
+        docs/GENERALIZE.md). Empty for a run inside both."""
+        return list(self._rt.warnings)
+
     def positions(self, out=None):
         """Every particle's position now, (P, 3) float32, metres. With `out` (a writeable
         C-contiguous float32 array of that shape, or such a slice of a bigger one) the values are

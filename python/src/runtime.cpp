@@ -161,6 +161,7 @@ void bind_runtime(py::module_& m) {
           },
           py::arg("out") = py::none())
       .def("health", &health)
+      .def_property_readonly("warnings", &Runtime::warnings)
       .def_property_readonly("collider_count", &Runtime::collider_count)
       .def("collider_type", &Runtime::collider_type)
       .def("collider_pose", &Runtime::collider_pose)

@@ -125,3 +125,12 @@ def test_a_floor_moved_beyond_where_training_kept_it_is_reported(tiny_model, tin
     h = rom.health
     assert h["outside_training"] and h["steps_outside"] == 1
     assert "collider 0's centre" in h["training_note"] and "in y" in h["training_note"]
+
+
+def test_a_scene_outside_the_training_family_is_named_in_the_warnings(tiny_model, tiny_scene):
+    # The floor set lower than in every training run: the model's training family never held it.
+    assert nsf.Rom(tiny_model, tiny_scene, mu=1.0, threads=2).warnings == []
+    rom = nsf.Rom(tiny_model, tiny_scene, mu=1.0, threads=2,
+                  overrides=["colliders[0].point=[0,0.07,0]"])
+    assert len(rom.warnings) == 1
+    assert "outside the model's training family (/colliders/0/point/1" in rom.warnings[0]

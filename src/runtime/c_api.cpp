@@ -364,6 +364,13 @@ nsf_status nsf_runtime_training_note(const nsf_runtime* r, char* out, size_t siz
   return call("nsf_runtime_training_note", NSF_ERROR_INTERNAL,
               [&] { write_text(runtime(r).health().training_note, out, size, length); });
 }
+nsf_status nsf_runtime_warnings(const nsf_runtime* r, char* out, size_t size, size_t* length) {
+  return call("nsf_runtime_warnings", NSF_ERROR_INTERNAL, [&] {
+    std::string text;
+    for (const std::string& w : runtime(r).warnings()) text += w + "\n";
+    write_text(text, out, size, length);
+  });
+}
 
 nsf_status nsf_runtime_collider_count(const nsf_runtime* r, size_t* out) {
   return call("nsf_runtime_collider_count", NSF_ERROR_INTERNAL, [&] {

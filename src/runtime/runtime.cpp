@@ -59,6 +59,7 @@ struct Runtime::Impl {
   int frames = 0;
   double frame_time = 0;
   ColliderLimits limits;                   // of set_collider_pose
+  std::vector<std::string> warnings;       // the set-up's (RomSetup::warnings)
   std::unique_ptr<LatentStepper> stepper;  // holds a reference to `fields`
   std::unique_ptr<StepGuard> guard;        // and this one to `stepper`
 
@@ -68,6 +69,7 @@ struct Runtime::Impl {
     frames = s.scene.settings.frames;
     frame_time = s.scene.settings.substeps * s.scene.settings.dt;
     limits = collider_limits(s.scene.settings);
+    warnings = s.warnings;
     stepper = std::make_unique<LatentStepper>(fields, std::move(s.scene), s.mu, s.options);
     GuardOptions g;
     g.residual_cells = o.indicator_misfit_cells;
@@ -123,6 +125,10 @@ void Runtime::step() {
 }
 const char* version() {
   return NSF_VERSION;
+}
+
+std::vector<std::string> Runtime::warnings() const {
+  return impl_->warnings;
 }
 
 RuntimeHealth Runtime::health() const {

@@ -95,6 +95,13 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
     sampling.erase("fields");
   }
   s.latent_prior = number("latent_prior", true, "the latent prior's length in metres; 0: none");
+  if (rom.contains("profile")) {
+    const nlohmann::json& v = rom.at("profile");
+    if (!v.is_string() || (v != "auto" && v != "family" && v != "unseen"))
+      fail("scene key 'rom.profile' must be \"auto\", \"family\" or \"unseen\", got ", v.dump());
+    s.profile = v.get<std::string>();
+    sampling.erase("profile");
+  }
   // A family's object merges over the common settings, its tracked object over theirs (so a
   // tracked setting wins over a family's plain one).
   nlohmann::json common = rom;

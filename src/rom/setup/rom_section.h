@@ -35,6 +35,9 @@ struct RomSection {
   // hold a run to what those runs did; such a run is better served by the material law (the
   // tracked state) and no prior. Null where not given.
   std::shared_ptr<const RomSection> unseen;
+  // "profile": which of those a run reads, "auto" (unseen outside the training family), "family"
+  // or "unseen"; "" where not given (auto). A host sets it through its scene overrides.
+  std::string profile;
 
   // The section as a model of `family` (NeuralFields::family()) reads it.
   const RomSection& for_family(DecoderFamily family) const;

@@ -38,7 +38,9 @@ void apply_mu(const NeuralFields& fields, const std::string& model, const SceneF
 }
 
 // Whether the run reads the scene's "unseen" profile, and the warning that says why.
-bool reads_unseen_profile(const std::string& profile, const SceneFile& file, RomSetup& s) {
+bool reads_unseen_profile(const std::string& given, const SceneFile& file, RomSetup& s) {
+  const std::string& scenes = file.sections.rom.profile;
+  const std::string& profile = given != "auto" || scenes.empty() ? given : scenes;
   if (profile != "auto" && profile != "family" && profile != "unseen")
     fail("rom profile '", profile, "' is unknown (auto, family or unseen)");
   const bool has = bool(file.sections.rom.unseen);

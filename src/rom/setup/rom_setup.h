@@ -29,8 +29,9 @@ struct RomSettingChoices {
   std::optional<int> gn_iterations;    // Gauss–Newton cap
   std::optional<int> samples;          // |S| at t = 0
   std::optional<uint64_t> seed;        // of the sample choice
-  // Which settings of the scene's rom section: "auto" (the "unseen" profile for a run outside
-  // the training family, else the family's), "family" or "unseen".
+  // Which settings of the scene's rom section: "auto" (the scene's rom.profile where it names
+  // one, else the "unseen" profile for a run outside the training family and the family's for
+  // one inside), "family" or "unseen".
   std::string profile = "auto";
 };
 

@@ -235,6 +235,9 @@ TEST(RomSection, TheUnseenProfileMergesOverTheCommonSettingsAlone) {
   expect_rejected(json::parse(R"({"unseen": {"tracked": {}}})"), {"rom.unseen.tracked"});
   expect_rejected(json::parse(R"({"basis": {"unseen": {}}})"), {"rom.basis.unseen"});
   expect_rejected(json::parse(R"({"unseen": {"samples": -1}})"), {"rom.unseen"});
+  EXPECT_EQ(parse_rom_section(json::parse(R"({"profile": "unseen"})")).profile, "unseen");
+  EXPECT_EQ(parse_rom_section(json::parse(R"({"samples": 9})")).profile, "");
+  expect_rejected(json::parse(R"({"profile": "sideways"})"), {"rom.profile", "\"family\""});
 }
 
 }  // namespace

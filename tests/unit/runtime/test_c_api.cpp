@@ -218,6 +218,28 @@ TEST_F(CApi, GoodRunMatchesTheCppRuntime) {
   char note[256];
   ASSERT_EQ(nsf_runtime_training_note(rom_, note, sizeof note, &length), NSF_OK);
   EXPECT_NE(std::string(note).find("faster than its training runs"), std::string::npos) << note;
+  // The set-up warned of nothing: the scene is one of the model's training family.
+  ASSERT_EQ(nsf_runtime_warnings(rom_, nullptr, 0, &length), NSF_OK);
+  EXPECT_EQ(length, 0u);
+}
+
+// A scene set outside the model's training family (the floor lower than in every training run)
+// is named in the set-up's warnings, one line each.
+TEST_F(CApi, ASceneOutsideTheTrainingFamilyIsNamedInTheWarnings) {
+  nsf_runtime_options o = options();
+  const char* lower[] = {"colliders[0].point=[0,0.07,0]"};
+  o.overrides = lower;
+  o.override_count = 1;
+  create(o);
+  size_t length = 0;
+  ASSERT_EQ(nsf_runtime_warnings(rom_, nullptr, 0, &length), NSF_OK);
+  ASSERT_GT(length, 0u);
+  std::vector<char> text(length + 1);
+  ASSERT_EQ(nsf_runtime_warnings(rom_, text.data(), text.size(), &length), NSF_OK);
+  const std::string w(text.data());
+  EXPECT_NE(w.find("outside the model's training family (/colliders/0/point/1"), std::string::npos)
+      << w;
+  EXPECT_EQ(w.back(), '\n');
 }
 
 // With the particles' own tracked state as the step's τ (rom.fields.stress = "tracked"), stress

@@ -638,8 +638,11 @@ TEST_F(RomEndToEnd, ARunOutsideTheTrainingFamilySaysSoAndReadsTheUnseenProfile) 
   EXPECT_EQ(hidden.options.sampling.count, 33);
   ASSERT_EQ(hidden.warnings.size(), 2u);
   EXPECT_THAT(hidden.warnings[1], HasSubstr("rom.unseen.samples = 33 wins"));
-  // The caller may choose either profile.
+  // The caller may choose either profile, and a host through the scene's rom.profile.
   EXPECT_EQ(setup({lower, unseen}, "family").profile, "family");
+  EXPECT_EQ(setup({lower, unseen, "rom.profile=family"}).profile, "family");
+  EXPECT_EQ(setup({unseen, "rom.profile=unseen"}).profile, "unseen");
+  EXPECT_EQ(setup({lower, unseen, "rom.profile=family"}, "unseen").profile, "unseen");
   EXPECT_EQ(setup({unseen}, "unseen").options.sampling.count, 33);
   nsf::testing::expect_error([&] { setup({}, "unseen"); }, {"has no rom.unseen profile"});
   nsf::testing::expect_error([&] { setup({}, "other"); }, {"'other' is unknown"});
