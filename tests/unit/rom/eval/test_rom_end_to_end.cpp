@@ -763,8 +763,10 @@ TEST_F(RomEndToEnd, MuOutsideTheTrainingRangeWarns) {
   o.mu = 1.6;  // just beyond the training range: a warning, and the run still completes
   o.truth_path.clear();
   const nsf::RomReport r = nsf::evaluate_rom(o);
-  ASSERT_EQ(r.warnings.size(), 1u);
+  ASSERT_EQ(r.warnings.size(), 2u);
   EXPECT_THAT(r.warnings[0], HasSubstr("outside the training range"));
+  // The swept value beyond its range also takes the scene out of the training family.
+  EXPECT_THAT(r.warnings[1], HasSubstr("outside the model's training family (/objects/0/velocity"));
 }
 
 // The model keeps its training runs' latents; with the latent prior the ROM's latent stays near
