@@ -117,6 +117,30 @@ TEST_F(Generalize, EachDrawIsScoredWithItsBaselinesAndTheSummaryHasTheIssuesKeys
             r.draws[1].report->baselines.coarse_delta);
 }
 
+// A draw lies outside the model's training family: it reads the scene's unseen profile, unless
+// the options (`nsf generalize --profile family`) ask for the family's; its row says which.
+TEST_F(Generalize, ADrawReadsTheUnseenProfileUnlessTheFamilysIsAskedFor) {
+  nsf::GeneralizeOptions o = options();
+  o.only = {1};
+  o.overrides = {R"(rom.unseen={"samples": 40})"};
+  const nsf::GeneralizeResult unseen = nsf::run_generalize(o);
+  o.rom.profile = "family";
+  const nsf::GeneralizeResult family = nsf::run_generalize(o);
+  ASSERT_EQ(unseen.draws.size(), 1u);
+  ASSERT_EQ(family.draws.size(), 1u);
+  ASSERT_TRUE(unseen.draws[0].report) << unseen.draws[0].error;
+  ASSERT_TRUE(family.draws[0].report) << family.draws[0].error;
+  EXPECT_FALSE(unseen.draws[0].report->outside_family.empty());
+  EXPECT_EQ(unseen.draws[0].report->profile, "unseen");
+  EXPECT_EQ(unseen.draws[0].report->samples, 40u);
+  EXPECT_EQ(family.draws[0].report->profile, "family");
+  EXPECT_NE(family.draws[0].report->samples, 40u);
+  const nlohmann::json j = nsf::generalize_json(unseen, "nsf generalize test");
+  EXPECT_EQ(j["draws"][0]["profile"], "unseen");
+  EXPECT_FALSE(j["draws"][0]["outside_family"].empty());
+  EXPECT_EQ(j["rom"]["profile"], "unseen");
+}
+
 // QDEIM's samples (rom.sampling = qdeim) on a draw keep g's tangents on S well conditioned.
 TEST_F(Generalize, QdeimSamplesKeepTheInversionWellConditionedOnADraw) {
   nsf::GeneralizeOptions o = options();
