@@ -68,8 +68,10 @@ for so in "$module" "$pkg"/libnsf_runtime.so.*; do
   runpath=$(readelf -d "$so" | grep -E 'RPATH|RUNPATH' || true)
   ! grep -qF -e "$src" -e "$build" <<<"$runpath" || die "$so has a run path into the source or build tree: $runpath"
 done
-ldd "$module" | grep -qF "libnsf_runtime.so.0 => $pkg/libnsf_runtime.so.0" ||
-  die "the module does not load the runtime library next to it: $(ldd "$module")"
+# Through a file: under pipefail, grep -q leaving early kills ldd with SIGPIPE and fails the check.
+ldd "$module" >"$tmp/module_ldd.txt"
+grep -qF "libnsf_runtime.so.0 => $pkg/libnsf_runtime.so.0" "$tmp/module_ldd.txt" ||
+  die "the module does not load the runtime library next to it: $(cat "$tmp/module_ldd.txt")"
 
 step "the venv alone: the module loads; import nsf asks for numpy"
 env -u PYTHONPATH "$py" - "$module" <<'EOF' || die "the extension module does not load in the bare venv"
