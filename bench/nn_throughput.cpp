@@ -12,7 +12,7 @@
 #include <string>
 
 #include "nn/latent_inversion.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/network_samples.h"
 #include "nn/networks.h"
 #include "nn/torch_settings.h"

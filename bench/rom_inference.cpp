@@ -24,7 +24,7 @@
 #include "mpm/simulation.h"
 #include "nn/basis_decoders.h"
 #include "nn/config.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/neural_fields.h"
 #include "nn/torch_settings.h"
 #include "rom/fields/field_source.h"

@@ -11,7 +11,7 @@
 #include "app/common_options.h"
 #include "core/error.h"
 #include "nn/dataset.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 
 namespace nsf::app {
 

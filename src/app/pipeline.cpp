@@ -6,7 +6,7 @@
 #include "core/error.h"
 #include "data/sweep.h"
 #include "nn/dataset.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/neural_fields.h"
 #include "nn/train/trainer.h"
 #include "rom/calibration/latent_prior_calibration.h"

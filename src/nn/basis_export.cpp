@@ -3,7 +3,7 @@
 #include <torch/torch.h>
 
 #include "core/error.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 
 namespace nsf {
 

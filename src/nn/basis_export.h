@@ -1,7 +1,7 @@
 #pragma once
 // A basis model's decoders in their run-time form (nn/basis_decoders.h), copied out of the
-// torch-level model (nn/model.h): at load for the runtime, and during training for the latent
-// refinement, which fits the current networks.
+// torch-level model (nn/model/neural_model.h): at load for the runtime, and during training for the
+// latent refinement, which fits the current networks.
 #include <cstdint>
 #include <vector>
 

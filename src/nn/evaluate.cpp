@@ -11,7 +11,7 @@
 #include "nn/field_checks.h"
 #include "nn/held_out_points.h"
 #include "nn/latent_inversion.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/network_samples.h"
 #include "nn/neural_fields.h"
 

@@ -8,7 +8,7 @@
 #include "core/blas_threads.h"
 #include "core/error.h"
 #include "nn/basis_export.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 
 namespace nsf {
 

@@ -6,7 +6,7 @@
 #include "io/run_format.h"
 #include "nn/basis_export.h"
 #include "nn/coordinate_networks.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/network_samples.h"
 #include "nn/neural_fields.h"
 

@@ -8,7 +8,7 @@
 #include "cli_runner.h"
 #include "error_matchers.h"
 #include "nn/checked_archive.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/neural_fields.h"
 #include "nn_fixtures.h"
 

@@ -10,7 +10,7 @@
 #include "cli_runner.h"
 #include "error_matchers.h"
 #include "nn/config.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/train/trainer.h"
 #include "nn_fixtures.h"
 #include "nn_training_fixture.h"

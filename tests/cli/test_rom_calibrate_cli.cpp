@@ -13,7 +13,7 @@
 #include <iterator>
 
 #include "cli_runner.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/neural_fields.h"
 #include "nn/train/trainer.h"
 #include "rom/calibration/latent_prior_calibration.h"

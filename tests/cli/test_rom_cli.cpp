@@ -13,7 +13,7 @@
 #include "cli_runner.h"
 #include "io/run_reader.h"
 #include "nn/dataset.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "rom_end_to_end.h"
 
 namespace fs = std::filesystem;

@@ -15,7 +15,7 @@
 
 #include "nn/config.h"
 #include "nn/dataset.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/train/gradient_team.h"
 #include "nn/train/trainer.h"
 

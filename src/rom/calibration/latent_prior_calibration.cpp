@@ -14,7 +14,7 @@
 #include "core/progress.h"
 #include "core/timer.h"
 #include "nn/dataset.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/neural_fields.h"
 #include "rom/eval/rom_evaluation.h"
 #include "rom/setup/scene_file.h"

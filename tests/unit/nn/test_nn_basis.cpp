@@ -26,7 +26,7 @@
 #include "nn/dataset.h"
 #include "nn/evaluate.h"
 #include "nn/latent_inversion.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/model_record.h"
 #include "nn/neural_fields.h"
 #include "nn/point_interpolation.h"

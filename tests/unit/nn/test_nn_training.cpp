@@ -13,7 +13,7 @@
 #include "nn/dataset.h"
 #include "nn/evaluate.h"
 #include "nn/latent_inversion.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/network_samples.h"
 #include "nn/neural_fields.h"
 #include "nn/torch_settings.h"

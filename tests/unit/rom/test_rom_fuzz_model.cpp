@@ -25,7 +25,7 @@
 #include "nn/field_checks.h"
 #include "nn/gauss_newton.h"
 #include "nn/latent_inversion.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/network_samples.h"
 #include "nn/neural_fields.h"
 #include "rom/inversion/latent_prior.h"

@@ -13,7 +13,7 @@
 
 #include "mpm/simulation.h"
 #include "nn/latent_inversion.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/network_samples.h"
 #include "rom/inversion/latent_prior.h"
 #include "rom/step/integration_set.h"

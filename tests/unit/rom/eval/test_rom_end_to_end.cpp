@@ -18,7 +18,7 @@
 #include "mpm/colliders/rigid_collider.h"
 #include "mpm/simulation.h"
 #include "nn/dataset.h"
-#include "nn/model.h"
+#include "nn/model/neural_model.h"
 #include "nn/neural_fields.h"
 #include "nn/train/trainer.h"
 #include "rom/eval/result_row.h"

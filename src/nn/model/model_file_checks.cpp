@@ -1,4 +1,4 @@
-#include "nn/model_file_checks.h"
+#include "nn/model/model_file_checks.h"
 
 #include <climits>
 #include <map>

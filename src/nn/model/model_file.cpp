@@ -1,5 +1,6 @@
-#include "nn/model.h"
-#include <ATen/Parallel.h>
+// The model file (docs/TRAINING.md, "Model file"): NeuralModel's archive form over its format
+// versions, and its atomic, checksummed save and load (nn/model/neural_model.h).
+#include "nn/model/neural_model.h"
 
 #include <cmath>
 #include <cstdio>
@@ -10,7 +11,7 @@
 #include "core/input_file.h"
 #include "nn/basis_export.h"
 #include "nn/checked_archive.h"
-#include "nn/model_file_checks.h"
+#include "nn/model/model_file_checks.h"
 
 namespace nsf {
 
@@ -45,11 +46,6 @@ constexpr const char* kMapParts[5] = {"centers", "weights", "poly", "shift", "sc
 constexpr const char* kBasisNames[3] = {"u", "tau", "C"};
 constexpr const char* kRecordEntry = "runtime_record";
 constexpr int64_t kBasisDims[3] = {3, 6, 9};
-
-torch::Tensor to_tensor(const std::vector<double>& v) {
-  std::vector<float> f(v.begin(), v.end());
-  return torch::tensor(f, torch::kFloat32);
-}
 
 void write_normalizer(torch::serialize::OutputArchive& a, const std::string& name,
                       const Normalizer& n) {
@@ -107,57 +103,6 @@ c10::IValue read_value(torch::serialize::InputArchive& a, const std::string& key
 }
 
 }  // namespace
-
-Normalizer Normalizer::identity(int64_t dim) {
-  return {torch::zeros({dim}, torch::kFloat32), torch::ones({dim}, torch::kFloat32)};
-}
-
-Normalizer Normalizer::from_moments(const std::vector<double>& sum,
-                                    const std::vector<double>& sum_sq, double count) {
-  const size_t d = sum.size();
-  std::vector<double> mean(d), sd(d);
-  double largest = 0;
-  for (size_t i = 0; i < d; ++i) {
-    mean[i] = count > 0 ? sum[i] / count : 0.0;
-    const double var = count > 0 ? sum_sq[i] / count - mean[i] * mean[i] : 0.0;
-    sd[i] = std::sqrt(std::max(var, 0.0));
-    largest = std::max(largest, sd[i]);
-  }
-  for (double& s : sd)
-    if (!(s > 1e-6 * largest) || s < 1e-30) s = largest > 1e-30 ? largest : 1.0;
-  return {to_tensor(mean), to_tensor(sd)};
-}
-
-NeuralModel::NeuralModel(const NetConfig& c, const SceneFingerprint& s, bool mu)
-    : config(c), scene(s), has_mu(mu) {
-  const int64_t r = c.latent_dim;
-  encoder = Encoder(s.particles, r, c.encoder_hidden, c.encoder_channels, c.encoder_max_length);
-  if (c.encoder != "network" && c.encoder != "modes")
-    fail("unknown encoder '", c.encoder, "' (known: network, modes)");
-  if (c.encoder == "modes" && c.decoder != DecoderFamily::basis)
-    fail("the modes encoder needs the basis decoders (--decoder basis): it projects on B_u");
-  if (c.encoder == "modes" && c.latent_dim > c.modes[0])
-    fail("the modes encoder takes the first r = ", c.latent_dim, " of the ", c.modes[0],
-         " modes of x - X: r must not exceed K");
-  if (c.decoder == DecoderFamily::basis) {
-    for (int f = 0; f < 3; ++f) {
-      if (c.modes[f] < 1) fail("a basis model needs at least one mode per field, got ", c.modes[f]);
-      const int64_t in = r + (f == 1 && stress_has_mu() ? 1 : 0);
-      basis[f].net = FieldMlp(in, c.modes[f], c.coefficient_width, c.coefficient_depth);
-    }
-  } else {
-    g = FieldMlp(3 + r, 3, c.width_g, c.depth);
-    h = FieldMlp(3 + r + (stress_has_mu() ? 1 : 0), 6, c.width_h, c.depth);
-    l = FieldMlp(3 + r, 9, c.width_l, c.depth);
-  }
-  norm_X = Normalizer::identity(3);
-  norm_x = Normalizer::identity(3);
-  norm_u = Normalizer::identity(3);
-  norm_z = Normalizer::identity(r);
-  norm_mu = Normalizer::identity(1);
-  norm_tau = Normalizer::identity(6);
-  norm_C = Normalizer::identity(9);
-}
 
 void NeuralModel::write(torch::serialize::OutputArchive& a, bool bases_in_record) const {
   a.write("format", c10::IValue(std::string(kFormat)));
@@ -506,113 +451,6 @@ NeuralModel NeuralModel::load(const std::string& path) {
   } catch (const std::exception& e) {  // torch's TorchScript reader throws its own types
     fail("cannot read model ", path, " (not an nsf model, or damaged): ", e.what());
   }
-}
-
-void NeuralModel::check_scene(const SceneFingerprint& data, const std::string& what) const {
-  check_same_scene(scene, data, what);
-}
-
-void NeuralModel::to(const torch::Device& device) {
-  encoder->to(device);
-  for (FieldMlp* net : {&g, &h, &l, &basis[0].net, &basis[1].net, &basis[2].net})
-    if (!net->is_empty()) (*net)->to(device);
-  auto move = [&](torch::Tensor& t) {
-    if (t.defined()) t = t.to(device);
-  };
-  for (Normalizer* n : {&norm_X, &norm_x, &norm_z, &norm_mu, &norm_tau, &norm_C, &norm_u})
-    move(n->mean), move(n->std);
-  for (BasisField& b : basis) move(b.mean), move(b.modes), move(b.scale);
-  // The coefficient maps stay on the CPU: they are fitted and evaluated there.
-  move(rest), move(trajectory_latents), move(trajectory_mu);
-}
-
-void NeuralModel::set_eval_mode() {
-  encoder->eval();
-  for (FieldMlp* net : {&g, &h, &l, &basis[0].net, &basis[1].net, &basis[2].net})
-    if (!net->is_empty()) (*net)->eval();
-}
-
-torch::Tensor NeuralModel::coefficient_input(int field, const torch::Tensor& z,
-                                             const torch::Tensor& mu) const {
-  if (field == 0) return z;  // as g sees it: the encoder's raw latent
-  if (field == 1 && stress_has_mu()) return torch::cat({norm_z.apply(z), norm_mu.apply(mu)}, 1);
-  return norm_z.apply(z);
-}
-
-torch::Tensor NeuralModel::coefficients(int field, const torch::Tensor& z,
-                                        const torch::Tensor& mu) {
-  BasisField& b = basis[field];
-  return b.net->forward(coefficient_input(field, z, mu)) * b.scale;
-}
-
-torch::Tensor NeuralModel::encode(const torch::Tensor& x) {
-  if (config.encoder == "modes") {
-    // ẑ_i = Σ_p B_p,i · (x_p − X_p − mean_p) / spread_i for the first r modes (orthonormal over
-    // the particles in the fit's norm, which for x − X is the plain one).
-    const BasisField& b = basis[0];
-    const int64_t r = latent_dim();
-    // Summed in double, one frame at a time and in particle order, so that the latent has the
-    // same bits at every thread count (a float product over 3|P| splits its sum across threads).
-    const torch::Tensor u = (x - rest.unsqueeze(0) - b.mean.unsqueeze(0))
-                                .reshape({x.size(0), -1})
-                                .to(torch::kCPU, torch::kFloat64)
-                                .contiguous();
-    const torch::Tensor B =
-        b.modes.narrow(2, 0, r).reshape({-1, r}).to(torch::kCPU, torch::kFloat64).contiguous();
-    const int64_t frames = u.size(0), n = u.size(1);
-    torch::Tensor z = torch::zeros({frames, r}, u.options());
-    const double* up = u.data_ptr<double>();
-    const double* Bp = B.data_ptr<double>();
-    double* zp = z.data_ptr<double>();
-    at::parallel_for(0, frames, 1, [&](int64_t begin, int64_t end) {
-      for (int64_t f = begin; f < end; ++f)
-        for (int64_t j = 0; j < n; ++j)
-          for (int64_t i = 0; i < r; ++i) zp[f * r + i] += up[f * n + j] * Bp[j * r + i];
-    });
-    return (z.to(x.device(), x.scalar_type()) / b.scale.narrow(0, 0, r));
-  }
-  const torch::Tensor xn = displacement ? norm_u.apply(x - rest.unsqueeze(0)) : norm_x.apply(x);
-  return encoder->forward(xn.reshape({x.size(0), -1}));
-}
-
-torch::Tensor NeuralModel::g_input(const torch::Tensor& Xn, const torch::Tensor& z) const {
-  return torch::cat({Xn, z}, 1);
-}
-
-torch::Tensor NeuralModel::h_input(const torch::Tensor& Xn, const torch::Tensor& z,
-                                   const torch::Tensor& mu) const {
-  if (stress_has_mu()) return torch::cat({Xn, norm_z.apply(z), norm_mu.apply(mu)}, 1);
-  return torch::cat({Xn, norm_z.apply(z)}, 1);
-}
-
-torch::Tensor NeuralModel::l_input(const torch::Tensor& Xn, const torch::Tensor& z) const {
-  return torch::cat({Xn, norm_z.apply(z)}, 1);
-}
-
-namespace {
-void require_mlp(const NeuralModel& m, const char* what) {
-  if (m.is_basis())
-    fail("internal error: ", what,
-         "(X, z) asked of a per-point basis model, which has no "
-         "coordinate network; evaluate it through its points (nn/neural_fields.h)");
-}
-}  // namespace
-
-torch::Tensor NeuralModel::deform(const torch::Tensor& Xn, const torch::Tensor& z) {
-  require_mlp(*this, "g");
-  if (displacement) return norm_X.invert(Xn) + norm_u.invert(g->forward(g_input(Xn, z)));
-  return norm_x.invert(g->forward(g_input(Xn, z)));
-}
-
-torch::Tensor NeuralModel::stress(const torch::Tensor& Xn, const torch::Tensor& z,
-                                  const torch::Tensor& mu) {
-  require_mlp(*this, "h");
-  return norm_tau.invert(h->forward(h_input(Xn, z, mu)));
-}
-
-torch::Tensor NeuralModel::affine(const torch::Tensor& Xn, const torch::Tensor& z) {
-  require_mlp(*this, "l");
-  return norm_C.invert(l->forward(l_input(Xn, z)));
 }
 
 }  // namespace nsf

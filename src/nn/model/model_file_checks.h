@@ -1,8 +1,8 @@
 #pragma once
-// Checks on what a model file holds, before and after the loader (nn/model.cpp) uses it. Model
-// files are passed between people, and a checksum only shows that a file is as written, not that
-// it was written by nsf: a hostile or damaged file with a matching checksum must still be refused
-// with a message naming the entry, never crash the tool or make it allocate terabytes.
+// Checks on what a model file holds, before and after the loader (nn/model/model_file.cpp) uses it.
+// Model files are passed between people, and a checksum only shows that a file is as written, not
+// that it was written by nsf: a hostile or damaged file with a matching checksum must still be
+// refused with a message naming the entry, never crash the tool or make it allocate terabytes.
 #include <torch/nn/module.h>
 #include <torch/serialize/archive.h>
 

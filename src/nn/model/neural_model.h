@@ -1,7 +1,11 @@
 #pragma once
-// The trained model as a whole: encoder, the three decoders, normalisation statistics, the
-// parameter range and the scene it was trained for. One file on disk (docs/TRAINING.md). Torch
-// level; the runtime facade without torch types is nn/neural_fields.h.
+// The trained model as a whole: encoder, the decoders of its family, normalisation statistics,
+// the parameter range and the scene it was trained for. One file on disk (docs/TRAINING.md). Torch
+// level; the runtime facade without torch types is nn/neural_fields.h. Its parts are defined by
+// job in nn/model/: the networks built and moved here (neural_model.cpp), the encoder
+// (encoder.cpp), an MLP model's decoders g, h, l (mlp_decoders.cpp), a basis model's fields and
+// coefficients (basis_fields.h), the normalisation (normalizer.h) and the file with its format
+// versions (model_file.cpp).
 #include <torch/serialize/archive.h>
 
 #include <cstdint>
@@ -11,38 +15,13 @@
 #include "core/types.h"
 #include "data/training_box.h"
 #include "nn/config.h"
+#include "nn/model/basis_fields.h"
+#include "nn/model/normalizer.h"
 #include "nn/model_record.h"
 #include "nn/networks.h"
 #include "nn/scene_fingerprint.h"
 
 namespace nsf {
-
-// Per-component affine normalisation to zero mean / unit variance.
-struct Normalizer {
-  torch::Tensor mean, std;  // float32, one entry per component
-
-  static Normalizer identity(int64_t dim);
-  // From per-component sums Σv and Σv² over `count` samples. A component that never varies
-  // (τ of an unloaded direction, say) gets unit scale instead of a division by ~0.
-  static Normalizer from_moments(const std::vector<double>& sum, const std::vector<double>& sum_sq,
-                                 double count);
-  torch::Tensor apply(const torch::Tensor& v) const { return (v - mean) / std; }
-  torch::Tensor invert(const torch::Tensor& v) const { return v * std + mean; }
-};
-
-// One field of a basis model, f_p = mean_p + B_p · (scale ⊙ net(input)) (nn/basis_decoders.h has
-// the run-time form). The bases come from the training frames (nn/train/basis_fit.h).
-struct BasisField {
-  torch::Tensor mean;   // |P| × dim
-  torch::Tensor modes;  // |P| × dim × K
-  torch::Tensor scale;  // K: each coefficient's spread over the training frames
-  FieldMlp net{nullptr};
-  // The coefficient map instead of the network (τ and C of a model with maps: nn/rbf_map.h),
-  // float64; undefined until its stage has run.
-  torch::Tensor map_centers, map_weights, map_poly, map_shift, map_scale;
-  bool has_map() const { return map_centers.defined(); }
-  int64_t K() const { return scale.defined() ? scale.size(0) : 0; }
-};
 
 // What `nsf calibrate` chose for one kind of ROM run (docs/ROM.md, "Latent prior").
 struct RomCalibration {
@@ -55,12 +34,11 @@ class NeuralModel {
  public:
   NeuralModel(const NetConfig& config, const SceneFingerprint& scene, bool has_mu);
 
+  // ---- the model file (model_file.cpp) ----
   // Atomic: written to "<path>.tmp" and renamed, so a crash never leaves a half model.
   void save(const std::string& path) const;
   // Throws nsf::Error naming the file for a missing, foreign or damaged file.
   static NeuralModel load(const std::string& path);
-  // Throws nsf::Error when `data` (what: e.g. the dataset path) is another scene.
-  void check_scene(const SceneFingerprint& data, const std::string& what) const;
 
   // Archive form, shared by the model file and the training checkpoint. bases_in_record: the
   // bases' means and modes are left out (save() stores them in the run-time record).
@@ -70,12 +48,15 @@ class NeuralModel {
   bool stress_has_mu() const { return has_mu && config.stress_uses_mu; }
   bool is_basis() const { return config.decoder == DecoderFamily::basis; }
   int64_t latent_dim() const { return config.latent_dim; }
+  // Throws nsf::Error when `data` (what: e.g. the dataset path) is another scene.
+  void check_scene(const SceneFingerprint& data, const std::string& what) const;
 
   // ---- batched evaluation, physical units in and out (float32) ----
-  // x: B × |P| × 3 current positions → B × r latents.
+  // x: B × |P| × 3 current positions → B × r latents (encoder.cpp).
   torch::Tensor encode(const torch::Tensor& x);
-  // Decoder inputs per point: Xn = normalised rest positions (N × 3), z = latents (N × r),
-  // mu (N × 1, physical; ignored unless stress_has_mu()).
+  // An MLP model's decoders (mlp_decoders.cpp). Their inputs per point: Xn = normalised rest
+  // positions (N × 3), z = latents (N × r), mu (N × 1, physical; ignored unless
+  // stress_has_mu()).
   torch::Tensor deform(const torch::Tensor& Xn, const torch::Tensor& z);  // N × 3
   torch::Tensor stress(const torch::Tensor& Xn, const torch::Tensor& z,
                        const torch::Tensor& mu);                          // N × 6
@@ -91,8 +72,9 @@ class NeuralModel {
   // saved, loaded and run on the CPU.
   void to(const torch::Device& device);
 
-  // ---- basis models: coefficients of field f (0: x − X, 1: τ, 2: C) in physical units, B × K,
-  // for raw latents z (B × r) and μ (B × 1, physical; used by τ when stress_has_mu()).
+  // ---- basis models (basis_fields.cpp): coefficients of field f (0: x − X, 1: τ, 2: C) in
+  // physical units, B × K, for raw latents z (B × r) and μ (B × 1, physical; used by τ when
+  // stress_has_mu()).
   torch::Tensor coefficients(int field, const torch::Tensor& z, const torch::Tensor& mu);
   torch::Tensor coefficient_input(int field, const torch::Tensor& z, const torch::Tensor& mu) const;
 
