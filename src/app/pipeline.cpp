@@ -91,9 +91,9 @@ bool ensure_model(const std::string& data, const std::string& model, const Train
       const std::string encoder = wanted == DecoderFamily::basis && !plan.encoder.empty()
                                       ? plan.encoder
                                       : NetConfig().encoder;
-      if (f.model().config.encoder != encoder)
-        fail("its encoder is '", f.model().config.encoder, "', the scene's recipe asks for '",
-             encoder, "'");
+      if (f.encoder_kind() != encoder)
+        fail("its encoder is '", f.encoder_kind(), "', the scene's recipe asks for '", encoder,
+             "'");
       std::printf("   reusing %s (delete it to retrain)\n", model.c_str());
       return false;
     } catch (const Error& e) {

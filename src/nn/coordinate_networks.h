@@ -6,13 +6,13 @@
 // basis models only.
 #include <Eigen/Core>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "core/types.h"
 
 namespace nsf {
 
-class NeuralModel;
 class SampleDeformation;
 
 class CoordinateNetworks {
@@ -46,8 +46,8 @@ class CoordinateNetworks {
   virtual void deformation_gradients(const Points& X, const std::vector<uint32_t>& ids,
                                      const Eigen::VectorXd& z, std::vector<Mat3>& F) const = 0;
 
-  // The torch-level model, for code that already includes nn/model.h (trainer, tools).
-  virtual NeuralModel& model() = 0;
+  // The encoder's kind (NetConfig::encoder): "network" or "modes".
+  virtual const std::string& encoder_kind() const = 0;
 };
 
 }  // namespace nsf

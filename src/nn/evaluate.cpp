@@ -77,8 +77,7 @@ std::vector<EvalRow> evaluate_model(const std::string& model_path, const std::st
   std::optional<NeuralFields::Points> all_pts;
   if (held && n < P) all_pts.emplace(nf.prepare(data.rest_positions()));
   std::optional<FrameLatentRefiner> refiner;
-  if (o.refine_iterations > 0)
-    refiner.emplace(nf.model(), data.rest_positions(), o.refine_iterations);
+  if (o.refine_iterations > 0) refiner.emplace(nf, data.rest_positions(), o.refine_iterations);
 
   std::vector<EvalRow> rows;
   std::vector<Vec3> x;

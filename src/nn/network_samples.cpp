@@ -8,6 +8,7 @@
 #include "core/blas_threads.h"
 #include "core/error.h"
 #include "nn/basis_export.h"
+#include "nn/model/access.h"
 #include "nn/model/neural_model.h"
 
 namespace nsf {
@@ -99,6 +100,10 @@ FrameLatentRefiner::FrameLatentRefiner(NeuralModel& model, const std::vector<Vec
   options_.max_iterations = iterations;
   options_.tolerance = 1e-7;
 }
+
+FrameLatentRefiner::FrameLatentRefiner(NeuralFields& fields, const std::vector<Vec3>& rest,
+                                       int iterations)
+    : FrameLatentRefiner(torch_model(fields), rest, iterations) {}
 
 Eigen::VectorXd FrameLatentRefiner::refine(const float* x, const Eigen::VectorXd& start) const {
   std::vector<Vec3> target;

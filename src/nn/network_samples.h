@@ -13,6 +13,7 @@
 
 namespace nsf {
 
+class NeuralFields;
 class NeuralModel;
 
 // F = ∂g/∂X (physical rest coordinates) at the normalised rest positions Xn (m × 3, float) and
@@ -55,6 +56,9 @@ InversionResult invert_deformation(NeuralModel& model, const torch::Tensor& Xn,
 class FrameLatentRefiner {
  public:
   FrameLatentRefiner(NeuralModel& model, const std::vector<Vec3>& rest, int iterations);
+  // The same for the model behind `fields`, loaded with LibTorch (NeuralFields::load): what the
+  // ROM's error budget (rom/eval/error_budget.h) and `nsf eval --refine` measure.
+  FrameLatentRefiner(NeuralFields& fields, const std::vector<Vec3>& rest, int iterations);
   // x: the frame's positions, 3|P| floats (particle-major, as datasets store them).
   Eigen::VectorXd refine(const float* x, const Eigen::VectorXd& start) const;
   // Several frames, one per thread on as many threads as the GEMMs have, each thread's GEMMs on

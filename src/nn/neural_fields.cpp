@@ -110,9 +110,9 @@ const TrainingBox& NeuralFields::training_box() const {
 double NeuralFields::train_seconds() const {
   return record_.train_seconds;
 }
-NeuralModel& NeuralFields::model() {
-  if (!net_) needs_torch("the torch-level model");
-  return net_->model();
+const std::string& NeuralFields::encoder_kind() const {
+  if (!net_) needs_torch("the encoder's kind");
+  return net_->encoder_kind();
 }
 
 Latent NeuralFields::rest_latent(const std::vector<Vec3>& X) const {

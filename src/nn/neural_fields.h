@@ -16,7 +16,6 @@
 
 namespace nsf {
 
-class NeuralModel;
 class CoordinateNetworks;
 class SampleDeformation;
 
@@ -25,7 +24,7 @@ using Latent = Eigen::VectorXd;  // ẑ ∈ R^r
 class NeuralFields {
  public:
   // Loads a model file (nsf train) of either family with LibTorch: the encoder, an MLP model's
-  // networks and model() (defined in libnsf_nn, nn/torch_networks.cpp). A basis model's fields
+  // networks (defined in libnsf_nn, nn/torch_networks.cpp). A basis model's fields
   // are its run-time record's (nn/model_record.h), as load_basis() gives them. Throws nsf::Error
   // naming the file when it cannot be used.
   static NeuralFields load(const std::string& path);
@@ -44,6 +43,9 @@ class NeuralFields {
   // The decoder family: mlp (the paper's coordinate networks) or basis (per-point bases).
   DecoderFamily family() const;
   std::string decoder() const;  // its name: "basis" or "mlp"
+  // The encoder's kind: "network" (trained) or "modes" (a basis model's projection on its
+  // leading modes). Needs the model loaded with LibTorch (load()): throws nsf::Error otherwise.
+  const std::string& encoder_kind() const;
   // A basis model's decoders at run time; null for an MLP model.
   const BasisDecoders* bases() const;
   double mu_min() const;  // the training runs' μ range (extrapolation beyond it is risky)
@@ -107,10 +109,6 @@ class NeuralFields {
   // ż and μ: an internal error without them.
   void affine(const Points& X, const Latent& z, std::vector<Mat3>& C, double mu = 0,
               const Latent* zdot = nullptr) const;
-
-  // The torch-level model, for code that already includes nn/model.h (trainer, tools); throws
-  // nsf::Error when loaded without torch.
-  NeuralModel& model();
 
  private:
   NeuralFields();

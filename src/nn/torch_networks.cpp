@@ -1,11 +1,13 @@
 // The encoder and the coordinate networks of a model loaded with LibTorch
-// (nn/coordinate_networks.h), and NeuralFields::load, which attaches them.
+// (nn/coordinate_networks.h), NeuralFields::load, which attaches them, and the nn-internal way
+// back to the torch-level model (nn/model/access.h).
 #include <torch/torch.h>
 
 #include "core/error.h"
 #include "io/run_format.h"
 #include "nn/basis_export.h"
 #include "nn/coordinate_networks.h"
+#include "nn/model/access.h"
 #include "nn/model/neural_model.h"
 #include "nn/network_samples.h"
 #include "nn/neural_fields.h"
@@ -150,7 +152,8 @@ class TorchNetworks final : public CoordinateNetworks {
       F[size_t(k)] = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(f + 9 * k);
   }
 
-  NeuralModel& model() override { return model_; }
+  const std::string& encoder_kind() const override { return model_.config.encoder; }
+  NeuralModel& model() { return model_; }
 
  private:
   // The networks' forward passes change no parameter: const at this interface.
@@ -198,6 +201,16 @@ NeuralFields NeuralFields::load(const std::string& path) {
   model.stored_record.reset();
   f.net_ = std::make_unique<TorchNetworks>(std::move(model));
   return f;
+}
+
+NeuralModel& torch_model(NeuralFields& fields) {
+  // The only networks NeuralFields::load attaches; the const is the facade's, not the model's.
+  const auto* nets = dynamic_cast<const TorchNetworks*>(fields.networks());
+  if (!nets)
+    fail(
+        "the torch-level model needs LibTorch, and this model was loaded without it "
+        "(NeuralFields::load_basis): use NeuralFields::load");
+  return const_cast<TorchNetworks*>(nets)->model();
 }
 
 }  // namespace nsf

@@ -25,8 +25,7 @@ ErrorBudget::ErrorBudget(NeuralFields& fields, const std::vector<Vec3>& X,
       mu_(mu),
       inversion_(inversion),
       g_(fields.sample_deformation(X, samples)),
-      refiner_(
-          std::make_unique<FrameLatentRefiner>(fields.model(), X, TrainConfig().refine_latents)),
+      refiner_(std::make_unique<FrameLatentRefiner>(fields, X, TrainConfig().refine_latents)),
       z_(z0) {}
 
 ErrorBudget::~ErrorBudget() = default;

@@ -26,6 +26,7 @@
 #include "nn/dataset.h"
 #include "nn/evaluate.h"
 #include "nn/latent_inversion.h"
+#include "nn/model/access.h"
 #include "nn/model/neural_model.h"
 #include "nn/model_record.h"
 #include "nn/neural_fields.h"
@@ -220,7 +221,7 @@ TEST_F(BasisModel, HoldsTheFieldsAndItsProjectionBoundsTheModel) {
   // Rank 2 plus the mean: the fit keeps the modes above round-off, at most the 4 asked for.
   EXPECT_GE(nf.bases()->u.K, 2);
   EXPECT_LE(nf.bases()->u.K, 4);
-  EXPECT_GT(nf.model().train_seconds, 0.0);
+  EXPECT_GT(nf.train_seconds(), 0.0);
   for (const char* split : {"train", "test"}) {
     nsf::EvalOptions o;
     o.split = split;
@@ -398,7 +399,7 @@ TEST_F(BasisModel, AnotherScenesParticlesAreAClearError) {
   nsf::testing::expect_contains(msg, "scene 'other'");
   const nsf::Particles fewer = nsf::test::synthetic_particles(kParticles - 1, 7);
   EXPECT_THROW(nf.check_scene("synthetic", fewer.X, "scene 'fewer'"), nsf::Error);
-  EXPECT_THROW(nf.model().deform(torch::zeros({1, 3}), torch::zeros({1, 2})), nsf::Error);
+  EXPECT_THROW(nsf::torch_model(nf).deform(torch::zeros({1, 3}), torch::zeros({1, 2})), nsf::Error);
 }
 
 // --encoder modes: no encoder training; the latent of a frame is its first r coefficients of
@@ -410,12 +411,12 @@ TEST_F(BasisModel, ModesEncoderIsTheProjectionOnTheLeadingModes) {
   const std::string m = (root_ / "modes.nsf").string();
   ASSERT_TRUE(nsf::train_model(data(), m, o).completed);
   NeuralFields nf = NeuralFields::load(m);
-  EXPECT_EQ(nf.model().config.encoder, "modes");
+  EXPECT_EQ(nf.encoder_kind(), "modes");
   const nsf::Dataset d(data());
   const std::vector<Vec3> x = d.read_positions(d.test()[0], 5);
   const Latent z = nf.encode(x);
   const nsf::PointBasis& u = nf.bases()->u;
-  const torch::Tensor spread = nf.model().basis[0].scale;
+  const torch::Tensor spread = nsf::torch_model(nf).basis[0].scale;
   ASSERT_EQ(z.size(), 2);
   for (int i = 0; i < 2; ++i) {
     double c = 0;
@@ -451,7 +452,7 @@ TEST_F(BasisModel, StressMapThatReadsTheLatentVelocitySurvivesSaving) {
   ASSERT_TRUE(nsf::train_model(data(), m, o).completed);
   NeuralFields nf = NeuralFields::load(m);
   ASSERT_NE(nf.bases(), nullptr);
-  EXPECT_TRUE(nf.model().config.stress_reads_velocity());
+  EXPECT_TRUE(nsf::torch_model(nf).config.stress_reads_velocity());
   EXPECT_TRUE(nf.bases()->stress_uses_velocity);
   const int64_t r = nf.latent_dim();
   EXPECT_EQ(nf.bases()->tau.map.inputs(), 2 * r + 1);

@@ -25,6 +25,7 @@
 #include "nn/field_checks.h"
 #include "nn/gauss_newton.h"
 #include "nn/latent_inversion.h"
+#include "nn/model/access.h"
 #include "nn/model/neural_model.h"
 #include "nn/network_samples.h"
 #include "nn/neural_fields.h"
@@ -212,7 +213,7 @@ void load_and_use(const std::string& path) {
   const nsf::Latent zdot = nsf::Latent::Zero(z.size());  // C's map reads the latent velocity
   f.affine(points, z, C, 1.5, &zdot);
   nsf::require_finite_fields(z, x, tau, C, "model " + path, "the rest frame", 0);
-  nsf::NeuralModel& m = f.model();
+  nsf::NeuralModel& m = nsf::torch_model(f);
   if (!m.trajectory_latents.defined()) return;
   const torch::Tensor t = m.trajectory_latents.to(torch::kFloat64).contiguous();
   const int64_t runs = t.size(0), frames = t.size(1), r = t.size(2);
@@ -347,8 +348,9 @@ TEST(FuzzModel, ANaNWeightIsRefusedOnLoadNamingItsNetwork) {
         nsf::NeuralFields f = nsf::NeuralFields::load(path);
         const std::vector<uint32_t> ids = {0, 1, 2, 3};
         std::vector<nsf::Vec3> target(4, nsf::Vec3::Zero());
-        nsf::invert_deformation(*nsf::sample_deformation(f.model(), rest_positions(), ids), target,
-                                nan, nsf::GaussNewtonOptions{});
+        nsf::invert_deformation(
+            *nsf::sample_deformation(nsf::torch_model(f), rest_positions(), ids), target, nan,
+            nsf::GaussNewtonOptions{});
       },
       30);
   EXPECT_EQ(inv.outcome, Outcome::NamedError) << inv.detail;
