@@ -110,9 +110,7 @@ ModelRecord model_record(const NeuralModel& m) {
   r.mu_min = m.mu_min, r.mu_max = m.mu_max;
   r.training_box = m.training_box;
   r.train_seconds = m.train_seconds;
-  r.latent_prior = m.calibration.latent_prior, r.dt_ratio = m.calibration.dt_ratio;
-  r.tracked_latent_prior = m.tracked_calibration.latent_prior;
-  r.tracked_dt_ratio = m.tracked_calibration.dt_ratio;
+  r.attachments = m.attachments;
   r.latent_spread = to_vector(m.norm_z.std);
   if (m.trajectory_latents.defined()) {
     const torch::Tensor t = m.trajectory_latents.to(torch::kCPU, torch::kFloat64).contiguous();

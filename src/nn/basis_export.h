@@ -20,7 +20,7 @@ BasisDecoders basis_decoders(const NeuralModel& model);
 BasisDecoders coefficient_inputs(const NeuralModel& model);
 
 // The model's run-time record (nn/model_record.h): its bases (a basis model), the training runs'
-// latents, the calibrations, and e(X) at the rest state (evaluated here: the encoder is torch's).
+// latents, the attachments, and e(X) at the rest state (evaluated here: the encoder is torch's).
 ModelRecord model_record(const NeuralModel& model);
 
 }  // namespace nsf

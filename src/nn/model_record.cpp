@@ -4,6 +4,7 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 #include <string_view>
+#include <utility>
 
 #include "core/crc32.h"
 #include "core/error.h"
@@ -15,7 +16,19 @@ namespace nsf {
 namespace {
 
 constexpr char kMagic[8] = {'N', 'S', 'F', 'R', 'T', 'R', 'E', 'C'};
-constexpr uint32_t kVersion = 1;
+// 2: the attachments (ModelAttachments) in place of version 1's four numbers of the ROM's
+// calibration, which a version 2 reader takes as the ROM's attachment (adopt_legacy_entries).
+constexpr uint32_t kVersion = 2;
+constexpr uint32_t kFirstVersionRead = 1;
+// Version 1's four numbers, by the names the archive gave them, and whether 0 was a value (the
+// archive stored each only where it was one; the record, -1 where none).
+constexpr std::pair<const char*, bool> kLegacyNumbers[4] = {{"latent_prior", true},
+                                                            {"calibrated_dt_ratio", false},
+                                                            {"tracked_latent_prior", true},
+                                                            {"tracked_calibrated_dt_ratio", false}};
+// The attachment that the entries of files of format versions 1-8 (run-time record version 1)
+// belong to: the ROM's calibration (rom/calibration/rom_calibration.h).
+constexpr const char* kLegacyAttachment = "rom_calibration";
 constexpr size_t kHeader = sizeof(kMagic) + 4 + 8 + 4;  // magic, version, size, CRC-32
 
 static_assert(sizeof(double) == 8 && sizeof(float) == 4, "IEEE-754 floats");
@@ -167,8 +180,8 @@ std::string encode_model_record(const ModelRecord& m) {
   w.put<uint8_t>(m.stress_uses_mu);
   w.put<double>(m.mu_min), w.put<double>(m.mu_max);
   w.string(m.training_box.to_json().dump()), w.put<double>(m.train_seconds);
-  for (double v : {m.latent_prior, m.dt_ratio, m.tracked_latent_prior, m.tracked_dt_ratio})
-    w.put<double>(v);
+  w.put<uint64_t>(m.attachments.size());
+  for (const auto& [name, text] : m.attachments) w.string(name), w.string(text);
   w.vector(m.latent_spread);
   w.put<uint64_t>(m.trajectory_latents.size());
   w.put<uint64_t>(m.trajectory_latents.empty() ? 0 : m.trajectory_latents[0].size());
@@ -207,9 +220,10 @@ ModelRecord decode_model_record(std::string_view bytes, const std::string& path)
   const uint32_t version = head.get<uint32_t>();
   const uint64_t size = head.get<uint64_t>();
   const uint32_t crc = head.get<uint32_t>();
-  if (version != kVersion)
+  if (version < kFirstVersionRead || version > kVersion)
     fail("model file ", path, ": its run-time record has version ", version, "; this nsf reads ",
-         kVersion, ": use the nsf that wrote it, or save the model anew");
+         kFirstVersionRead, " to ", kVersion,
+         ": use the nsf that wrote it, or save the model anew");
   if (size != bytes.size() - kHeader) head.bad("its length does not match");
   if (crc32_of(bytes.data() + kHeader, size) != crc) head.bad("its CRC-32 does not match");
   Reader r(bytes, kHeader, path);
@@ -232,8 +246,18 @@ ModelRecord decode_model_record(std::string_view bytes, const std::string& path)
     r.bad("its training box is not JSON");
   }
   m.train_seconds = r.get<double>();
-  for (double* v : {&m.latent_prior, &m.dt_ratio, &m.tracked_latent_prior, &m.tracked_dt_ratio})
-    *v = r.get<double>();
+  if (version == 1) {
+    nlohmann::json entries = nlohmann::json::object();
+    for (const auto& [key, zero_is_value] : kLegacyNumbers)
+      if (const double v = r.get<double>(); v > 0 || (zero_is_value && v == 0)) entries[key] = v;
+    adopt_legacy_entries(m.attachments, entries);
+  } else {
+    const uint64_t n = r.get<uint64_t>();
+    for (uint64_t i = 0; i < n; ++i) {
+      std::string name = r.string();
+      m.attachments[name] = r.string();
+    }
+  }
   const Eigen::Index dim = m.latent_dim;
   m.latent_spread = r.vector();
   if (m.latent_spread.size() != dim) r.bad("the latent spread has the wrong size");
@@ -270,6 +294,10 @@ ModelRecord decode_model_record(std::string_view bytes, const std::string& path)
   if (m.family == DecoderFamily::basis && !m.bases) r.bad("a basis model without its bases");
   if (!r.done()) r.bad("bytes are left over");
   return m;
+}
+
+void adopt_legacy_entries(ModelAttachments& attachments, const nlohmann::json& entries) {
+  if (!entries.empty()) attachments.emplace(kLegacyAttachment, entries.dump());
 }
 
 ModelRecord read_model_record(const std::string& path) {

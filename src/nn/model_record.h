@@ -7,7 +7,9 @@
 // file has no record.
 #include <Eigen/Core>
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,6 +21,17 @@
 
 namespace nsf {
 
+// Records that other layers keep of a model in its file, by name: texts (JSON) that nn stores and
+// loads with the model without reading them. The ROM keeps its calibration so
+// (rom/calibration/rom_calibration.h). A training run drops them: they described other fields.
+using ModelAttachments = std::map<std::string, std::string>;
+
+// Entries that model files of format versions 1-8 (run-time records of version 1) stored in their
+// own names for another layer, now that layer's attachment: `entries`, a JSON object of those
+// entries by their names, becomes the attachment they belong to, unless `attachments` holds it
+// already. Nothing where `entries` is empty. (nn/model/model_file.cpp and model_record.cpp.)
+void adopt_legacy_entries(ModelAttachments& attachments, const nlohmann::json& entries);
+
 struct ModelRecord {
   SceneFingerprint scene;
   DecoderFamily family = DecoderFamily::basis;
@@ -27,9 +40,7 @@ struct ModelRecord {
   double mu_min = 0, mu_max = 0;
   TrainingBox training_box;
   double train_seconds = 0;
-  // `nsf calibrate`'s latent prior ε and step ratio for the ROM with the decoders' stress and
-  // (tracked_) the one whose points carry their own; < 0 where never chosen.
-  double latent_prior = -1, dt_ratio = -1, tracked_latent_prior = -1, tracked_dt_ratio = -1;
+  ModelAttachments attachments;   // as the model file's (the runtime reads them too)
   Eigen::VectorXd latent_spread;  // each latent component's spread over the training frames
   // The training runs' latents, runs × frames, and each run's μ (empty: not stored).
   std::vector<std::vector<Eigen::VectorXd>> trajectory_latents;

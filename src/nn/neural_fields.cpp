@@ -92,11 +92,9 @@ const std::string& NeuralFields::scene_name() const {
 bool NeuralFields::stress_uses_mu() const {
   return record_.stress_uses_mu;
 }
-double NeuralFields::calibrated_latent_prior(bool tracked) const {
-  return tracked ? record_.tracked_latent_prior : record_.latent_prior;
-}
-double NeuralFields::calibrated_dt_ratio(bool tracked) const {
-  return tracked ? record_.tracked_dt_ratio : record_.dt_ratio;
+const std::string* NeuralFields::attachment(const std::string& name) const {
+  const auto it = record_.attachments.find(name);
+  return it == record_.attachments.end() ? nullptr : &it->second;
 }
 double NeuralFields::mu_min() const {
   return record_.mu_min;

@@ -54,12 +54,13 @@ class NeuralFields {
   // model written before nsf recorded them).
   const TrainingBox& training_box() const;
   double train_seconds() const;  // wall time of the training that made it (0: not recorded)
-  // ε of the latent prior `nsf calibrate` chose for it (metres; 0: none), or < 0 where it was
-  // never calibrated: for the ROM whose stress the decoders give, or (`tracked`) for the one
-  // whose points carry their own (rom.fields.stress = "tracked").
-  double calibrated_latent_prior(bool tracked = false) const;
-  // The ROM step over the scene's Δt that `nsf calibrate --dt-ratios` chose, or < 0 where none.
-  double calibrated_dt_ratio(bool tracked = false) const;
+  // The record another layer keeps of this model in its file under `name` (nn/model_record.h,
+  // ModelAttachments); null where it has none. nn stores it without reading it.
+  const std::string* attachment(const std::string& name) const;
+  // Sets (replaces) the attachment `name` of model file `path` to `text`, rewriting the file
+  // atomically (defined in libnsf_nn: the file is rewritten with LibTorch).
+  static void store_attachment(const std::string& path, const std::string& name,
+                               const std::string& text);
 
   const ModelRecord& record() const { return record_; }
   // The encoder and the coordinate networks; null when loaded without torch.

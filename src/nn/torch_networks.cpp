@@ -198,9 +198,19 @@ NeuralFields NeuralFields::load(const std::string& path) {
   NeuralFields f;
   // A basis model's fields as the torch-free runtime reads them, from the same record.
   f.record_ = model.stored_record ? *model.stored_record : model_record(model);
+  // The archive's attachments: a file of format version 8 kept the ROM's calibration's table
+  // there alone (its record had only the numbers).
+  f.record_.attachments = model.attachments;
   model.stored_record.reset();
   f.net_ = std::make_unique<TorchNetworks>(std::move(model));
   return f;
+}
+
+void NeuralFields::store_attachment(const std::string& path, const std::string& name,
+                                    const std::string& text) {
+  NeuralModel model = NeuralModel::load(path);
+  model.attachments[name] = text;
+  model.save(path);  // atomic: tmp + rename
 }
 
 NeuralModel& torch_model(NeuralFields& fields) {

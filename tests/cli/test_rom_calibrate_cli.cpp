@@ -13,10 +13,10 @@
 #include <iterator>
 
 #include "cli_runner.h"
-#include "nn/model/neural_model.h"
 #include "nn/neural_fields.h"
 #include "nn/train/trainer.h"
 #include "rom/calibration/latent_prior_calibration.h"
+#include "rom/calibration/rom_calibration.h"
 #include "rom/eval/rom_evaluation.h"
 #include "rom/setup/rom_setup.h"
 #include "rom_end_to_end.h"
@@ -26,6 +26,15 @@ using nsf::testing::kTinyScene;
 using nsf::testing::RomEndToEnd;
 using ::testing::HasSubstr;
 
+namespace {
+
+// The calibration record of model file `path`, as the ROM reads it.
+nsf::RomCalibrations stored(const std::string& path) {
+  return nsf::rom_calibrations(nsf::NeuralFields::load(path));
+}
+
+}  // namespace
+
 // `nsf calibrate` (rom/calibration/latent_prior_calibration.h): each ε's δ is the ROM's on that
 // training run, the lowest mean wins, the model file keeps it, and `nsf rom` takes it only where
 // neither its command line nor the scene's rom section gives one. Training the model again forgets
@@ -33,7 +42,7 @@ using ::testing::HasSubstr;
 TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrainingRuns) {
   nsf::CalibrationOptions co = calibration_options("calibrated.nsf");
   const std::string calibrated = co.model_path;
-  EXPECT_LT(nsf::NeuralFields::load(calibrated).calibrated_latent_prior(), 0);
+  EXPECT_LT(stored(calibrated).decoded.latent_prior, 0);
   co.grid = {0.0, 0.01, 0.3};  // none, a weak pull, one that pins the latent to the training runs
   const nsf::CalibrationResult r = nsf::calibrate_latent_prior(co);
   ASSERT_EQ(r.runs.size(), 2u);
@@ -66,13 +75,12 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
   EXPECT_NE(r.mean[0], r.mean[2]) << "the grid's ends must differ for the choice to mean anything";
 
   nsf::store_calibration(calibrated, r);
-  EXPECT_EQ(nsf::NeuralFields::load(calibrated).calibrated_latent_prior(), r.chosen);
+  EXPECT_EQ(stored(calibrated).decoded.latent_prior, r.chosen);
   // The model file written again holds the same fields: a run at a given ε has the same bits.
   o.model_path = calibrated;
   o.latent_prior = r.grid[2];
   EXPECT_EQ(nsf::evaluate_rom(o).delta, r.delta[2][0]);
-  const nlohmann::json table =
-      nlohmann::json::parse(nsf::NeuralModel::load(calibrated).calibration.table);
+  const nlohmann::json table = stored(calibrated).decoded.table;
   EXPECT_EQ(table.at("chosen").get<double>(), r.chosen);
   EXPECT_EQ(table.at("grid").size(), 3u);
 
@@ -89,6 +97,9 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
   // The runtime (the embedding API, Python, nsf serve) takes it the same way.
   const nsf::NeuralFields cf = nsf::NeuralFields::load(calibrated);
   EXPECT_EQ(nsf::rom_setup(cf, kTinyScene, 1.0, {}, 0).options.latent_prior, 0.01);
+  EXPECT_EQ(nsf::rom_setup(nsf::NeuralFields::load_basis(calibrated), kTinyScene, 1.0, {}, 0)
+                .options.latent_prior,
+            0.01);
   EXPECT_EQ(nsf::rom_setup(cf, kTinyScene, 1.0, {"rom.latent_prior=0.03"}, 0).options.latent_prior,
             0.03);
   o.latent_prior = 0.02;
@@ -122,8 +133,8 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
   tracked.tracked = true;
   tracked.chosen = 0.02;
   nsf::store_calibration(calibrated, tracked);
-  EXPECT_EQ(nsf::NeuralFields::load(calibrated).calibrated_latent_prior(), 0.01);
-  EXPECT_EQ(nsf::NeuralFields::load(calibrated).calibrated_latent_prior(true), 0.02);
+  EXPECT_EQ(stored(calibrated).decoded.latent_prior, 0.01);
+  EXPECT_EQ(stored(calibrated).tracked.latent_prior, 0.02);
   used = nsf::evaluate_rom(o);
   EXPECT_EQ(used.latent_prior, 0.02);
   EXPECT_EQ(used.latent_prior_source, "model");
@@ -153,7 +164,7 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
   t.config.quiet = true;
   const std::string again = (root_ / "again.nsf").string();
   nsf::train_model((root_ / "data").string(), again, t);
-  EXPECT_LT(nsf::NeuralFields::load(again).calibrated_latent_prior(), 0);
+  EXPECT_LT(stored(again).decoded.latent_prior, 0);
 
   // No scene file to run the ROM on: a clear error, and the model stays as it was.
   co.scene_path.clear();
@@ -176,7 +187,7 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
 TEST_F(RomEndToEnd, CalibrationChoosesTheLargestStepWithinTheToleranceAndStoresIt) {
   nsf::CalibrationOptions co = calibration_options("step_calibrated.nsf");
   const std::string calibrated = co.model_path;
-  EXPECT_LT(nsf::NeuralFields::load(calibrated).calibrated_dt_ratio(), 0);
+  EXPECT_LT(stored(calibrated).decoded.dt_ratio, 0);
   co.grid = {0.0};
   co.dt_ratios = {4, 7.5, 15};  // 4, 2 and 1 ROM steps a frame of 15 substeps
   co.dt_tolerance = 100;        // every ratio that runs qualifies: the largest is chosen
@@ -213,9 +224,8 @@ TEST_F(RomEndToEnd, CalibrationChoosesTheLargestStepWithinTheToleranceAndStoresI
   EXPECT_EQ(nsf::calibrate_latent_prior(co).step->chosen, 15);
 
   nsf::store_calibration(calibrated, tight);
-  EXPECT_EQ(nsf::NeuralFields::load(calibrated).calibrated_dt_ratio(), 7.5);
-  const nlohmann::json table =
-      nlohmann::json::parse(nsf::NeuralModel::load(calibrated).calibration.table);
+  EXPECT_EQ(stored(calibrated).decoded.dt_ratio, 7.5);
+  const nlohmann::json table = stored(calibrated).decoded.table;
   EXPECT_EQ(table.at("step").at("chosen").get<double>(), 7.5);
   EXPECT_EQ(table.at("step").at("ratios").size(), 3u);
   // Where the step comes from: the model; the command line; the scene's rom section.
@@ -246,5 +256,5 @@ TEST_F(RomEndToEnd, CalibrationChoosesTheLargestStepWithinTheToleranceAndStoresI
                             kTinyScene + "' --grid 0 --runs 1 --dt-ratios 2,1 -q");
   EXPECT_NE(cli.exit_code, 0);
   EXPECT_THAT(cli.output, HasSubstr("ascending"));
-  EXPECT_EQ(nsf::NeuralFields::load(calibrated).calibrated_dt_ratio(), 7.5);
+  EXPECT_EQ(stored(calibrated).decoded.dt_ratio, 7.5);
 }

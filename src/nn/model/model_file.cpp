@@ -36,7 +36,12 @@ constexpr int64_t kStressVelocityFormatVersion = 7;
 // 8: a basis model whose bases' means and modes are stored once, in its run-time record
 // (`runtime_record`, nn/model_record.h), which an older nsf would not find: it refuses the file.
 constexpr int64_t kRecordFormatVersion = 8;
-constexpr int64_t kNewestFormatVersion = kRecordFormatVersion;
+// 9: the other layers' records in `attachments` (the ROM's calibration among them, which 1-8
+// stored in entries of their own: an older nsf would run the model uncalibrated), and a basis
+// model's run-time record of version 2 (nn/model_record.cpp), which holds them too. Every basis
+// model (its bases in its record, as in 8) and an MLP model with attachments.
+constexpr int64_t kAttachmentsFormatVersion = 9;
+constexpr int64_t kNewestFormatVersion = kAttachmentsFormatVersion;
 // nsf has stored a checksum in every model file since before format version 5 was written, so a
 // file of version 5 or later without one was changed after nsf wrote it (bytes appended or cut,
 // the zip comment removed). Files of versions 3 and 4 written since carry the entry
@@ -45,6 +50,7 @@ constexpr int64_t kFirstChecksummedFormatVersion = 5;
 constexpr const char* kMapParts[5] = {"centers", "weights", "poly", "shift", "scale"};
 constexpr const char* kBasisNames[3] = {"u", "tau", "C"};
 constexpr const char* kRecordEntry = "runtime_record";
+constexpr const char* kAttachmentsEntry = "attachments";
 constexpr int64_t kBasisDims[3] = {3, 6, 9};
 
 void write_normalizer(torch::serialize::OutputArchive& a, const std::string& name,
@@ -65,34 +71,55 @@ Normalizer read_normalizer(torch::serialize::InputArchive& a, const std::string&
   return n;
 }
 
-// `nsf calibrate`'s choice for one kind of ROM run, its entries named with `prefix` ("" for the
-// decoded stress's, as nsf wrote them before there were two); absent where never calibrated.
-void write_calibration(torch::serialize::OutputArchive& a, const std::string& prefix,
-                       const RomCalibration& c) {
-  if (c.latent_prior >= 0) {
-    a.write(prefix + "latent_prior", c10::IValue(c.latent_prior));
-    a.write(prefix + "latent_prior_calibration", c10::IValue(c.table));
-  }
-  if (c.dt_ratio > 0) a.write(prefix + "calibrated_dt_ratio", c10::IValue(c.dt_ratio));
+// The other layers' records (ModelAttachments): one JSON object, name -> text.
+void write_attachments(torch::serialize::OutputArchive& a, const ModelAttachments& attachments) {
+  if (!attachments.empty())
+    a.write(kAttachmentsEntry, c10::IValue(nlohmann::json(attachments).dump()));
 }
 
-RomCalibration read_calibration(torch::serialize::InputArchive& a, const std::string& prefix,
-                                const std::string& path) {
-  RomCalibration c;
-  c10::IValue prior, table, ratio;
-  if (a.try_read(prefix + "latent_prior", prior)) {
-    if (!prior.isDouble() || !std::isfinite(prior.toDouble()) || prior.toDouble() < 0 ||
-        !a.try_read(prefix + "latent_prior_calibration", table) || !table.isString())
-      fail("model file ", path, ": damaged entry '", prefix, "latent_prior'");
-    c.latent_prior = prior.toDouble();
-    c.table = table.toStringRef();
+ModelAttachments read_attachments(torch::serialize::InputArchive& a, const std::string& path) {
+  ModelAttachments attachments;
+  c10::IValue entry;
+  if (!a.try_read(kAttachmentsEntry, entry)) return attachments;
+  const nlohmann::json j = entry.isString()
+                               ? nlohmann::json::parse(entry.toStringRef(), nullptr, false)
+                               : nlohmann::json();
+  if (!j.is_object()) fail("model file ", path, ": damaged entry '", kAttachmentsEntry, "'");
+  for (const auto& [name, text] : j.items()) {
+    if (!text.is_string())
+      fail("model file ", path, ": damaged entry '", kAttachmentsEntry, "' (", name,
+           " is not text)");
+    attachments[name] = text.get<std::string>();
   }
-  if (a.try_read(prefix + "calibrated_dt_ratio", ratio)) {
-    if (!ratio.isDouble() || !std::isfinite(ratio.toDouble()) || ratio.toDouble() <= 0)
-      fail("model file ", path, ": damaged entry '", prefix, "calibrated_dt_ratio'");
-    c.dt_ratio = ratio.toDouble();
+  return attachments;
+}
+
+// Format versions 1-8 stored the ROM's calibration (`nsf calibrate`) in entries of their own,
+// "" for the decoded stress's and "tracked_" for the tracked state's (docs/TRAINING.md). Checked
+// as those versions' reader checked them, they become the attachment they now belong to, by the
+// same names (adopt_legacy_entries), so that an old model keeps its calibration.
+void read_legacy_entries(torch::serialize::InputArchive& a, const std::string& path,
+                         ModelAttachments& attachments) {
+  nlohmann::json entries = nlohmann::json::object();
+  for (const std::string prefix : {"", "tracked_"}) {
+    c10::IValue prior, table, ratio;
+    if (a.try_read(prefix + "latent_prior", prior)) {
+      if (!prior.isDouble() || !std::isfinite(prior.toDouble()) || prior.toDouble() < 0 ||
+          !a.try_read(prefix + "latent_prior_calibration", table) || !table.isString())
+        fail("model file ", path, ": damaged entry '", prefix, "latent_prior'");
+      const nlohmann::json t = nlohmann::json::parse(table.toStringRef(), nullptr, false);
+      if (t.is_discarded())
+        fail("model file ", path, ": damaged entry '", prefix, "latent_prior_calibration'");
+      entries[prefix + "latent_prior"] = prior.toDouble();
+      entries[prefix + "latent_prior_calibration"] = t;
+    }
+    if (a.try_read(prefix + "calibrated_dt_ratio", ratio)) {
+      if (!ratio.isDouble() || !std::isfinite(ratio.toDouble()) || ratio.toDouble() <= 0)
+        fail("model file ", path, ": damaged entry '", prefix, "calibrated_dt_ratio'");
+      entries[prefix + "calibrated_dt_ratio"] = ratio.toDouble();
+    }
   }
-  return c;
+  adopt_legacy_entries(attachments, entries);
 }
 
 c10::IValue read_value(torch::serialize::InputArchive& a, const std::string& key,
@@ -106,13 +133,14 @@ c10::IValue read_value(torch::serialize::InputArchive& a, const std::string& key
 
 void NeuralModel::write(torch::serialize::OutputArchive& a, bool bases_in_record) const {
   a.write("format", c10::IValue(std::string(kFormat)));
-  a.write("format_version",
-          c10::IValue(bases_in_record                  ? kRecordFormatVersion
-                      : config.stress_reads_velocity() ? kStressVelocityFormatVersion
-                      : config.encoder == "modes"      ? kModesEncoderFormatVersion
-                      : config.uses_maps()             ? kMapFormatVersion
-                      : is_basis()                     ? kBasisFormatVersion
-                                                       : kFormatVersion));
+  const int64_t version = bases_in_record || (!is_basis() && !attachments.empty())
+                              ? kAttachmentsFormatVersion
+                          : config.stress_reads_velocity() ? kStressVelocityFormatVersion
+                          : config.encoder == "modes"      ? kModesEncoderFormatVersion
+                          : config.uses_maps()             ? kMapFormatVersion
+                          : is_basis()                     ? kBasisFormatVersion
+                                                           : kFormatVersion;
+  a.write("format_version", c10::IValue(version));
   a.write("nsf_version", c10::IValue(std::string(NSF_VERSION)));
   a.write("checksummed", c10::IValue(true));
   a.write("scene_name", c10::IValue(scene.scene_name));
@@ -132,8 +160,7 @@ void NeuralModel::write(torch::serialize::OutputArchive& a, bool bases_in_record
   a.write("mu_max", c10::IValue(mu_max));
   a.write("train_seconds", c10::IValue(train_seconds));
   a.write("training_box", c10::IValue(training_box.to_json().dump()));
-  write_calibration(a, "", calibration);
-  write_calibration(a, "tracked_", tracked_calibration);
+  write_attachments(a, attachments);
   write_normalizer(a, "X", norm_X);
   write_normalizer(a, "x", norm_x);
   write_normalizer(a, "z", norm_z);
@@ -152,7 +179,7 @@ void NeuralModel::write(torch::serialize::OutputArchive& a, bool bases_in_record
     a.write("decoder", c10::IValue(std::string(family_name(config.decoder))));
     a.write("coefficient_width", c10::IValue(int64_t(config.coefficient_width)));
     a.write("coefficient_depth", c10::IValue(int64_t(config.coefficient_depth)));
-    // Each entry from the format version that introduced it on: version 8 has them all.
+    // Each entry from the format version that introduced it on: versions 8 and 9 have them all.
     if (bases_in_record || config.encoder == "modes" || config.stress_reads_velocity())
       a.write("encoder_kind", c10::IValue(config.encoder));
     if (bases_in_record || config.uses_maps()) {
@@ -180,6 +207,9 @@ void NeuralModel::write(torch::serialize::OutputArchive& a, bool bases_in_record
       nets.emplace_back("c_" + n, basis[f].net.get());
     }
   } else {
+    // Versions 4-8 are basis models alone; from 9 on, an MLP model names its family too.
+    if (version >= kAttachmentsFormatVersion)
+      a.write("decoder", c10::IValue(std::string(family_name(config.decoder))));
     nets.insert(nets.end(), {{"g", g.get()}, {"h", h.get()}, {"l", l.get()}});
   }
   for (const auto& [name, net] : nets) {
@@ -248,9 +278,13 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
   if (a.try_read("encoder_max_length", max_length))
     c.encoder_max_length = model_size_entry(max_length.toInt(), "encoder_max_length", path);
   c.stress_uses_mu = read_value(a, "stress_uses_mu", path).toBool();
-  if (version >= kBasisFormatVersion) {
+  c.decoder = DecoderFamily::mlp;  // the only family before format version 4
+  if (version >= kBasisFormatVersion)
     c.decoder = parse_family(read_value(a, "decoder", path).toStringRef(),
                              "model file " + path + ": damaged entry 'decoder'");
+  // Versions 4-8 are basis models alone; from 9 on, an MLP model names its family too.
+  if (version >= kBasisFormatVersion &&
+      (version < kAttachmentsFormatVersion || c.decoder == DecoderFamily::basis)) {
     c.coefficient_width = integer("coefficient_width");
     c.coefficient_depth = integer("coefficient_depth");
     for (int f = 0; f < 3; ++f)
@@ -278,8 +312,6 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
     if (c.stress_uses_velocity && !c.stress_reads_velocity())
       fail("model file ", path,
            ": damaged entry 'stress_uses_velocity' (set, but tau's coefficients are no map)");
-  } else {
-    c.decoder = DecoderFamily::mlp;  // the only family before format version 4
   }
   SceneFingerprint s;
   s.scene_name = read_value(a, "scene_name", path).toStringRef();
@@ -302,8 +334,8 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
     if (j.is_discarded()) fail("model file ", path, ": damaged entry 'training_box' (not JSON)");
     m.training_box = TrainingBox::from_json(j, "model file " + path + ": entry 'training_box'");
   }
-  m.calibration = read_calibration(a, "", path);
-  m.tracked_calibration = read_calibration(a, "tracked_", path);
+  m.attachments = read_attachments(a, path);
+  read_legacy_entries(a, path, m.attachments);
   m.norm_X = read_normalizer(a, "X", 3, path);
   m.norm_x = read_normalizer(a, "x", 3, path);
   m.norm_z = read_normalizer(a, "z", c.latent_dim, path);
@@ -351,7 +383,8 @@ NeuralModel NeuralModel::read(torch::serialize::InputArchive& a, const std::stri
        m.stored_record->family != c.decoder))
     fail("model file ", path, ": its run-time record is another model's (",
          m.stored_record->scene.describe(), ")");
-  if (version >= kRecordFormatVersion &&
+  // Version 8 is only a basis model's; 9 either family's, a basis model's bases in its record.
+  if (version >= kRecordFormatVersion && (m.is_basis() || version == kRecordFormatVersion) &&
       !(m.is_basis() && m.stored_record && m.stored_record->bases))
     fail("model file ", path, ": a basis model of format version ", version,
          " keeps its bases in its run-time record, and it has none");

@@ -9,6 +9,7 @@
 #include <torch/serialize/archive.h>
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -22,13 +23,6 @@
 #include "nn/scene_fingerprint.h"
 
 namespace nsf {
-
-// What `nsf calibrate` chose for one kind of ROM run (docs/ROM.md, "Latent prior").
-struct RomCalibration {
-  double latent_prior = -1;  // ε (metres; 0: none chosen); < 0 where never calibrated
-  double dt_ratio = -1;      // the step over the scene's Δt (--dt-ratios); < 0 where never chosen
-  std::string table;         // JSON: the ε and steps tried, the training runs, δ of each
-};
 
 class NeuralModel {
  public:
@@ -105,10 +99,9 @@ class NeuralModel {
   // Wall time of the training that made this model, all stages (and resumed runs) together;
   // 0 in files written before nsf recorded it.
   double train_seconds = 0;
-  // What `nsf calibrate` chose for the ROM whose stress the decoders give (h, or what stands in
-  // for it), and for the ROM whose points carry their own (the tracked state): the two integrate
-  // differently, so each has its own.
-  RomCalibration calibration, tracked_calibration;
+  // Other layers' records of this model, by name (nn/model_record.h, ModelAttachments): stored in
+  // its file, never read here.
+  ModelAttachments attachments;
   // The run-time record (nn/model_record.h) of the file it was loaded from; null where the file
   // has none. save() writes a fresh one.
   std::shared_ptr<const ModelRecord> stored_record;

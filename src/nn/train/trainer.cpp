@@ -204,8 +204,8 @@ TrainReport Trainer::run_stages() {
     rep.steps = total - first;
     rep.seconds = now_seconds() - start;
     model_.train_seconds += rep.seconds;
-    // A base model's calibrations were of other fields.
-    model_.calibration = model_.tracked_calibration = RomCalibration();
+    // A base model's attachments (the ROM's calibration, say) described other fields.
+    model_.attachments.clear();
     rep.points_per_second = rep.steps * double(points_per_step) / std::max(rep.seconds, 1e-9);
     if (stage_ == 0)
       rep.frames_per_second =

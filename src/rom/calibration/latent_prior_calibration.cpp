@@ -14,8 +14,8 @@
 #include "core/progress.h"
 #include "core/timer.h"
 #include "nn/dataset.h"
-#include "nn/model/neural_model.h"
 #include "nn/neural_fields.h"
+#include "rom/calibration/rom_calibration.h"
 #include "rom/eval/rom_evaluation.h"
 #include "rom/setup/scene_file.h"
 #include "rom/step/rom_diverged.h"
@@ -496,12 +496,12 @@ std::string CalibrationResult::summary() const {
 }
 
 void store_calibration(const std::string& model_path, const CalibrationResult& r) {
-  NeuralModel m = NeuralModel::load(model_path);
-  RomCalibration& c = r.tracked ? m.tracked_calibration : m.calibration;
+  RomCalibrations all = rom_calibrations(NeuralFields::load(model_path));
+  RomCalibration& c = r.tracked ? all.tracked : all.decoded;
   c.latent_prior = r.chosen;
-  c.table = r.to_json().dump();
+  c.table = r.to_json();
   if (r.step) c.dt_ratio = r.step->chosen;
-  m.save(model_path);
+  NeuralFields::store_attachment(model_path, kRomCalibrationAttachment, to_json(all).dump());
 }
 
 }  // namespace nsf

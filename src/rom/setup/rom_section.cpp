@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "rom/calibration/rom_calibration.h"
 #include "rom/fields/field_source.h"
 
 namespace nsf {
@@ -149,9 +150,10 @@ const RomSection& RomSection::for_run(DecoderFamily family, const std::string& s
 
 ModelCalibration calibration_of(const NeuralFields& fields, const RomSection& rom,
                                 const std::string& stress) {
-  if (rom.tracks_stress(fields.family(), stress) && fields.calibrated_latent_prior(true) >= 0)
-    return {fields.calibrated_latent_prior(true), fields.calibrated_dt_ratio(true)};
-  return {fields.calibrated_latent_prior(), fields.calibrated_dt_ratio()};
+  const RomCalibrations c = rom_calibrations(fields);
+  if (rom.tracks_stress(fields.family(), stress) && c.tracked.latent_prior >= 0)
+    return {c.tracked.latent_prior, c.tracked.dt_ratio};
+  return {c.decoded.latent_prior, c.decoded.dt_ratio};
 }
 
 RomOptions with_rom_section(RomOptions o, const RomSection& s, const ModelCalibration& calibrated) {

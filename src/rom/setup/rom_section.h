@@ -53,10 +53,10 @@ struct RomSection {
 // Throws nsf::Error naming the key for a malformed value.
 RomSection parse_rom_section(const nlohmann::json& rom);
 
-// What `nsf calibrate` chose for a model (NeuralFields::calibrated_latent_prior and
-// calibrated_dt_ratio); < 0 where it chose nothing. A run that carries the tracked state (as
-// rom.tracks_stress says, `stress` a command line's choice of stress source) takes the tracked
-// calibration where the model has one, else the other (a model calibrated once).
+// What `nsf calibrate` chose for a model (its calibration record,
+// rom/calibration/rom_calibration.h); < 0 where it chose nothing. A run that carries the tracked
+// state (as rom.tracks_stress says, `stress` a command line's choice of stress source) takes the
+// tracked calibration where the model has one, else the other (a model calibrated once).
 struct ModelCalibration {
   double latent_prior = -1;
   double dt_ratio = -1;
