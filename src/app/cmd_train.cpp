@@ -25,6 +25,7 @@
 #include "nn/torch_settings.h"
 #include "nn/train/trainer.h"
 #include "nn/train_section.h"
+#include "rom/calibration/calibration_recipe.h"
 #include "rom/calibration/latent_prior_calibration.h"
 #include "rom/setup/scene_file.h"
 
@@ -109,7 +110,9 @@ std::optional<TrainSection> scene_recipe(const Dataset& data, const std::string&
   }
   if (!scene.contains("train")) return std::nullopt;
   try {
-    return parse_train_section(scene.at("train"));
+    const TrainSection t = parse_train_section(scene.at("train"));
+    parse_calibration_recipes(scene.at("train"));  // its "calibrate" (the ROM's) checked too
+    return t;
   } catch (const Error& e) {
     fail(data.train().front().path, ": the training recipe of its scene: ", e.what());
   }

@@ -1,5 +1,6 @@
 #pragma once
-// The optional "train" section of a scene: the training recipe that `nsf train`, `nsf report` and
+// The optional "train" section of a scene (its "calibrate" aside, which is the ROM's:
+// rom/calibration/calibration_recipe.h): the training recipe that `nsf train`, `nsf report` and
 // `nsf demo` use for it where their command lines do not give one (docs/SCENES.md, "Training
 // recipe").
 // A scene whose fields need more than the commands' common recipe carries its own here: the
@@ -12,16 +13,6 @@
 
 namespace nsf {
 
-// How `nsf calibrate` measures a model of the scene where its command line does not say, and how
-// `nsf train`, `nsf report` and `nsf demo` calibrate what they train: the ε tried, the ROM steps
-// tried (none: the step is not chosen) and scene values set for those runs (`--set`). A scene may
-// give several (a list), one for each kind of run a model keeps a calibration of: the decoded
-// stress's and the tracked state's (`"set": ["rom.fields.stress=tracked", ...]`).
-struct CalibrationRecipe {
-  std::vector<double> grid, dt_ratios;
-  std::vector<std::string> set;
-};
-
 struct TrainSection {
   std::optional<std::array<long, 3>> steps;  // optimiser steps of stages 1, 2, 3
   std::optional<std::array<int, 3>> widths;  // hidden widths of g, h, l
@@ -31,8 +22,6 @@ struct TrainSection {
   std::string encoder;                       // "network" or "modes" (basis); "": the default
   // A stage's batch: frames, then particles within each frame.
   std::optional<std::array<int, 3>> frames_per_batch, particles_per_frame;
-  // "calibrate": {"grid", "dt_ratios", "set"}, or a list of them, made in turn.
-  std::vector<CalibrationRecipe> calibrate;
 };
 
 TrainSection parse_train_section(const nlohmann::json& train, const std::string& path = "train");

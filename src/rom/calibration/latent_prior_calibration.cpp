@@ -199,19 +199,18 @@ std::string millimetres(double eps) {
 
 size_t calibration_recipes(const std::string& scene_path) {
   if (scene_path.empty()) return 0;
-  const std::optional<TrainSection> train = read_scene_file(scene_path).sections.train;
-  return train ? train->calibrate.size() : 0;
+  return read_scene_file(scene_path).sections.calibrate.size();
 }
 
 void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& given, size_t index) {
   const std::string scene = o.scene_path.empty() ? dataset_scene_file(o.data_dir) : o.scene_path;
   if (scene.empty()) return;
-  const std::optional<TrainSection> train = read_scene_file(scene).sections.train;
-  if (!train || train->calibrate.empty()) return;
-  if (index >= train->calibrate.size())
-    fail("calibrate: scene ", scene, " gives ", train->calibrate.size(),
+  const std::vector<CalibrationRecipe> recipes = read_scene_file(scene).sections.calibrate;
+  if (recipes.empty()) return;
+  if (index >= recipes.size())
+    fail("calibrate: scene ", scene, " gives ", recipes.size(),
          " calibration recipes (train.calibrate); there is no recipe ", index + 1);
-  const CalibrationRecipe& c = train->calibrate[index];
+  const CalibrationRecipe& c = recipes[index];
   std::ostringstream took;
   const auto list = [&](const char* name, const auto& v) {
     took << " " << name;
@@ -225,7 +224,7 @@ void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& giv
     list("set", c.set);
   }
   if (!o.quiet && !took.str().empty()) {
-    const size_t n = train->calibrate.size();
+    const size_t n = recipes.size();
     const std::string which =
         n > 1 ? " " + std::to_string(index + 1) + " of " + std::to_string(n) : std::string();
     std::printf("calibration recipe%s of %s:%s\n", which.c_str(), scene.c_str(),

@@ -11,7 +11,10 @@ SceneSections parse_scene_sections(const nlohmann::json& scene) {
   if (!scene.is_object()) return s;
   if (scene.contains("sweep")) s.sweep = parse_sweep(scene.at("sweep"), scene);
   if (scene.contains("rom")) s.rom = parse_rom_section(scene.at("rom"));
-  if (scene.contains("train")) s.train = parse_train_section(scene.at("train"));
+  if (scene.contains("train")) {
+    s.train = parse_train_section(scene.at("train"));
+    s.calibrate = parse_calibration_recipes(scene.at("train"));
+  }
   if (scene.contains("generalize") && !scene.at("generalize").is_null())  // null: none
     s.generalize = parse_generalize(scene.at("generalize"), scene, s.sweep ? &*s.sweep : nullptr);
   return s;

@@ -1,7 +1,8 @@
 #pragma once
 // A scene file as the commands read it. The engine's loader (mpm/scene/scene.h) checks the
 // top-level keys and the sections it reads; the others are parsed here, each once and by its
-// owner: "sweep" and "generalize" by src/data, "rom" by src/rom, "train" by src/nn. Every command
+// owner: "sweep" and "generalize" by src/data, "rom" by src/rom, "train" by src/nn (its
+// "calibrate" by src/rom). Every command
 // that loads a scene goes through this, so a misspelt key anywhere in a scene stops it with the key
 // named.
 #include <nlohmann/json.hpp>
@@ -13,15 +14,17 @@
 #include "data/sweep_spec.h"
 #include "mpm/scene/scene.h"
 #include "nn/train_section.h"
+#include "rom/calibration/calibration_recipe.h"
 #include "rom/setup/rom_section.h"
 
 namespace nsf {
 
 // The sections of a scene that the engine does not read, as their owners parse them.
 struct SceneSections {
-  std::optional<SweepSpec> sweep;     // none: the scene has no "sweep"
-  RomSection rom;                     // the defaults when the scene has no "rom"
-  std::optional<TrainSection> train;  // none: the scene has no "train"
+  std::optional<SweepSpec> sweep;            // none: the scene has no "sweep"
+  RomSection rom;                            // the defaults when the scene has no "rom"
+  std::optional<TrainSection> train;         // none: the scene has no "train"
+  std::vector<CalibrationRecipe> calibrate;  // its "calibrate" (none: none)
   // The unseen interactions `nsf generalize` draws from; none: the scene has no "generalize".
   std::optional<GeneralizeSpec> generalize;
 };
