@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # "The ROM's results are unchanged to the digit" across a move of code (issues #26, #56): builds
-# nsf as it was at OLD_REV (default 6ddd54a, before issue #56's redesign) in WORKDIR, and runs the
+# nsf as it was at OLD_REV (default 470b4dc, before issue #56's split of the model; 6ddd54a was
+# before its first move, but cannot read a scene with a rom.unseen profile) in WORKDIR, and runs the
 # ROM through both that binary and this tree's build/nsf on each small scene whose model and
 # dataset are here (models/NAME.nsf, data/NAME/test_0.h5), at the held-out μ, with the scene's
 # settings, against the stored truth. Every frame of both outputs (x, v, tau, C, F) and every
@@ -11,7 +12,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 here=$(pwd)
-old_rev=${1:-6ddd54a}
+old_rev=${1:-470b4dc}
 work=${2:-$(mktemp -d)}
 shift $(($# > 2 ? 2 : $#))
 [ -x build/nsf ] || { echo "check-refactor-bits: build/nsf is missing: run scripts/build.sh" >&2; exit 1; }
