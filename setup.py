@@ -81,23 +81,27 @@ class CMakeBuild(build_ext):
 
         # A wheel holds no symbolic links: each link (libnsf_runtime.so.0, the name the module
         # asks for) is shipped as a copy of the file it names, and that file itself is left out.
+        # The runtime's x86-64-v3 copy keeps its folder, glibc-hwcaps/x86-64-v3/, where the
+        # loader looks for it first on a CPU that has AVX2 and FMA (docs/PYTHON.md).
         dest = os.path.dirname(os.path.abspath(self.get_ext_fullpath(ext.name)))
         os.makedirs(dest, exist_ok=True)
         for name in os.listdir(dest):  # what an earlier build left: the component's files only
             if re.fullmatch(r"(_nsf\..*\.so|lib.*\.so(\.[0-9]+)*)", name):
                 os.remove(os.path.join(dest, name))
-        names = os.listdir(staged)
-        linked = {os.path.realpath(os.path.join(staged, n)) for n in names
-                  if os.path.islink(os.path.join(staged, n))}
-        for name in sorted(names):
-            path = os.path.join(staged, name)
-            if not os.path.islink(path) and os.path.realpath(path) in linked:
-                continue
-            target = os.path.join(dest, name)
-            if os.path.lexists(target):
-                os.remove(target)
-            shutil.copyfile(path, target)  # follows a link
-            shutil.copymode(path, target)
+        shutil.rmtree(os.path.join(dest, "glibc-hwcaps"), ignore_errors=True)
+        for folder, _, names in os.walk(staged):
+            linked = {os.path.realpath(os.path.join(folder, n)) for n in names
+                      if os.path.islink(os.path.join(folder, n))}
+            for name in sorted(names):
+                path = os.path.join(folder, name)
+                if not os.path.islink(path) and os.path.realpath(path) in linked:
+                    continue
+                target = os.path.join(dest, os.path.relpath(path, staged))
+                os.makedirs(os.path.dirname(target), exist_ok=True)
+                if os.path.lexists(target):
+                    os.remove(target)
+                shutil.copyfile(path, target)  # follows a link
+                shutil.copymode(path, target)
 
     def configure(self, tree):
         args = ["-DCMAKE_BUILD_TYPE=Release", "-DNSF_BUILD_TESTS=OFF", "-DNSF_BUILD_BENCH=OFF",

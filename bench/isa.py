@@ -1,13 +1,21 @@
 #!/usr/bin/env python3
 """The portable build against -march=native, side by side (issue #53, item 2).
 
-Builds the full-order engine's benchmark (bench/mpm_throughput.cpp) twice, without LibTorch: as
-every artefact is built (the x86-64-v2 baseline, with the hot kernels' v3 and v4 clones picked at
-run time, src/core/isa.h) and with NSF_NATIVE=ON. Runs the two alternately, REPS times each, on
-one thread, and prints each scene's throughput (median, min-max) and the ratio of the medians.
-Writes docs/results/bench/isa_mpm.json with --json.
+Builds, without LibTorch, the full-order engine's benchmark (bench/mpm_throughput.cpp) and the
+runtime (libnsf_runtime.so) twice: as every artefact is built (the x86-64-v2 baseline, with the
+hot kernels' v3 and v4 clones picked at run time, src/core/isa.h, and the runtime's x86-64-v3
+copy in glibc-hwcaps/, cmake/hwcaps.cmake) and with NSF_NATIVE=ON. Then, on one thread, REPS
+alternated runs of each:
+  - mpm: each scene's full-order throughput (median, min-max) and the ratio of the medians;
+  - rom: the reduced-order step through the runtime (bench/runtime/step_timer.cpp, MODEL at MU):
+    the median frame time of the portable runtime as the loader picks it on this CPU, of its
+    baseline copy alone (the loader told to skip glibc-hwcaps/), and of the native build.
+Writes docs/results/bench/isa_mpm.json and isa_rom.json with --json and --rom-json.
 
-    python3 bench/isa.py [--reps 5] [--step-scale 0.5] [--json docs/results/bench/isa_mpm.json]
+    python3 bench/isa.py [--reps 5] [--step-scale 0.5] [--only mpm|rom]
+                         [--model models/metal_small.nsf] [--scene scenes/paper/metal_small.json]
+                         [--mu 0.1] [--json docs/results/bench/isa_mpm.json]
+                         [--rom-json docs/results/bench/isa_rom.json]
 """
 import argparse
 import json
@@ -22,16 +30,79 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CONFIGS = {"portable": [], "native": ["-DNSF_NATIVE=ON"]}
 
 
-def build(name, flags):
+LOADER = "/lib64/ld-linux-x86-64.so.2"
+
+
+def build(name, flags, targets):
     path = os.path.join(ROOT, "build-isa", name)
     common = ["-DNSF_WITH_TORCH=OFF", "-DNSF_BUILD_TESTS=OFF", "-DNSF_BUILD_PYTHON=OFF",
               "-DCMAKE_BUILD_TYPE=Release"]
     subprocess.run(["cmake", "-S", ROOT, "-B", path, "-G", "Ninja"] + common + flags,
                    check=True, stdout=subprocess.DEVNULL)
     print(f"isa: building {name} in {path}", file=sys.stderr, flush=True)
-    subprocess.run(["cmake", "--build", path, "--target", "mpm_throughput"], check=True,
+    subprocess.run(["cmake", "--build", path, "--target"] + targets, check=True,
                    stdout=subprocess.DEVNULL)
-    return os.path.join(path, "mpm_throughput")
+    return path
+
+
+def run_rom(timer, library_dir, model, scene, mu, baseline_only=False):
+    """The median frame time of the reduced-order step, and the copy of the runtime that ran."""
+    env = dict(os.environ, LD_LIBRARY_PATH=library_dir, OMP_NUM_THREADS="1",
+               OMP_WAIT_POLICY="passive")
+    # The loader told to search no glibc-hwcaps folder takes the baseline copy.
+    prefix = [LOADER, "--glibc-hwcaps-mask", "x86-64-v2"] if baseline_only else []
+    out = subprocess.run(prefix + [timer, model, scene, str(mu), "1"], check=True, env=env,
+                         capture_output=True, text=True).stdout
+    r = json.loads(out)
+    return statistics.median(r["frame_s"]), r.get("build_arch", "?")
+
+
+def rom_rows(builds, a):
+    """The reduced-order step: portable (as loaded here), its baseline copy, native."""
+    if not os.path.isfile(a.model):
+        print(f"isa: no {a.model}: the reduced-order rows need a model (scripts/demo.sh makes "
+              f"models/metal_small.nsf)", file=sys.stderr)
+        return None
+    timer = os.path.join(ROOT, "build-isa", "step_timer")
+    subprocess.run(["g++", "-O2", "-std=c++17", "-I", os.path.join(ROOT, "include"),
+                    os.path.join(ROOT, "bench", "runtime", "step_timer.cpp"), "-o", timer,
+                    "-L", builds["portable"], "-lnsf_runtime"], check=True)
+    variants = {"portable": (builds["portable"], False),
+                "portable_baseline": (builds["portable"], True),
+                "native": (builds["native"], False)}
+    frames = {name: [] for name in variants}
+    arch = {}
+    for rep in range(a.reps):
+        for name, (path, baseline) in variants.items():
+            frame, arch[name] = run_rom(timer, path, a.model, a.scene, a.mu, baseline)
+            frames[name].append(frame)
+        print(f"isa: rom {rep + 1}/{a.reps} rounds", file=sys.stderr, flush=True)
+    native = statistics.median(frames["native"])
+    rows = [{"runtime": name, "build_arch": arch[name], "frame_s": frames[name],
+             "ratio_to_native": statistics.median(frames[name]) / native} for name in variants]
+    print(f"\nReduced-order step through the runtime, {os.path.basename(a.model)} at mu = {a.mu}, "
+          f"ms a frame on one thread, {a.reps} alternated runs each ({cpu_name()}): "
+          f"`python3 bench/isa.py --only rom --reps {a.reps}`\n")
+    print("| runtime | copy loaded | frame, ms (min-max) | native / this (speed) |")
+    print("|---|---|---|---|")
+    for r in rows:
+        v = r["frame_s"]
+        print(f"| {r['runtime']} | {r['build_arch']} | {1e3 * statistics.median(v):.2f} "
+              f"({1e3 * min(v):.2f}-{1e3 * max(v):.2f}) | {1 / r['ratio_to_native']:.3f} |")
+    return {"command": f"python3 bench/isa.py --only rom --reps {a.reps} --mu {a.mu}",
+            "model": os.path.basename(a.model), "scene": os.path.relpath(a.scene, ROOT),
+            "mu": a.mu, "cpu": cpu_name(), "threads": 1, "rows": rows}
+
+
+def write_json(path, doc):
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    tmp = path + ".tmp"
+    try:
+        with open(tmp, "x") as f:
+            json.dump(doc, f, indent=1)
+    except FileExistsError:
+        sys.exit(f"isa: {tmp} exists (an interrupted run?): remove it and run again")
+    os.replace(tmp, path)
 
 
 def run(binary, step_scale):
@@ -61,21 +132,14 @@ def cpu_name():
     return platform.processor() or "unknown"
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--reps", type=int, default=5)
-    ap.add_argument("--step-scale", type=float, default=0.5)
-    ap.add_argument("--json", help="write the rows here")
-    a = ap.parse_args()
-    if a.reps < 1:
-        ap.error("--reps must be at least 1")
-    binaries = {name: build(name, flags) for name, flags in CONFIGS.items()}
+def mpm_rows(builds, a):
+    binaries = {name: os.path.join(path, "mpm_throughput") for name, path in builds.items()}
     samples = {name: {} for name in CONFIGS}
     for rep in range(a.reps):
         for name, binary in binaries.items():
             for scene, value in run(binary, a.step_scale).items():
                 samples[name].setdefault(scene, []).append(value)
-        print(f"isa: {rep + 1}/{a.reps} rounds", file=sys.stderr, flush=True)
+        print(f"isa: mpm {rep + 1}/{a.reps} rounds", file=sys.stderr, flush=True)
     rows = []
     for scene in samples["portable"]:
         p, n = samples["portable"][scene], samples["native"].get(scene, [])
@@ -84,24 +148,40 @@ def main():
         rows.append({"scene": scene, "portable": p, "native": n,
                      "ratio": statistics.median(p) / statistics.median(n)})
     print(f"Full-order throughput, particle-steps/s on one thread, {a.reps} alternated runs "
-          f"each ({cpu_name()}): `python3 bench/isa.py --reps {a.reps}`\n")
+          f"each ({cpu_name()}): `python3 bench/isa.py --only mpm --reps {a.reps}`\n")
     print("| scene | portable (x86-64-v2 + clones) | -march=native | portable / native |")
     print("|---|---|---|---|")
     fmt = lambda v: (f"{statistics.median(v) / 1e6:.2f}M "
                      f"({min(v) / 1e6:.2f}-{max(v) / 1e6:.2f})")
     for r in rows:
         print(f"| {r['scene']} | {fmt(r['portable'])} | {fmt(r['native'])} | {r['ratio']:.3f} |")
-    if a.json:
-        os.makedirs(os.path.dirname(os.path.abspath(a.json)), exist_ok=True)
-        doc = {"command": f"python3 bench/isa.py --reps {a.reps} --step-scale {a.step_scale}",
-               "cpu": cpu_name(), "threads": 1, "rows": rows}
-        tmp = a.json + ".tmp"
-        try:
-            with open(tmp, "x") as f:
-                json.dump(doc, f, indent=1)
-        except FileExistsError:
-            sys.exit(f"isa: {tmp} exists (an interrupted run?): remove it and run again")
-        os.replace(tmp, a.json)
+    return {"command": f"python3 bench/isa.py --only mpm --reps {a.reps} --step-scale {a.step_scale}",
+            "cpu": cpu_name(), "threads": 1, "rows": rows}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--reps", type=int, default=5)
+    ap.add_argument("--step-scale", type=float, default=0.5)
+    ap.add_argument("--only", choices=["mpm", "rom"])
+    ap.add_argument("--model", default=os.path.join(ROOT, "models", "metal_small.nsf"))
+    ap.add_argument("--scene", default=os.path.join(ROOT, "scenes", "paper", "metal_small.json"))
+    ap.add_argument("--mu", type=float, default=0.1)
+    ap.add_argument("--json", help="write the full-order rows here")
+    ap.add_argument("--rom-json", help="write the reduced-order rows here")
+    a = ap.parse_args()
+    if a.reps < 1:
+        ap.error("--reps must be at least 1")
+    targets = {"mpm": ["mpm_throughput"], "rom": ["nsf_runtime"], None: ["mpm_throughput", "nsf_runtime"]}
+    builds = {name: build(name, flags, targets[a.only]) for name, flags in CONFIGS.items()}
+    if a.only in (None, "mpm"):
+        doc = mpm_rows(builds, a)
+        if a.json:
+            write_json(a.json, doc)
+    if a.only in (None, "rom"):
+        doc = rom_rows(builds, a)
+        if doc and a.rom_json:
+            write_json(a.rom_json, doc)
 
 
 if __name__ == "__main__":

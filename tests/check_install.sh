@@ -5,7 +5,8 @@
 # model with the installed nsf; builds examples/embed against the prefix with the host's default
 # flags and with -march=native; runs each with the collider raised by the host and held still.
 # A C++14 host gets C++17 from the imported target; pkg-config builds the C host; the man page
-# and the bash completion are installed and work. Then the C API (include/nsf/nsf.h): the header alone as C99 (-pedantic -Werror) and as C++,
+# and the bash completion are installed and work. The loader takes the runtime's x86-64-v3 copy on
+# a CPU that has it, and the baseline copy runs the C host too. Then the C API (include/nsf/nsf.h): the header alone as C99 (-pedantic -Werror) and as C++,
 # examples/c built against the prefix and run, and examples/rust (cargo build --offline, no
 # crates) run, printing what the C host printed (skipped, saying so, where cargo is absent).
 # Usage: tests/check_install.sh BUILD_DIR SOURCE_DIR. Run by ctest (install_and_embed).
@@ -99,6 +100,36 @@ y_moved=$(awk '/^frame 12 / {print $7}' "$tmp/c.out")
 y_still=$(awk '/^frame 12 / {print $7}' "$tmp/c.still")
 awk -v a="$y_moved" -v b="$y_still" 'BEGIN { exit !(a > b) }' ||
   die "the centroid is at y $y_moved with the floor raised, $y_still with it still"
+
+step "the runtime's copy for x86-64-v3 CPUs (glibc-hwcaps), and the baseline copy"
+libdir=$(dirname "$lib")
+loader=/lib64/ld-linux-x86-64.so.2
+if [[ -f "$libdir/glibc-hwcaps/x86-64-v3/libnsf_runtime.so.0" ]]; then
+  printf '#include <nsf/nsf.h>\n#include <stdio.h>\nint main(void) { puts(nsf_build_arch()); return 0; }\n' \
+    >"$tmp/arch.c"
+  cc -std=c99 "$tmp/arch.c" -I "$prefix/include" -L "$libdir" -lnsf_runtime -Wl,-rpath,"$libdir" \
+    -o "$tmp/arch"
+  want=x86-64-v2
+  "$loader" --help | grep -q "x86-64-v3 (supported, searched)" && want=x86-64-v3
+  got=$("$tmp/arch")
+  [[ "$got" == "$want" ]] || die "the loader took the runtime built for $got on a CPU for $want"
+  # The loader told to skip the glibc-hwcaps folders takes the baseline copy, which runs the host.
+  got=$("$loader" --glibc-hwcaps-mask x86-64-v2 "$tmp/arch")
+  [[ "$got" == x86-64-v2 ]] || die "the baseline copy says it is built for $got"
+  "$loader" --glibc-hwcaps-mask x86-64-v2 "$tmp/c_host/c_host" "$tmp/tiny.nsf" "$scene" 1.0 0.5 \
+    >"$tmp/c_base.out" || die "the C host failed on the baseline copy"
+  # The same lines, but for the figures in which the copies' rounding differs (FMA).
+  cmp <(grep -v '^frame\|^tau' "$tmp/c.out") <(grep -v '^frame\|^tau' "$tmp/c_base.out") ||
+    die "the C host printed otherwise on the baseline copy"
+  frames=$(grep -c '^frame' "$tmp/c_base.out")
+  ((frames == 12)) || die "the C host printed $frames frames on the baseline copy, the scene has 12"
+  y_base=$(awk '/^frame 12 / {print $7}' "$tmp/c_base.out")
+  awk -v a="$y_moved" -v b="$y_base" 'BEGIN { d = a - b; exit !(d < 1e-4 && d > -1e-4) }' ||
+    die "the centroid ends at y $y_base on the baseline copy, $y_moved on the other"
+  echo "the loader takes the copy for $want here; the baseline copy runs the C host too"
+else
+  echo "check_install: no glibc-hwcaps copy of the runtime (NSF_HWCAPS=OFF)"
+fi
 
 step "a C++14 host through find_package (the imported target asks for C++17) and pkg-config"
 mkdir -p "$tmp/cxx14"

@@ -3,10 +3,12 @@
 # directory outside the source tree: a fresh venv of PYTHON without the system's site-packages,
 # the build backend (setuptools, wheel) from Debian's wheels in /usr/share/python-wheels, then
 #   - `pip wheel --no-build-isolation` of the source tree: the wheel holds the module, the runtime
-#     library it links, the Python files, the stubs and py.typed, and no symbolic link;
+#     library it links (and its x86-64-v3 copy in glibc-hwcaps/ where the build made one), the
+#     Python files, the stubs and py.typed, and no symbolic link;
 #   - `pip install --no-build-isolation` of the source tree into the venv: the installed module and
 #     library find their shared libraries (ldd) with no run path into the source or build tree,
-#     the module loads with nothing but the venv, and `import nsf` says numpy is missing;
+#     the module loads with nothing but the venv (the v3 copy on a CPU that has x86-64-v3), and
+#     `import nsf` says numpy is missing;
 #   - the pytest suite (python/tests), run from the scratch directory by the venv's python, with
 #     numpy, pytest and h5py from Debian's dist-packages on PYTHONPATH (no PyPI offline: they
 #     cannot be pip-installed into the venv); `import nsf` must come from the venv.
@@ -39,13 +41,24 @@ site=$("$py" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 [[ "$site" == "$tmp/venv/"* ]] || die "the venv's site-packages is $site"
 
 export NSF_CMAKE_BUILD_DIR="$build" PIP_NO_INDEX=1 PIP_DISABLE_PIP_VERSION_CHECK=1
+# The runtime's x86-64-v3 copy (cmake/hwcaps.cmake), where the build made one, and whether the
+# loader takes it on this CPU.
+hwcaps=glibc-hwcaps/x86-64-v3
+[[ -f "$build/$hwcaps/libnsf_runtime.so.0" ]] && export NSF_HWCAPS_COPY="nsf/$hwcaps/libnsf_runtime.so.0"
+if [[ -n "${NSF_HWCAPS_COPY:-}" ]] && /lib64/ld-linux-x86-64.so.2 --help 2>/dev/null |
+  grep -q "x86-64-v3 (supported, searched)"; then
+  export NSF_WANT_ARCH=x86-64-v3
+elif [[ -n "${NSF_HWCAPS_COPY:-}" ]]; then
+  export NSF_WANT_ARCH=x86-64-v2
+fi
 step "pip wheel the source tree"
 "$py" -m pip wheel -q --no-build-isolation --no-deps -w "$tmp/wheels" "$src"
 whl=$(ls "$tmp"/wheels/nsf-*.whl) || die "pip wheel made no nsf wheel"
 "$py" - "$whl" <<'EOF' || die "the wheel $whl is not what it should be"
-import re, stat, sys, zipfile
+import os, re, stat, sys, zipfile
 names = {i.filename: i for i in zipfile.ZipFile(sys.argv[1]).infolist()}
 want = ["nsf/__init__.py", "nsf/__init__.pyi", "nsf/py.typed", "nsf/libnsf_runtime.so.0"]
+want += [os.environ["NSF_HWCAPS_COPY"]] if os.environ.get("NSF_HWCAPS_COPY") else []
 missing = [n for n in want if n not in names]
 modules = [n for n in names if re.fullmatch(r"nsf/_nsf\..*\.so", n)]
 links = [n for n, i in names.items() if stat.S_ISLNK(i.external_attr >> 16)]
@@ -61,7 +74,7 @@ module=$(ls "$pkg"/_nsf.*.so) || die "no extension module in $pkg"
 [[ -z "$(find "$pkg" -type l)" ]] || die "symbolic links installed: $(find "$pkg" -type l)"
 
 step "its shared libraries"
-for so in "$module" "$pkg"/libnsf_runtime.so.*; do
+for so in "$module" $(find "$pkg" -name 'libnsf_runtime.so.*'); do
   ldd "$so" >"$tmp/ldd.txt" || die "ldd $so failed"
   ! grep -q 'not found' "$tmp/ldd.txt" || die "$so: $(grep 'not found' "$tmp/ldd.txt")"
   ! grep -qF -e "$src" -e "$build" "$tmp/ldd.txt" || die "$so loads from the source or build tree: $(cat "$tmp/ldd.txt")"
@@ -70,7 +83,9 @@ for so in "$module" "$pkg"/libnsf_runtime.so.*; do
 done
 # Through a file: under pipefail, grep -q leaving early kills ldd with SIGPIPE and fails the check.
 ldd "$module" >"$tmp/module_ldd.txt"
-grep -qF "libnsf_runtime.so.0 => $pkg/libnsf_runtime.so.0" "$tmp/module_ldd.txt" ||
+loads=$pkg/libnsf_runtime.so.0
+[[ "${NSF_WANT_ARCH:-}" != x86-64-v3 ]] || loads=$pkg/$hwcaps/libnsf_runtime.so.0
+grep -qF "libnsf_runtime.so.0 => $loads" "$tmp/module_ldd.txt" ||
   die "the module does not load the runtime library next to it: $(cat "$tmp/module_ldd.txt")"
 
 step "the venv alone: the module loads; import nsf asks for numpy"
@@ -100,7 +115,11 @@ step "import nsf from the venv (PYTHONPATH=$deps)"
 import os, sys, nsf
 where = os.path.realpath(nsf.__file__)
 assert where.startswith(os.path.realpath(os.environ["NSF_INSTALLED_IN"]) + os.sep), where
-print("nsf", nsf.__version__, "from", os.path.dirname(where))' || die "import nsf does not work from the venv"
+arch = nsf.build_arch()
+want = os.environ.get("NSF_WANT_ARCH", arch)
+assert arch == want, "the runtime copy loaded is built for %s, not %s" % (arch, want)
+print("nsf", nsf.__version__, "from", os.path.dirname(where), "runtime built for", arch)' ||
+  die "import nsf does not work from the venv"
 
 step "the pytest suite with the venv's python, from $tmp"
 "$py" -m pytest -q -p no:cacheprovider "$src/python/tests"

@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
     for (float v : x) checksum += double(v);
     std::printf("{\"load_s\": %.6f, \"frame_s\": [", load);
     for (size_t f = 0; f < frames.size(); ++f) std::printf("%s%.6f", f ? ", " : "", frames[f]);
-    std::printf("], \"sum_positions\": %.9g}\n", checksum);
+    std::printf("], \"sum_positions\": %.9g, \"build_arch\": \"%s\"}\n", checksum,
+                nsf::build_arch());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "step_timer: %s\n", e.what());
     return 1;

@@ -2,8 +2,9 @@
  * error codes, for hosts in C and for any language with a C foreign-function interface (Rust,
  * C#, Python's ctypes, ...). docs/EMBEDDING.md, "From C, Rust, C#".
  *
- * Every call but nsf_runtime_destroy, nsf_version, nsf_status_name and nsf_last_error returns an
- * nsf_status: NSF_OK, or an error code whose message nsf_last_error() gives on the same thread.
+ * Every call but nsf_runtime_destroy, nsf_version, nsf_build_arch, nsf_status_name and
+ * nsf_last_error returns an nsf_status: NSF_OK, or an error code whose message nsf_last_error()
+ * gives on the same thread.
  * No C++ exception leaves a call; a NULL pointer or a buffer too small is an error code, never a
  * crash. A handle may be used by one thread at a time; different handles by different threads.
  * The header is C99 and C++; it holds standard C types only. */
@@ -87,6 +88,9 @@ typedef struct nsf_collider_pose {
 /* The library's version, "MAJOR.MINOR.PATCH", and its numbers. */
 NSF_C_API const char* nsf_version(void);
 NSF_C_API nsf_status nsf_version_numbers(int* major, int* minor, int* patch);
+/* The instruction set this copy of the library was built for: "x86-64-v2" (the baseline copy),
+ * "x86-64-v3" (the copy the loader picks on a CPU with AVX2 and FMA) or "native". */
+NSF_C_API const char* nsf_build_arch(void);
 
 /* The message of the last nsf_ call made on this thread: "" when it succeeded. Valid until the
  * thread's next nsf_ call; never NULL. */

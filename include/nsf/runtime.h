@@ -22,6 +22,10 @@ namespace nsf {
 
 // The library's version, "MAJOR.MINOR.PATCH" (nsf_version() in the C API).
 NSF_API const char* version();
+// The instruction set this copy of the library was built for: "x86-64-v2" for the baseline copy,
+// "x86-64-v3" for the one glibc's loader picks on a CPU with AVX2 and FMA (docs/EMBEDDING.md),
+// "native" for a -DNSF_NATIVE=ON build (nsf_build_arch() in the C API).
+NSF_API const char* build_arch();
 
 // How a run is set up; every field may be left as it is.
 struct RuntimeOptions {

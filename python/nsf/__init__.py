@@ -29,7 +29,7 @@ from . import _nsf
 __version__ = _nsf.__version__
 Scene = _nsf.Scene
 
-__all__ = ["Scene", "Run", "Rom", "load_scene", "simulate", "read_run", "__version__"]
+__all__ = ["Scene", "Run", "Rom", "load_scene", "simulate", "read_run", "__version__", "build_arch"]
 
 
 _KINDS = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
@@ -291,3 +291,9 @@ class Rom:
 
     def __repr__(self):
         return "nsf.Rom(%d particles, t = %.4g s)" % (self.particle_count, self.time)
+
+
+def build_arch():
+    """The instruction set of the libnsf_runtime copy the loader took: "x86-64-v2", "x86-64-v3"
+    (on a CPU with AVX2 and FMA, the copy built for it) or "native" (docs/EMBEDDING.md)."""
+    return _nsf.build_arch()

@@ -177,6 +177,10 @@ const char* nsf_version(void) {
   return NSF_VERSION;
 }
 
+const char* nsf_build_arch(void) {
+  return nsf::build_arch();
+}
+
 nsf_status nsf_version_numbers(int* major, int* minor, int* patch) {
   return call("nsf_version_numbers", NSF_ERROR_INTERNAL, [&] {
     need(major, "major");

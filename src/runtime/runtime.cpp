@@ -127,6 +127,10 @@ const char* version() {
   return NSF_VERSION;
 }
 
+const char* build_arch() {
+  return NSF_BUILD_ARCH;
+}
+
 std::vector<std::string> Runtime::warnings() const {
   return impl_->warnings;
 }

@@ -108,6 +108,14 @@ TEST_F(CApi, Version) {
   EXPECT_EQ(std::string(nsf_version()),
             std::to_string(major) + "." + std::to_string(minor) + "." + std::to_string(patch));
   EXPECT_EQ(std::string(nsf::version()), std::string(nsf_version()));  // the C++ API's
+  // The copy of the library the loader took: built for this CPU's level where the build made one.
+  const std::string arch = nsf_build_arch();
+  EXPECT_EQ(arch, std::string(nsf::build_arch()));
+#if defined(NSF_HWCAPS_COPY) && defined(__x86_64__)
+  EXPECT_EQ(arch, __builtin_cpu_supports("x86-64-v3") ? "x86-64-v3" : "x86-64-v2");
+#else
+  EXPECT_FALSE(arch.empty());
+#endif
   EXPECT_EQ(std::string(nsf_status_name(NSF_ERROR_BUFFER_TOO_SMALL)), "NSF_ERROR_BUFFER_TOO_SMALL");
   EXPECT_EQ(std::string(nsf_status_name(static_cast<nsf_status>(1234))), "NSF_UNKNOWN_STATUS");
 }
