@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The latent stream under load (docs/BENCHMARKS.md, "The latent stream"): `nsf serve` on loopback
-# at real time, first alone, then with N clients for S seconds (tests/unit/net/test_net_load.cpp: frames
+# at real time, first alone, then with N clients for S seconds (bench/serve_clients.cpp: frames
 # lost, latency step -> client), then as fast as it steps, alone and with the N clients.
 # Usage: bench/serve_load.sh MODEL SCENE [N] [S] -- [nsf serve options, e.g. --mu 0.1]
-# Needs build/nsf and build/nsf_tests.
+# Needs build/nsf and build/serve_clients.
 set -euo pipefail
 model=$1 scene=$2 n=${3:-50} s=${4:-30}
 shift 4 || shift $#
@@ -21,9 +21,8 @@ serve() {  # serve LABEL FPS FRAMES CLIENTS
   local pid=$!
   for _ in $(seq 100); do grep -q "ws://" "/tmp/serve_$$.out" 2>/dev/null && break; sleep 0.1; done
   if ((clients > 0)); then
-    NSF_SERVE_PORT=$port NSF_LOAD_CLIENTS=$clients NSF_LOAD_SECONDS=$s NSF_LOAD_WARMUP=${WARMUP:-10} \
-      build/nsf_tests \
-      --gtest_also_run_disabled_tests --gtest_filter='ServeLoad.*' | grep "clients,"
+    build/serve_clients --port "$port" --clients "$clients" --seconds "$s" --warmup "${WARMUP:-10}" ||
+      echo "$label: frames were lost"
   fi
   wait "$pid"
   echo "$label: $(grep 'frames,' "/tmp/serve_$$.out")"

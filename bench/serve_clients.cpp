@@ -1,11 +1,13 @@
-// A load test of a running `nsf serve` (docs/BENCHMARKS.md, "The latent stream"), left out of the
-// suite (DISABLED_): N clients on loopback for S seconds, counting the frames each receives, the
-// frames lost (gaps in the frame numbers) and the latency from the server's step to the client.
-//   build/nsf serve MODEL SCENE --port 8765 &   (NSF_LOAD_WARMUP: seconds before latency counts, 5)
-//   NSF_SERVE_PORT=8765 NSF_LOAD_CLIENTS=50 NSF_LOAD_SECONDS=60 build/nsf_tests
-//       --gtest_also_run_disabled_tests --gtest_filter='ServeLoad.*'   (one command line)
-#include <gtest/gtest.h>
+// The clients of bench/serve_load.sh (docs/BENCHMARKS.md, "The latent stream"): N WebSocket
+// clients of a running `nsf serve` on loopback for S seconds, counting the frames each receives,
+// the frames lost (gaps in the frame numbers) and the latency from the server's step to the
+// client. Exits 1 when a frame was lost or a client could not connect.
+//   build/nsf serve MODEL SCENE --port 8765 &
+//   build/serve_clients --port 8765 --clients 50 --seconds 60 [--warmup 5]
 #include <poll.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
 
 #include <algorithm>
 #include <chrono>
@@ -17,26 +19,29 @@
 
 namespace {
 
-double env(const char* name, double fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::atof(v) : fallback;
-}
-
 double wall_now() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-TEST(ServeLoad, DISABLED_ManyClientsOnLoopback) {
-  const int port = int(env("NSF_SERVE_PORT", 8080));
-  const int n = int(env("NSF_LOAD_CLIENTS", 20));
-  const double seconds = env("NSF_LOAD_SECONDS", 20);
+struct Load {
+  int port = 8080;
+  int clients = 20;
+  double seconds = 20;
   // Latency counts from here on: first every client takes the model message (megabytes for a
   // paper-size scene), and the frames queued behind it arrive late.
-  const double warmup = env("NSF_LOAD_WARMUP", 5);
+  double warmup = 5;
+};
+
+int run(const Load& load) {
+  const int n = load.clients;
+  const double seconds = load.seconds, warmup = load.warmup;
   std::vector<std::unique_ptr<nsf::testing::WsClient>> clients;
   for (int i = 0; i < n; ++i) {
     clients.push_back(std::make_unique<nsf::testing::WsClient>());
-    ASSERT_TRUE(clients.back()->connect(port)) << "client " << i << " on port " << port;
+    if (!clients.back()->connect(load.port)) {
+      std::fprintf(stderr, "serve_clients: client %d cannot connect to port %d\n", i, load.port);
+      return 1;
+    }
   }
   std::vector<long> received(size_t(n), 0), lost(size_t(n), 0), last(size_t(n), -1);
   std::vector<double> latency;
@@ -76,7 +81,19 @@ TEST(ServeLoad, DISABLED_ManyClientsOnLoopback) {
       n, seconds, *std::min_element(received.begin(), received.end()),
       *std::max_element(received.begin(), received.end()), total_lost, warmup, q(0.5), q(0.99),
       q(1.0), ended);
-  EXPECT_EQ(total_lost, 0);
+  return total_lost == 0 ? 0 : 1;
 }
 
 }  // namespace
+
+int main(int argc, char** argv) {
+  Load load;
+  CLI::App app{"N WebSocket clients of a running nsf serve on loopback: frames, losses, latency"};
+  app.add_option("--port", load.port, "the server's port")->check(CLI::Range(1, 65535));
+  app.add_option("--clients", load.clients, "clients")->check(CLI::Range(1, 100000));
+  app.add_option("--seconds", load.seconds, "how long they listen")->check(CLI::Range(0.1, 1e6));
+  app.add_option("--warmup", load.warmup, "seconds before latency counts")
+      ->check(CLI::Range(0.0, 1e6));
+  CLI11_PARSE(app, argc, argv);
+  return run(load);
+}
