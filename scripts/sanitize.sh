@@ -16,7 +16,7 @@ fi
 # functions; add -g1 to CMAKE_CXX_FLAGS for lines). Not Release: assert() and Eigen's own
 # assertions stay on.
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS="-O1" -DCMAKE_C_FLAGS="-O1" \
-  -DNSF_SANITIZE=ON -DNSF_WITH_TORCH=OFF -DNSF_NATIVE=OFF -DNSF_BUILD_BENCH=OFF \
+  -DNSF_SANITIZE=ON -DNSF_WITH_TORCH=OFF -DNSF_NATIVE=OFF -DNSF_BUILD_BENCH=OFF -DNSF_HWCAPS=OFF \
   "${launcher[@]}" >/dev/null
 # Set before the build: the build runs the test binary to list its tests.
 supp="$PWD/scripts/sanitize.supp"
