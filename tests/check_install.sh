@@ -6,9 +6,10 @@
 # flags and with -march=native; runs each with the collider raised by the host and held still.
 # A C++14 host gets C++17 from the imported target; pkg-config builds the C host; the man page
 # and the bash completion are installed and work. The loader takes the runtime's x86-64-v3 copy on
-# a CPU that has it, and the baseline copy runs the C host too. Then the C API (include/nsf/nsf.h): the header alone as C99 (-pedantic -Werror) and as C++,
-# examples/c built against the prefix and run, and examples/rust (cargo build --offline, no
-# crates) run, printing what the C host printed (skipped, saying so, where cargo is absent).
+# a CPU that has it, and the baseline copy runs the C host too. Then the C API (include/nsf/nsf.h):
+# the header alone as C99 (-pedantic -Werror) and as C++, examples/c built against the prefix and
+# run, and examples/rust (cargo build --offline, no crates) run, printing what the C host printed
+# (skipped, saying so, where cargo is absent).
 # Usage: tests/check_install.sh BUILD_DIR SOURCE_DIR. Run by ctest (install_and_embed).
 set -euo pipefail
 build=$(cd "$1" && pwd)
