@@ -26,6 +26,8 @@ import statistics
 import subprocess
 import sys
 
+from runtime import build_step_timer, time_steps  # bench/runtime.py: the runtime's step timer
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CONFIGS = {"portable": [], "native": ["-DNSF_NATIVE=ON"]}
 
@@ -47,13 +49,9 @@ def build(name, flags, targets):
 
 def run_rom(timer, library_dir, model, scene, mu, baseline_only=False):
     """The median frame time of the reduced-order step, and the copy of the runtime that ran."""
-    env = dict(os.environ, LD_LIBRARY_PATH=library_dir, OMP_NUM_THREADS="1",
-               OMP_WAIT_POLICY="passive")
     # The loader told to search no glibc-hwcaps folder takes the baseline copy.
-    prefix = [LOADER, "--glibc-hwcaps-mask", "x86-64-v2"] if baseline_only else []
-    out = subprocess.run(prefix + [timer, model, scene, str(mu), "1"], check=True, env=env,
-                         capture_output=True, text=True).stdout
-    r = json.loads(out)
+    loader = [LOADER, "--glibc-hwcaps-mask", "x86-64-v2"] if baseline_only else []
+    r, _ = time_steps(timer, library_dir, model, scene, mu, 1, loader)
     return statistics.median(r["frame_s"]), r.get("build_arch", "?")
 
 
@@ -63,10 +61,7 @@ def rom_rows(builds, a):
         print(f"isa: no {a.model}: the reduced-order rows need a model (scripts/demo.sh makes "
               f"models/metal_small.nsf)", file=sys.stderr)
         return None
-    timer = os.path.join(ROOT, "build-isa", "step_timer")
-    subprocess.run(["g++", "-O2", "-std=c++17", "-I", os.path.join(ROOT, "include"),
-                    os.path.join(ROOT, "bench", "runtime", "step_timer.cpp"), "-o", timer,
-                    "-L", builds["portable"], "-lnsf_runtime"], check=True)
+    timer = build_step_timer(builds["portable"], os.path.join(ROOT, "build-isa", "step_timer"))
     variants = {"portable": (builds["portable"], False),
                 "portable_baseline": (builds["portable"], True),
                 "native": (builds["native"], False)}

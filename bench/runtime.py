@@ -57,14 +57,27 @@ def library_facts(build_dir):
     return {"bytes": os.path.getsize(lib), "ldd_count": len(names), "torch_or_opencv": heavy}
 
 
-def run(timer, build_dir, model, scene, mu, threads):
-    env = dict(os.environ, LD_LIBRARY_PATH=build_dir, OMP_NUM_THREADS=str(threads),
+def build_step_timer(library_dir, timer):
+    """bench/runtime/step_timer.cpp, linked against the libnsf_runtime.so in library_dir."""
+    subprocess.run(["g++", "-O2", "-std=c++17", "-I", os.path.join(ROOT, "include"),
+                    os.path.join(ROOT, "bench", "runtime", "step_timer.cpp"), "-o", timer,
+                    "-L", library_dir, "-lnsf_runtime"], check=True)
+    return timer
+
+
+def time_steps(timer, library_dir, model, scene, mu, threads, loader=()):
+    """step_timer's JSON object, with the runtime from library_dir (through `loader`, a command
+    line the timer runs under, if any), and the process's wall time."""
+    env = dict(os.environ, LD_LIBRARY_PATH=library_dir, OMP_NUM_THREADS=str(threads),
                OMP_WAIT_POLICY="passive")
     start = time.perf_counter()
-    out = subprocess.run([timer, model, scene, str(mu), str(threads)], check=True, env=env,
-                         capture_output=True, text=True).stdout
-    process = time.perf_counter() - start
-    r = json.loads(out)
+    out = subprocess.run(list(loader) + [timer, model, scene, str(mu), str(threads)], check=True,
+                         env=env, capture_output=True, text=True).stdout
+    return json.loads(out), time.perf_counter() - start
+
+
+def run(timer, build_dir, model, scene, mu, threads):
+    r, process = time_steps(timer, build_dir, model, scene, mu, threads)
     return r["load_s"], statistics.median(r["frame_s"]), process, r["sum_positions"]
 
 
@@ -89,10 +102,7 @@ def main():
     models = {"torch_free": os.path.join(WORK, "model.nsf"), "with_libtorch": a.model}
     shutil.copyfile(a.model, models["torch_free"])
     subprocess.run([nsf, "upgrade", models["torch_free"], "--quiet"], check=True)
-    timer = os.path.join(WORK, "step_timer")
-    subprocess.run(["g++", "-O2", "-std=c++17", "-I", os.path.join(ROOT, "include"),
-                    os.path.join(ROOT, "bench", "runtime", "step_timer.cpp"), "-o", timer,
-                    "-L", builds["torch_free"], "-lnsf_runtime"], check=True)
+    timer = build_step_timer(builds["torch_free"], os.path.join(WORK, "step_timer"))
     facts = {name: library_facts(path) for name, path in builds.items()}
     loads = {name: [] for name in builds}
     frames = {name: [] for name in builds}
