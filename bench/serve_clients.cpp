@@ -7,13 +7,12 @@
 #include <poll.h>
 
 #include <CLI/CLI.hpp>
-#include <cstdio>
-
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
+#include <cstdio>
 #include <cstring>
 #include <memory>
+#include <vector>
 
 #include "ws_client.h"
 
