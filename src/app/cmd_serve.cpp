@@ -39,6 +39,9 @@ struct ServeArgs {
   // At the scene's last frame: start it again ("loop"), keep streaming its last pose ("hold"), or
   // go on stepping past it ("continue").
   std::string at_end = "loop";
+  // Bytes of the basis per message: the model message carries rest, mean and the leading modes
+  // that fit, and basis messages bring the others, one whenever the client has nothing queued.
+  size_t basis_message_bytes = size_t(256) << 10;
 };
 
 double wall_now() {
@@ -64,11 +67,12 @@ class Server {
     if (a.samples > 0) choices_.samples = a.samples;
     stepper_ = start_scene();  // errors name the file and end the command, before serving
     guard_ = std::make_unique<StepGuard>(*stepper_);
-    model_ = net::WsServer::binary_message(model_message(*fields_.bases(), model_info()));
+    encode_basis();
     net_.set_page(serve_page());
     net_.on_open = [this](int id) {
       net_.send(id, model_, true);
       if (last_) net_.send(id, last_, true);
+      if (!basis_.empty()) basis_due_[id] = 0;
       max_clients_ = std::max(max_clients_, net_.client_count());
     };
     net_.on_message = [this](int id, const std::string& text) { return receive(id, text); };
@@ -96,6 +100,7 @@ class Server {
       const double due = fps > 0 ? start + double(frame + 1) / fps : 0;
       do {
         net_.poll(std::max(0, int(1000 * (due - mono_now()))));
+        send_basis();
       } while (mono_now() < due);
       apply_commands();
       commands_this_frame_.clear();
@@ -131,6 +136,33 @@ class Server {
                                {limits_.hi[0], limits_.hi[1], limits_.hi[2]}};
     info["collider_speed_limit"] = limits_.speed;
     return info;
+  }
+
+  // The model message with the leading modes that fit --basis-message bytes, and the others in
+  // basis messages of about that size. A newcomer's first frame then follows a message of rest,
+  // mean and a few modes instead of the whole basis (paper size: tens of MB); it draws with the
+  // modes it has, and the rest follow at the pace its connection takes them.
+  void encode_basis() {
+    const BasisDecoders& b = *fields_.bases();
+    const int K = b.u.K, n = modes_per_message(b.rest.size(), a_.basis_message_bytes);
+    const int here = std::min(K, n);
+    model_ = net::WsServer::binary_message(model_message(b, model_info(), here));
+    for (int k = here; k < K; k += n)
+      basis_.push_back(net::WsServer::binary_message(basis_message(b, k, std::min(n, K - k))));
+  }
+
+  // The next basis message to each client once its last one has been sent: frames go on between
+  // them, so a slow connection delays a frame by one basis message at most. Not counted against
+  // the queue's caps (as the model message): a client receives the basis once, in full.
+  void send_basis() {
+    for (auto it = basis_due_.begin(); it != basis_due_.end();) {
+      if (!net_.is_open(it->first)) {
+        it = basis_due_.erase(it);
+        continue;
+      }
+      if (net_.uncapped_queued(it->first) == 0) net_.send(it->first, basis_[it->second++], true);
+      it = it->second == basis_.size() ? basis_due_.erase(it) : std::next(it);
+    }
   }
 
   // A client's command, queued for the next frame; what is wrong with it, else "".
@@ -338,6 +370,8 @@ class Server {
   double frame_time_ = 0, mu_ = 0;
   ColliderLimits limits_;
   net::Message model_, last_;
+  std::vector<net::Message> basis_;  // the modes the model message leaves out, in order
+  std::map<int, size_t> basis_due_;  // client → its next basis message
   std::vector<ServeCommand> pending_;
   std::map<size_t, bool> moving_;
   std::map<size_t, Vec3> targets_;  // where a client sent a collider that is not there yet
@@ -389,6 +423,11 @@ void add_serve_command(CLI::App& app) {
   cmd->add_option("--frames", a->frames, "Stop after this many frames (0: run until killed)")
       ->capture_default_str()
       ->check(in_range(0L, 1000000000L));
+  cmd->add_option("--basis-message", a->basis_message_bytes,
+                  "Bytes of the deformation basis per message: the model message carries the "
+                  "leading modes that fit, the others follow between frames")
+      ->capture_default_str()
+      ->check(in_range<size_t>(1, size_t(1) << 30));
   cmd->add_option("--max-message", a->net.max_message,
                   "Largest message a client may send, bytes (larger: the client is dropped)")
       ->capture_default_str()

@@ -1,5 +1,6 @@
 #include "app/serve_protocol.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -26,19 +27,23 @@ bool get(const std::string& in, size_t& at, T& v) {
 
 }  // namespace
 
-std::string model_message(const BasisDecoders& b, const nlohmann::json& info) {
+std::string model_message(const BasisDecoders& b, const nlohmann::json& info, int modes_here) {
   const size_t P = b.rest.size();
   const int K = b.u.K;
-  std::vector<float> rest(3 * P);
+  if (modes_here < 0 || modes_here > K) fail("model_message: ", modes_here, " of ", K, " modes");
+  std::vector<float> rest(3 * P), leading(3 * P * size_t(modes_here));
   for (size_t p = 0; p < P; ++p)
     for (int k = 0; k < 3; ++k) rest[3 * p + size_t(k)] = float(b.rest[p][k]);
+  for (size_t row = 0; row < 3 * P; ++row)
+    std::copy_n(&b.u.modes[row * size_t(K)], modes_here, &leading[row * size_t(modes_here)]);
   const std::vector<std::pair<std::string, const std::vector<float>*>> arrays = {
-      {"rest", &rest}, {"mean", &b.u.mean}, {"modes", &b.u.modes}};
+      {"rest", &rest}, {"mean", &b.u.mean}, {"modes", &leading}};
   nlohmann::json h = info;
   h["type"] = "model";
-  h["version"] = 1;
+  h["version"] = 2;
   h["particles"] = P;
   h["modes"] = K;
+  h["modes_here"] = modes_here;
   h["positions"] = "x_p = rest_p + mean_p + modes_p c  (modes_p: 3 x K, row-major)";
   // The offsets depend on the header's length, which depends on the offsets' digits: lay out
   // with a generous header size, then pad the JSON to it.
@@ -48,7 +53,8 @@ std::string model_message(const BasisDecoders& b, const nlohmann::json& info) {
     size_t offset = 8 + header_bytes;
     h["arrays"] = nlohmann::json::array();
     for (const auto& [name, v] : arrays) {
-      nlohmann::json shape = name == "modes" ? nlohmann::json{P, 3, K} : nlohmann::json{P, 3};
+      nlohmann::json shape =
+          name == "modes" ? nlohmann::json{P, 3, modes_here} : nlohmann::json{P, 3};
       h["arrays"].push_back({{"name", name}, {"offset", offset}, {"shape", shape}});
       offset += v->size() * sizeof(float);
     }
@@ -63,6 +69,25 @@ std::string model_message(const BasisDecoders& b, const nlohmann::json& info) {
   for (const auto& [name, v] : arrays)
     out.append(reinterpret_cast<const char*>(v->data()), v->size() * sizeof(float));
   return out;
+}
+
+std::string basis_message(const BasisDecoders& b, int first, int count) {
+  const size_t P = b.rest.size(), K = size_t(b.u.K);
+  if (first < 0 || count < 1 || size_t(first + count) > K)
+    fail("basis_message: modes ", first, " + ", count, " of ", K);
+  std::string out = "NSFB";
+  out.reserve(kBasisHeaderBytes + 12 * P * size_t(count));
+  put(out, uint32_t(first));
+  put(out, uint32_t(count));
+  put(out, uint32_t(P));
+  for (size_t row = 0; row < 3 * P; ++row)
+    out.append(reinterpret_cast<const char*>(&b.u.modes[row * K + size_t(first)]),
+               size_t(count) * sizeof(float));
+  return out;
+}
+
+int modes_per_message(size_t particles, size_t bytes) {
+  return int(std::clamp<size_t>(bytes / std::max<size_t>(1, 12 * particles), 1, 1 << 20));
 }
 
 std::string frame_message(uint32_t frame, double time, double sent, const Eigen::VectorXd& z,
@@ -93,6 +118,9 @@ std::optional<StreamModel> decode_model(const std::string& bytes) {
   try {
     m.header = nlohmann::json::parse(bytes.substr(at, hb));
     m.K = m.header.at("modes").get<int>();
+    m.received = m.header.value("modes_here", m.K);
+    if (m.K < 0 || m.received < 0 || m.received > m.K) return std::nullopt;
+    std::vector<float> leading;
     for (const auto& a : m.header.at("arrays")) {
       size_t n = 1;
       for (const auto& d : a.at("shape")) n *= d.get<size_t>();
@@ -101,8 +129,14 @@ std::optional<StreamModel> decode_model(const std::string& bytes) {
       std::vector<float> v(n);
       std::memcpy(v.data(), bytes.data() + off, 4 * n);
       const std::string name = a.at("name");
-      (name == "rest" ? m.rest : name == "mean" ? m.mean : m.modes) = std::move(v);
+      (name == "rest" ? m.rest : name == "mean" ? m.mean : leading) = std::move(v);
     }
+    const size_t rows = m.rest.size(), K = size_t(m.K), here = size_t(m.received);
+    if (rows % 3 != 0 || m.mean.size() != rows || leading.size() != rows * here)
+      return std::nullopt;
+    m.modes.assign(rows * K, 0.0f);
+    for (size_t row = 0; row < rows; ++row)
+      std::copy_n(&leading[row * here], here, &m.modes[row * K]);
   } catch (const std::exception&) {
     return std::nullopt;
   }
@@ -128,6 +162,21 @@ std::optional<StreamFrame> decode_frame(const std::string& bytes) {
   for (StreamPose& p : f.poses)
     for (float& v : p) get(bytes, at, v);
   return f;
+}
+
+bool add_basis(StreamModel& m, const std::string& bytes) {
+  if (bytes.compare(0, 4, "NSFB") != 0) return false;
+  size_t at = 4;
+  uint32_t first = 0, n = 0, P = 0;
+  if (!get(bytes, at, first) || !get(bytes, at, n) || !get(bytes, at, P)) return false;
+  const size_t rows = m.rest.size(), K = size_t(m.K);
+  if (first != uint32_t(m.received) || n == 0 || size_t(first) + n > K || 3 * size_t(P) != rows ||
+      bytes.size() != kBasisHeaderBytes + 4 * rows * n)
+    return false;
+  for (size_t row = 0; row < rows; ++row)
+    std::memcpy(&m.modes[row * K + first], bytes.data() + at + 4 * row * n, 4 * size_t(n));
+  m.received += int(n);
+  return true;
 }
 
 std::vector<float> reconstruct(const StreamModel& m, const std::vector<float>& c) {

@@ -17,9 +17,17 @@ namespace nsf::app {
 
 // "NSFM", uint32 H, H bytes of JSON (padded with spaces to a multiple of 4), then the float32
 // arrays the JSON's "arrays" list names, each at its byte "offset" from the message's start:
-// rest (P × 3), mean (P × 3) and modes (P × 3 × K) of the deformation basis. `info` is merged
-// into the JSON (scene, colliders, frame time, ...).
-std::string model_message(const BasisDecoders& bases, const nlohmann::json& info);
+// rest (P × 3), mean (P × 3) and the leading `modes_here` modes of the deformation basis (P × 3 ×
+// modes_here). The JSON's "modes" is K, every mode; basis messages bring the others. `info` is
+// merged into the JSON (scene, colliders, frame time, ...).
+std::string model_message(const BasisDecoders& bases, const nlohmann::json& info, int modes_here);
+
+// "NSFB", uint32 first mode k0, uint32 modes n, uint32 P, then float32 P × 3 × n (particle,
+// component, mode k0 … k0 + n − 1): more of the basis, after the model message. 16 + 12·P·n bytes.
+std::string basis_message(const BasisDecoders& bases, int first, int count);
+constexpr size_t kBasisHeaderBytes = 16;
+// How many modes of P particles one message of about `bytes` holds (at least 1).
+int modes_per_message(size_t particles, size_t bytes);
 
 // A collider's pose as streamed: its reference point and its rotation (row-major, body → world).
 using StreamPose = std::array<float, 12>;
@@ -37,7 +45,9 @@ constexpr size_t kFrameHeaderBytes = 40;
 struct StreamModel {
   nlohmann::json header;
   int K = 0;
-  std::vector<float> rest, mean, modes;
+  int received = 0;  // the leading modes received so far (K: the whole basis)
+  std::vector<float> rest, mean;
+  std::vector<float> modes;  // P × 3 × K; the modes not yet received are zeros
 };
 struct StreamFrame {
   uint32_t frame = 0;
@@ -50,7 +60,11 @@ struct StreamFrame {
 // nullopt when the bytes are not such a message.
 std::optional<StreamModel> decode_model(const std::string& bytes);
 std::optional<StreamFrame> decode_frame(const std::string& bytes);
-// x_p = rest_p + (mean_p + modes_p · c), in float32 as a client computes it (P × 3).
+// Adds a basis message's modes to `model`; false (and `model` unchanged) when the bytes are not
+// such a message or not the next modes of this model.
+bool add_basis(StreamModel& model, const std::string& bytes);
+// x_p = rest_p + (mean_p + modes_p · c), in float32 as a client computes it (P × 3), with the
+// modes received so far.
 std::vector<float> reconstruct(const StreamModel& model, const std::vector<float>& c);
 
 // A client's command, a JSON text message:

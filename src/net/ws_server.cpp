@@ -149,6 +149,18 @@ size_t WsServer::queued_bytes(int id) const {
   return it == clients_.end() ? 0 : it->second.out_bytes;
 }
 
+size_t WsServer::uncapped_queued(int id) const {
+  const auto it = clients_.find(id);
+  if (it == clients_.end()) return 0;
+  return size_t(std::count_if(it->second.out.begin(), it->second.out.end(),
+                              [](const Queued& q) { return q.counted == 0; }));
+}
+
+bool WsServer::is_open(int id) const {
+  const auto it = clients_.find(id);
+  return it != clients_.end() && it->second.state == State::websocket;
+}
+
 bool WsServer::fits(const Client& c, size_t bytes) const {
   if (c.out.size() >= options_.max_queue) return false;
   // A queue with no counted bytes takes any one message, so one larger than the byte cap is not

@@ -88,6 +88,11 @@ class WsServer {
   // Bytes queued for one client (0 when it is gone), and the most ever queued for any client;
   // messages sent with bypass_cap (shared by every client) aside.
   size_t queued_bytes(int client) const;
+  // Messages sent to the client with bypass_cap that are still queued (0 when it is gone): a host
+  // that sends a large payload in parts, one when the last has gone, paces it to the connection.
+  size_t uncapped_queued(int client) const;
+  // Whether the client is still an open WebSocket (false once it is closing or gone).
+  bool is_open(int client) const;
   size_t peak_queued_bytes() const { return peak_queued_; }
 
  private:

@@ -100,9 +100,13 @@ inline std::optional<std::string> next_message(WsClient& c) {
     if (f->opcode == nsf::net::kBinary) return f->payload;
   }
 }
+// The next frame, skipping basis messages (the modes the model message left out).
 inline std::optional<StreamFrame> next_frame(WsClient& c) {
-  const auto m = next_message(c);
-  return m ? decode_frame(*m) : std::nullopt;
+  for (;;) {
+    const auto m = next_message(c);
+    if (!m) return std::nullopt;
+    if (m->compare(0, 4, "NSFB") != 0) return decode_frame(*m);
+  }
 }
 
 }  // namespace nsf::testing::serve

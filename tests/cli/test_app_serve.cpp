@@ -57,6 +57,46 @@ TEST(ServeProtocol, CommandsAreCheckedStrictly) {
     EXPECT_THROW(parse_command(bad, 2), nsf::Error) << bad;
 }
 
+// The model message with the leading modes, then basis messages with the others: a client that
+// adds them in order holds every mode, bit for bit, and one that skips one is refused.
+TEST(ServeProtocol, ModelAndBasisMessagesAssembleTheWholeBasis) {
+  using nsf::app::add_basis;
+  using nsf::app::basis_message;
+  using nsf::app::model_message;
+  using nsf::app::reconstruct;
+  nsf::BasisDecoders b;
+  b.rest = {nsf::Vec3(0.1, 0.2, 0.3), nsf::Vec3(0.4, 0.5, 0.6)};
+  b.u.dim = 3;
+  b.u.K = 5;
+  b.u.points = 2;
+  b.u.mean = {1, 2, 3, 4, 5, 6};
+  for (int i = 0; i < 2 * 3 * 5; ++i) b.u.modes.push_back(0.5f * float(i) - 3.25f);
+  const std::string model = model_message(b, {{"scene", "two"}}, 2);
+  std::optional<StreamModel> m = decode_model(model);
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->K, 5);
+  EXPECT_EQ(m->received, 2);
+  EXPECT_EQ(m->header.at("scene"), "two");
+  // The header, then rest, mean and 2 of the 5 modes.
+  const size_t data_at = m->header.at("arrays")[0].at("offset").get<size_t>();
+  EXPECT_EQ(model.size(), data_at + 4 * 2 * (3 + 3 + 3 * 2));
+  const std::string first = basis_message(b, 2, 2), last = basis_message(b, 4, 1);
+  EXPECT_EQ(first.size(), nsf::app::kBasisHeaderBytes + 4 * 2 * 3 * 2);
+  EXPECT_FALSE(add_basis(*m, last)) << "modes 4.. before modes 2..";
+  EXPECT_FALSE(add_basis(*m, first.substr(0, first.size() - 4)));
+  const std::vector<float> c = {1, -1, 0.5f, 2, -0.25f};
+  const std::vector<float> whole = reconstruct(*decode_model(model_message(b, {}, 5)), c);
+  EXPECT_NE(reconstruct(*m, c), whole);
+  ASSERT_TRUE(add_basis(*m, first));
+  ASSERT_TRUE(add_basis(*m, last));
+  EXPECT_EQ(m->received, 5);
+  EXPECT_EQ(m->modes, b.u.modes);
+  EXPECT_FALSE(add_basis(*m, last)) << "a mode twice";
+  EXPECT_EQ(reconstruct(*m, c), whole);
+  EXPECT_EQ(nsf::app::modes_per_message(2, 1), 1);
+  EXPECT_EQ(nsf::app::modes_per_message(2, 48), 2);
+}
+
 TEST(ServeProtocol, FrameLayoutRoundTrips) {
   Eigen::VectorXd z(3);
   z << 0.25, -1.5, 3;
@@ -191,6 +231,43 @@ TEST_F(ServeEndToEnd, ClientsReconstructTheRuntimesPositionsAndMoveAColliderToge
   EXPECT_NE(page.find("NSFF"), std::string::npos);
 }
 
+// --basis-message 1: the model message holds rest, mean and one mode, the newcomer's first
+// frame follows it, and the other modes arrive one message each between frames; assembled, they
+// are the model's basis bit for bit.
+TEST_F(ServeEndToEnd, TheBasisFollowsTheFirstFrameAMessageAtATime) {
+  const int port = start({"--fps", "30", "--frames", "2000", "--basis-message", "1"});
+  ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
+  const nsf::NeuralFields fields = nsf::NeuralFields::load(model());
+  const nsf::BasisDecoders& bases = *fields.bases();
+  ASSERT_GT(bases.u.K, 2);
+  WsClient a;
+  ASSERT_TRUE(a.connect(port));
+  const auto first = next_message(a);
+  ASSERT_TRUE(first);
+  std::optional<StreamModel> m = decode_model(*first);
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->received, 1);
+  EXPECT_EQ(m->K, bases.u.K);
+  const size_t P = bases.rest.size();
+  EXPECT_LT(first->size(), 4 * P * (6 + 3 * size_t(bases.u.K)));
+  const auto second = next_message(a);
+  ASSERT_TRUE(second && decode_frame(*second)) << "the first frame waits for the whole basis";
+  int frames = 0, parts = 0;
+  while (m->received < m->K && frames < 200) {
+    const auto msg = next_message(a);
+    ASSERT_TRUE(msg);
+    if (decode_frame(*msg)) {
+      ++frames;
+      continue;
+    }
+    ASSERT_TRUE(nsf::app::add_basis(*m, *msg)) << "not the next modes";
+    ++parts;
+  }
+  EXPECT_EQ(m->received, m->K);
+  EXPECT_EQ(parts, bases.u.K - 1);
+  EXPECT_EQ(m->modes, bases.u.modes);
+}
+
 // Another site's page open in the browser may not drive the server (cross-site WebSocket
 // hijacking), nor may a page that reached it under another name (DNS rebinding): 403 and a log
 // line. The server's own page and programs (no Origin) connect; --allow-origin adds a site.
@@ -317,13 +394,15 @@ std::string pre_text(const std::string& dom, const std::string& id) {
 
 }  // namespace
 
-// The page in headless Chromium (Debian's `chromium`): it connects, reconstructs a frame in
-// JavaScript, and its positions are the runtime's at that frame's latent to float32 precision; it
-// also draws them (WebGL, software) into a PNG it leaves in the DOM.
+// The page in headless Chromium (Debian's `chromium`): it connects, assembles the basis from
+// its parts, reconstructs a frame in JavaScript, and its positions are the runtime's at that
+// frame's latent to float32 precision; it also draws them (WebGL, software) into a PNG it leaves in
+// the DOM.
 TEST_F(ServeEndToEnd, PageInHeadlessChromiumReconstructsTheRuntimesPositions) {
   if (std::system("command -v chromium >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "no chromium on this machine (scripts/install-deps.sh installs it)";
-  const int port = start({"--fps", "20", "--frames", "100000"});
+  // One mode per message: the page assembles the basis from its parts before it writes positions.
+  const int port = start({"--fps", "20", "--frames", "100000", "--basis-message", "1"});
   ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
   // A profile of its own (a second chromium on a shared profile hands its page to the first and
   // exits), its messages kept for a failure.

@@ -7,7 +7,9 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <optional>
 #include <random>
 #include <string>
@@ -109,13 +111,16 @@ class WsClient {
       if (!fill(end)) return std::nullopt;
     }
   }
-  // The frames already complete after one non-blocking read (none if nothing came).
-  std::vector<net::Frame> drain() {
+  // The frames already complete after one non-blocking read of at most max_bytes (none if
+  // nothing came). bytes_read() counts what drain() took.
+  std::vector<net::Frame> drain(size_t max_bytes = SIZE_MAX) {
     char tmp[65536];
-    for (;;) {
-      const ssize_t r = ::recv(fd_, tmp, sizeof tmp, MSG_DONTWAIT);
+    while (max_bytes > 0) {
+      const ssize_t r = ::recv(fd_, tmp, std::min(sizeof tmp, max_bytes), MSG_DONTWAIT);
       if (r > 0) {
         buf_.append(tmp, size_t(r));
+        bytes_read_ += size_t(r);
+        max_bytes -= size_t(r);
         continue;
       }
       if (r == 0) eof_ = true;
@@ -134,6 +139,7 @@ class WsClient {
     return out;
   }
   bool eof() const { return eof_; }
+  size_t bytes_read() const { return bytes_read_; }
   // Whether the server closed the connection (a close frame or EOF) within timeout_s; data
   // frames before it are skipped.
   bool closed_by_server(double timeout_s = 5.0) {
@@ -196,6 +202,7 @@ class WsClient {
   }
   int fd_ = -1;
   bool eof_ = false;
+  size_t bytes_read_ = 0;
   std::string buf_, head_;
   std::mt19937 rng_{std::random_device{}()};
 };
