@@ -124,9 +124,18 @@ GeneralizeResult run_generalize(const GeneralizeOptions& o) {
   }
 
   // Bad input stops here, not as a failure of every draw: the model (of this scene) and the
-  // dataset the baselines play back.
+  // dataset the baselines play back, whose runs must hold a value of each of the sweep's axes.
   NeuralFields::load(o.model_path);
-  if (sweep) Dataset(o.data_dir);
+  if (sweep) {
+    const Dataset data(o.data_dir);
+    for (const ParameterAxis& axis : sweep->vary)
+      for (const SimulationFile& run : data.train())
+        if (std::none_of(run.box.parameters.begin(), run.box.parameters.end(),
+                         [&](const ParameterRange& p) { return p.name == axis.name; }))
+          fail("generalize: training run ", run.path, " of ", o.data_dir,
+               " has no value of the sweep's axis '", axis.name,
+               "': look-up and interpolation play back runs of this scene's own sweep");
+  }
 
   Progress progress("unseen interactions of " + res.scene, long(draws.size()), "draws");
   for (size_t i = 0; i < draws.size(); ++i) {

@@ -180,6 +180,16 @@ TEST_F(Generalize, ASceneWithoutPerturbationsOrAMissingDrawIsAClearError) {
   } catch (const nsf::Error& e) {
     nsf::testing::expect_contains(e.what(), "missing.nsf");
   }
+  // A sweep with an axis the dataset's runs were not made along: said before any draw runs.
+  o = options();
+  o.overrides = {R"(sweep.vary=[{"name": "stiffness", "range": [15000, 25000],
+                                  "set": ["objects[0].material.E={v}"]}])"};
+  try {
+    nsf::run_generalize(o);
+    ADD_FAILURE() << "accepted a dataset without the sweep's axis";
+  } catch (const nsf::Error& e) {
+    nsf::testing::expect_contains(e.what(), "has no value of the sweep's axis 'stiffness'");
+  }
   o = options();
   o.only = {5};
   try {
