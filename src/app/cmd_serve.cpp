@@ -40,7 +40,7 @@ struct ServeArgs {
   // go on stepping past it ("continue").
   std::string at_end = "loop";
   // Bytes of the basis per message: the model message carries rest, mean and the leading modes
-  // that fit, and basis messages bring the others, one whenever the client has nothing queued.
+  // that fit, and basis messages bring the others, one whenever the client has taken the last.
   size_t basis_message_bytes = size_t(256) << 10;
 };
 
