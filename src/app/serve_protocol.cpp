@@ -119,7 +119,8 @@ std::optional<StreamModel> decode_model(const std::string& bytes) {
     m.header = nlohmann::json::parse(bytes.substr(at, hb));
     m.K = m.header.at("modes").get<int>();
     m.received = m.header.value("modes_here", m.K);
-    if (m.K < 0 || m.received < 0 || m.received > m.K) return std::nullopt;
+    // At most 2^16 modes: the header alone cannot make the client hold a basis of any size.
+    if (m.K < 0 || m.K > (1 << 16) || m.received < 0 || m.received > m.K) return std::nullopt;
     std::vector<float> leading;
     for (const auto& a : m.header.at("arrays")) {
       size_t n = 1;
