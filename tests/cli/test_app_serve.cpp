@@ -6,6 +6,7 @@
 #include <signal.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <thread>
 
@@ -95,6 +96,18 @@ TEST(ServeProtocol, ModelAndBasisMessagesAssembleTheWholeBasis) {
   EXPECT_EQ(reconstruct(*m, c), whole);
   EXPECT_EQ(nsf::app::modes_per_message(2, 1), 1);
   EXPECT_EQ(nsf::app::modes_per_message(2, 48), 2);
+
+  // A header claiming 70,000 modes (the JSON's padding keeps the layout) is refused, not held.
+  const std::string all = model_message(b, {}, 5);
+  uint32_t H = 0;
+  std::memcpy(&H, all.data() + 4, 4);
+  std::string header = all.substr(8, H);
+  const size_t at = header.find("\"modes\":5,");
+  ASSERT_NE(at, std::string::npos) << header;
+  header.replace(at, 10, "\"modes\":70000,");
+  header.erase(header.size() - 4);
+  ASSERT_TRUE(decode_model(all));
+  EXPECT_FALSE(decode_model(all.substr(0, 8) + header + all.substr(8 + H)));
 }
 
 TEST(ServeProtocol, FrameLayoutRoundTrips) {
