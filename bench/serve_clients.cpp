@@ -43,7 +43,6 @@ struct Arrival {
   double connected = 0, first_frame = -1, basis = -1;
   long modes = 0, received = 0;  // the model's modes, and those received
   void on_message(const std::string& m, double now) {
-    uint32_t n = 0;
     if (m.compare(0, 4, "NSFM") == 0 && m.size() >= 8) {
       uint32_t h = 0;
       std::memcpy(&h, m.data() + 4, 4);
@@ -52,6 +51,7 @@ struct Arrival {
       modes = j.value("modes", 0L);
       received = j.value("modes_here", modes);
     } else if (m.compare(0, 4, "NSFB") == 0 && m.size() >= 12) {
+      uint32_t n = 0;  // the message's modes (docs/SERVE.md, "Basis messages")
       std::memcpy(&n, m.data() + 8, 4);
       received += long(n);
     } else if (m.compare(0, 4, "NSFF") == 0 && first_frame < 0) {
