@@ -33,16 +33,20 @@ void warn_if_scene_overrides(const CalibrationOptions& o, DecoderFamily decoders
   const SceneRomSettings scene = scene_rom_settings(o, decoders);
   const std::string family = family_name(decoders);
   const std::string where = scene.tracked ? "tracked object" : family + " object";
-  const auto warn = [&](const char* key, double value, const char* unit) {
+  const auto warn = [&](const char* key, const std::string& value, const char* unit) {
     std::fprintf(stderr,
-                 "nsf: warning: the scene sets rom.%s = %g%s for %s models%s, which nsf rom uses "
+                 "nsf: warning: the scene sets rom.%s = %s%s for %s models%s, which nsf rom uses "
                  "ahead of the model's calibration; remove it there (or set it to null in its "
                  "rom.%s) to use the calibration\n",
-                 key, value, unit, family.c_str(), scene.tracked ? " with the tracked state" : "",
-                 where.c_str());
+                 key, value.c_str(), unit, family.c_str(),
+                 scene.tracked ? " with the tracked state" : "", where.c_str());
   };
-  if (scene.latent_prior) warn("latent_prior", *scene.latent_prior, " m");
-  if (scene.dt_ratio && step) warn("dt_ratio", *scene.dt_ratio, "");
+  if (scene.latent_prior) {
+    std::ostringstream prior;
+    prior << *scene.latent_prior;
+    warn("latent_prior", prior.str(), " m");
+  }
+  if (scene.dt_ratio && step) warn("dt_ratio", dt_ratio_arg(*scene.dt_ratio), "");
 }
 
 }  // namespace

@@ -46,7 +46,7 @@ std::string command_of(const GeneralizeArgs& a, const CLI::App& cmd) {
   if (a.tracked) c << " --tracked";
   if (cmd.count("--samples")) c << " --samples " << a.samples;
   if (cmd.count("--latent-prior")) c << " --latent-prior " << a.latent_prior;
-  if (cmd.count("--dt-ratio")) c << " --dt-ratio " << a.dt_ratio;
+  if (cmd.count("--dt-ratio")) c << " --dt-ratio " << dt_ratio_arg(a.dt_ratio);
   if (cmd.count("--profile")) c << " --profile " << a.opt.rom.profile;
   if (!a.opt.coarse_scene.empty()) c << " --coarse-scene " << quoted_arg(a.opt.coarse_scene);
   if (cmd.count("--threads")) c << " -j " << a.opt.rom.threads;  // the speed-ups depend on it
@@ -118,8 +118,7 @@ void add_generalize_command(CLI::App& app) {
                   "The inversion's latent prior, metres (default: the scene's, else the model's "
                   "calibration; 0 = none)")
       ->check(in_range(0.0, 1e3));
-  cmd->add_option("--dt-ratio", a->dt_ratio, "ROM step over the scene's dt (default: the scene's)")
-      ->check(in_range(1e-3, 1e4));
+  add_dt_ratio_option(cmd, a->dt_ratio, "default: the scene's");
   add_profile_option(cmd, a->opt.rom.profile);
   cmd->add_option("--coarse-scene", a->opt.coarse_scene,
                   "The coarse engine's scene (default: this scene at 1.5x dx)");

@@ -63,10 +63,9 @@ void add_rom_command(CLI::App& app) {
                   "Write k points per particle, queried from g (Fig. 6)")
       ->capture_default_str()
       ->check(in_range(1, 64));
-  auto* dt_ratio = cmd->add_option("--dt-ratio", a->dt_ratio,
-                                   "ROM time step over the scene's dt (default: the scene's "
-                                   "rom.dt_ratio, or 1; at most the scene's substeps per frame)")
-                       ->check(in_range(1e-3, 1e4));
+  auto* dt_ratio = add_dt_ratio_option(
+      cmd, a->dt_ratio,
+      "default: the scene's rom.dt_ratio, or 1; at most the scene's substeps per frame");
   auto* latent_prior =
       cmd->add_option("--latent-prior", a->latent_prior,
                       "Hold the inversion near the training runs' latents: a latent one training "

@@ -3,9 +3,11 @@
 // -j/--threads N, threads, 0 = all cores; -q/--quiet, no progress lines. Results and errors
 // print either way.
 #include <CLI/CLI.hpp>
+#include <sstream>
 #include <string>
 
 #include "app/option_checks.h"
+#include "rom/rom_options.h"
 
 namespace nsf::app {
 
@@ -39,6 +41,38 @@ inline CLI::Option* add_profile_option(CLI::App* cmd, std::string& profile) {
                    "outside the model's training family, else the family's), family or unseen")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "family", "unseen"}));
+}
+
+// --dt-ratio: the ROM step over the scene's Δt, a number, or "cfl" for the largest step within the
+// CFL bound (read as RomOptions::kDtRatioAtCfl). `help` says where the default comes from.
+inline CLI::Option* add_dt_ratio_option(CLI::App* cmd, double& ratio, const std::string& help) {
+  static_assert(RomOptions::kDtRatioAtCfl == 0, "\"cfl\" is read as 0 below");
+  const CLI::Validator range = in_range(1e-3, 1e4);
+  return cmd
+      ->add_option("--dt-ratio", ratio,
+                   "ROM time step over the scene's dt, or cfl: the largest step within the CFL "
+                   "bound (" +
+                       help + ")")
+      ->transform(CLI::Validator(
+          [range](std::string& input) {
+            if (input != "cfl") {
+              const std::string problem = range(input);
+              return problem.empty() ? problem : problem + ", or cfl";
+            }
+            input = "0";
+            return std::string();
+          },
+          "a number in 0.001 to 10000, or cfl"));
+}
+
+// The --dt-ratio value as a command line spells it.
+inline std::string dt_ratio_arg(double ratio) {
+  std::ostringstream os;
+  if (ratio == RomOptions::kDtRatioAtCfl)
+    os << "cfl";
+  else
+    os << ratio;
+  return os.str();
 }
 
 inline CLI::Option* add_quiet_flag(CLI::App* cmd, bool& quiet,

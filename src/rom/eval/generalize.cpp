@@ -227,6 +227,7 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
     d["stress_error"] = number_or_null(r.stress_error);
     d["speedup"] = number_or_null(r.speedup());
     d["real_time_factor"] = number_or_null(rt);
+    d["dt_ratio"] = r.dt_ratio;  // the step taken, which "cfl" sets per draw
     d["representation_delta"] = r.budget ? number_or_null(r.budget->encoded.delta) : nullptr;
     d["projection_delta"] = r.budget ? number_or_null(r.budget->projected.delta) : nullptr;
     d["lookup_delta"] = number_or_null(b.lookup_delta);
@@ -323,6 +324,7 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
       j["threads"] = g.report->threads;
       j["rom"] = {{"samples", g.report->samples},
                   {"dt_ratio", g.report->dt_ratio},
+                  {"dt_ratio_source", g.report->dt_ratio_source},
                   {"latent_prior", g.report->latent_prior},
                   {"latent_prior_source", g.report->latent_prior_source},
                   {"sampling", g.report->sampling},

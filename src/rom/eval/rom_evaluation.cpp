@@ -372,6 +372,9 @@ RomReport evaluate_rom(const RomEvalOptions& o) {
   LatentStepper rom(fields, std::move(s.scene), rep.mu, s.options);
   rep.rom_setup_seconds = now_seconds() - t0;
   rep.rom_steps_per_frame = rom.steps_per_frame();
+  if (s.options.dt_ratio == RomOptions::kDtRatioAtCfl)
+    rep.dt_ratio = double(rep.fom_steps_per_frame) / rep.rom_steps_per_frame,
+    rep.dt_ratio_source += ", at the CFL bound";
   rep.samples = rom.sample_count();
   rep.field_sources = rom.diagnostics().field_sources;
   const std::unique_ptr<ErrorBudget> budget =

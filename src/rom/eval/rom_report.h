@@ -32,8 +32,9 @@ struct RomReport {
   // Where ε came from: "command line", "scene" (its rom section, or none there) or "model" (the
   // model's calibration, `nsf calibrate`).
   std::string latent_prior_source;
-  double dt_ratio =
-      1;  // the ROM step over the scene's Δt asked for (rom_steps_per_frame rounds it)
+  // The ROM step over the scene's Δt asked for (rom_steps_per_frame rounds it); asked "at the CFL
+  // bound" (RomOptions::kDtRatioAtCfl), the one taken.
+  double dt_ratio = 1;
   // Where it came from: "command line", "scene" (its rom section), "model" (`nsf calibrate
   // --dt-ratios`) or "default" (1).
   std::string dt_ratio_source;

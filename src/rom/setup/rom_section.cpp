@@ -63,7 +63,10 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
     sampling.erase(key);
     return out = v.get<int>();
   };
-  s.dt_ratio = number("dt_ratio", false, "the ROM step over simulation.dt");
+  if (rom.contains("dt_ratio") && rom.at("dt_ratio") == "cfl")
+    s.dt_ratio = RomOptions::kDtRatioAtCfl, sampling.erase("dt_ratio");
+  else
+    s.dt_ratio = number("dt_ratio", false, "the ROM step over simulation.dt, or \"cfl\"");
   s.quadrature =
       integer("quadrature", 0, 1000, "integration points per grid cell; 0: every particle");
   s.gn_iterations = integer("gn_iterations", 1, 100, "the Gauss-Newton iteration cap");

@@ -121,7 +121,9 @@ struct LatentStepper::Impl {
     const double cfl_bound =
         cfl_time_step_bound(scene) * (opt.cfl > 0 ? opt.cfl / scene.settings.cfl : 1.0);
     const SimSettings& s = scene.settings;
-    if (!(opt.dt_ratio > 0)) fail("rom: the time-step ratio must be positive, got ", opt.dt_ratio);
+    const bool at_cfl = opt.dt_ratio == RomOptions::kDtRatioAtCfl;
+    if (!(opt.dt_ratio > 0) && !at_cfl)
+      fail("rom: the time-step ratio must be positive, got ", opt.dt_ratio);
     // A frame holds a whole number of ROM steps, at least one: a larger ratio was clamped
     // without a word.
     if (opt.dt_ratio > s.substeps)
@@ -132,7 +134,9 @@ struct LatentStepper::Impl {
     // integrated over the step, so the grid's elastic waves do not set the ROM's stability
     // limit (sand_paper runs at 4Δt, 3.7 times the bound;
     // docs/experiments/2026-11-25-larger-rom-steps.md).
-    per_frame = std::max(1, int(std::lround(s.substeps / opt.dt_ratio)));
+    // At the CFL bound: the fewest whole steps per frame that keep within it.
+    per_frame = at_cfl ? std::max(1, int(std::ceil(s.substeps * s.dt / cfl_bound * (1 - 1e-9))))
+                       : std::max(1, int(std::lround(s.substeps / opt.dt_ratio)));
     dt = s.substeps * s.dt / per_frame;
     T = s.frames * s.substeps * s.dt;
     dx = s.dx;

@@ -68,7 +68,8 @@ void TrackedParticles::check(double cfl_bound) const {
   if (explicit_stress_ && dt_ > cfl_bound * (1 + 1e-9))
     fail_diverged("rom: ", what_, " integrates the material explicitly, so the ROM step ", dt_,
                   " s must stay within the CFL bound ", cfl_bound,
-                  " s: lower --dt-ratio (or raise the scene's rom.cfl)");
+                  " s: lower --dt-ratio, take the step at the bound (--dt-ratio cfl) or raise the "
+                  "scene's rom.cfl");
 }
 
 Mat3 TrackedParticles::update(size_t p) {

@@ -27,7 +27,8 @@ TEST(RomSection, TakesSamplesAndATimeStepRatio) {
   EXPECT_EQ(parse_rom_section(json()).sampling.count, SamplingSpec().count);  // no section
 
   expect_rejected({{"samples", 50}, {"dt_ratio", 0}}, {"rom.dt_ratio", "positive"});
-  expect_rejected({{"dt_ratio", "fast"}}, {"rom.dt_ratio", "fast"});
+  expect_rejected({{"dt_ratio", "fast"}}, {"rom.dt_ratio", "fast", "\"cfl\""});
+  EXPECT_EQ(parse_rom_section(json{{"dt_ratio", "cfl"}}).dt_ratio, nsf::RomOptions::kDtRatioAtCfl);
   // The unknown key, and the known ones.
   expect_rejected({{"samples", 50}, {"step", 2}}, {"rom.step", "dt_ratio"});
   expect_rejected(5, {"'rom'"});

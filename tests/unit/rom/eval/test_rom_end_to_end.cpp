@@ -227,7 +227,7 @@ TEST_F(RomEndToEnd, TimeStepRatioIsTakenAsAskedEvenBeyondTheCflBound) {
   EXPECT_EQ(coarse.steps_per_frame(), 1);
   EXPECT_NEAR(coarse.dt(), frame_time, 1e-12);
   EXPECT_GT(coarse.dt(), 2 * bound);
-  o.dt_ratio = 0;
+  o.dt_ratio = -1;
   nsf::testing::expect_contains(nsf::testing::error_of([&] {
                                   nsf::LatentStepper(f, nsf::load_scene(kTinyScene), test_mu(), o);
                                 }),
@@ -240,6 +240,31 @@ TEST_F(RomEndToEnd, TimeStepRatioIsTakenAsAskedEvenBeyondTheCflBound) {
                                 "steps per frame; at most that");
 }
 
+// "cfl": the fewest whole steps per frame within the CFL bound, the scene's or the ROM's own
+// factor's.
+TEST_F(RomEndToEnd, TimeStepAtTheCflBoundIsTheLargestWholeStepWithinIt) {
+  nsf::NeuralFields f = nsf::NeuralFields::load(model());
+  const nsf::Scene scene = nsf::load_scene(kTinyScene);
+  const double frame_time = scene.settings.substeps * scene.settings.dt;
+  nsf::RomOptions o;
+  o.sampling.count = 16;
+  o.dt_ratio = nsf::RomOptions::kDtRatioAtCfl;
+  for (const double cfl : {0.0, 0.3, 1.0}) {
+    o.cfl = cfl;
+    const double bound =
+        nsf::cfl_time_step_bound(scene) * (cfl > 0 ? cfl / scene.settings.cfl : 1.0);
+    const nsf::LatentStepper rom(f, nsf::load_scene(kTinyScene), test_mu(), o);
+    const int n = rom.steps_per_frame();
+    SCOPED_TRACE("cfl " + std::to_string(cfl) + ", " + std::to_string(n) + " steps a frame");
+    EXPECT_NEAR(rom.dt(), frame_time / n, 1e-15);
+    EXPECT_LE(rom.dt(), bound * (1 + 1e-12));
+    if (n > 1) {
+      EXPECT_GT(frame_time / (n - 1), bound);  // one step fewer would break it
+    }
+    EXPECT_NE(n, scene.settings.substeps);  // not the scene's own step: the case tests something
+  }
+}
+
 TEST_F(RomEndToEnd, SceneSetsTheTimeStepRatioAndTheCommandLineOverridesIt) {
   nsf::RomEvalOptions o = options();
   o.overrides = {"rom.dt_ratio=3"};
@@ -249,6 +274,12 @@ TEST_F(RomEndToEnd, SceneSetsTheTimeStepRatioAndTheCommandLineOverridesIt) {
   o.dt_ratio = 5;
   const nsf::RomReport given = nsf::evaluate_rom(o);
   EXPECT_EQ(given.rom_steps_per_frame, 3);
+  // At the CFL bound, the report gives the ratio taken, and says where it came from.
+  o.dt_ratio.reset();
+  o.overrides = {"rom.dt_ratio=cfl"};
+  const nsf::RomReport at_cfl = nsf::evaluate_rom(o);
+  EXPECT_DOUBLE_EQ(at_cfl.dt_ratio, 15.0 / at_cfl.rom_steps_per_frame);
+  EXPECT_EQ(at_cfl.dt_ratio_source, "scene, at the CFL bound");
 }
 
 // A basis model runs through the same step with its own sources: close to ground truth, with
