@@ -23,7 +23,8 @@ std::string runtime_dir() {
   return fs::absolute(fs::path(info.dli_fname)).parent_path().string();
 }
 
-// Opens `file` and checks its table; an empty string and the table, or why it cannot be used.
+// The table of library `file`, opened and checked; null, with the reason in `why`, where it cannot
+// be used.
 const nsf_mlp_plugin* open_plugin(const std::string& file, std::string& why) {
   if (!fs::exists(file)) {
     why = "no such file";

@@ -21,9 +21,9 @@ inline constexpr const char* kMlpPluginVariable = "NSF_MLP_PLUGIN";
 // the folder of the runtime library.
 std::vector<std::string> mlp_plugin_candidates(const char* env, const std::string& runtime_dir);
 
-// The plugin's table, opened and checked (its ABI and nsf version the runtime's) on the first
-// call. Throws nsf::Error naming model file `model`, every file looked for and why each failed,
-// and how to get the plugin.
+// The table of the first candidate that is a usable plugin (its ABI version and nsf version the
+// runtime's), for model file `model`; each file is opened once per process. Throws nsf::Error
+// naming the model, every file looked for and why each failed, and how to get the plugin.
 const nsf_mlp_plugin& mlp_plugin(const std::string& model);
 
 }  // namespace nsf
