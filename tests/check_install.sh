@@ -124,6 +124,16 @@ frames=$(grep -c '^frame' "$tmp/c_mlp.out")
 ((frames == 12)) || die "the C host printed $frames frames of the MLP model, the scene has 12"
 awk '/^frame/ { for (i = 2; i <= NF; ++i) if ($i ~ /nan|inf/) exit 1 }' "$tmp/c_mlp.out" ||
   die "the C host printed a position that is not finite for the MLP model"
+# The runtime's baseline copy runs it through the same plugin, ending where the other copy does.
+if [[ -f "$(dirname "$lib")/glibc-hwcaps/x86-64-v3/libnsf_runtime.so.0" ]]; then
+  env -u NSF_MLP_PLUGIN /lib64/ld-linux-x86-64.so.2 --glibc-hwcaps-mask x86-64-v2 \
+    "$tmp/c_host/c_host" "$tmp/tiny_mlp.nsf" "$scene" 1.0 0.5 >"$tmp/c_mlp_base.out" ||
+    die "the C host failed on an MLP model with the runtime's baseline copy"
+  a=$(awk '/^frame 12 / {print $7}' "$tmp/c_mlp.out")
+  b=$(awk '/^frame 12 / {print $7}' "$tmp/c_mlp_base.out")
+  awk -v a="$a" -v b="$b" 'BEGIN { d = a - b; exit !(d < 1e-4 && d > -1e-4) }' ||
+    die "the MLP model's centroid ends at y $b on the baseline copy, $a on the other"
+fi
 # The plugin moved away: nowhere to be found, the host gets a setup error that says what to do.
 mv "$plugin" "$plugin.away"
 status=0
