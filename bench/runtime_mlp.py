@@ -18,6 +18,7 @@ import argparse
 import json
 import os
 import re
+import shutil
 import statistics
 import subprocess
 import sys
@@ -92,6 +93,13 @@ def main():
     if not os.path.exists(nsf):
         sys.exit(f"runtime_mlp: {nsf} is missing (bash scripts/build.sh)")
     work = tempfile.mkdtemp(prefix="nsf_runtime_mlp_")
+    try:
+        measure(a, nsf, build, work)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def measure(a, nsf, build, work):
     if a.model:
         if not a.scene or a.mu is None:
             sys.exit("runtime_mlp: --model needs --scene and --mu")
