@@ -9,7 +9,9 @@
 # a CPU that has it, and the baseline copy runs the C host too. Then the C API (include/nsf/nsf.h):
 # the header alone as C99 (-pedantic -Werror) and as C++, examples/c built against the prefix and
 # run, and examples/rust (cargo build --offline, no crates) run, printing what the C host printed
-# (skipped, saying so, where cargo is absent).
+# (skipped, saying so, where cargo is absent). An MLP model runs in the C host through the installed
+# MLP plugin (LIBDIR/nsf/libnsf_mlp.so), which the runtime does not link, and without the plugin
+# the host gets NSF_ERROR_SETUP naming where it looked.
 # Usage: tests/check_install.sh BUILD_DIR SOURCE_DIR. Run by ctest (install_and_embed).
 set -euo pipefail
 build=$(cd "$1" && pwd)
@@ -102,6 +104,47 @@ y_still=$(awk '/^frame 12 / {print $7}' "$tmp/c.still")
 awk -v a="$y_moved" -v b="$y_still" 'BEGIN { exit !(a > b) }' ||
   die "the centroid is at y $y_moved with the floor raised, $y_still with it still"
 
+step "an MLP model through the installed runtime and its MLP plugin"
+plugin="$(dirname "$lib")/nsf/libnsf_mlp.so"
+[[ -f "$plugin" ]] || die "no MLP plugin installed at $plugin"
+if ldd "$lib" | grep -Ei 'torch|c10'; then
+  die "the installed runtime loads LibTorch (above): only its MLP plugin may"
+fi
+nm -D --defined-only "$plugin" | grep -q ' T nsf_mlp_plugin_table$' ||
+  die "the MLP plugin does not export nsf_mlp_plugin_table"
+if nm -D --defined-only "$plugin" | grep -v " nsf_mlp_plugin_table$"; then
+  die "the MLP plugin exports more than its table (above)"
+fi
+"$prefix/bin/nsf" train "$tmp/data" --out "$tmp/tiny_mlp.nsf" --decoder mlp -r 2 --depth 2 \
+  --widths 32,16,16 --encoder-hidden 8 --steps 100,50,50 --refine-latents 0 -j 2 -q \
+  --frames-per-batch 2 --particles-per-frame 64 >/dev/null
+env -u NSF_MLP_PLUGIN "$tmp/c_host/c_host" "$tmp/tiny_mlp.nsf" "$scene" 1.0 0.5 >"$tmp/c_mlp.out" ||
+  die "the C host failed on an MLP model"
+frames=$(grep -c '^frame' "$tmp/c_mlp.out")
+((frames == 12)) || die "the C host printed $frames frames of the MLP model, the scene has 12"
+awk '/^frame/ { for (i = 2; i <= NF; ++i) if ($i ~ /nan|inf/) exit 1 }' "$tmp/c_mlp.out" ||
+  die "the C host printed a position that is not finite for the MLP model"
+# The runtime's baseline copy runs it through the same plugin, ending where the other copy does.
+if [[ -f "$(dirname "$lib")/glibc-hwcaps/x86-64-v3/libnsf_runtime.so.0" ]]; then
+  env -u NSF_MLP_PLUGIN /lib64/ld-linux-x86-64.so.2 --glibc-hwcaps-mask x86-64-v2 \
+    "$tmp/c_host/c_host" "$tmp/tiny_mlp.nsf" "$scene" 1.0 0.5 >"$tmp/c_mlp_base.out" ||
+    die "the C host failed on an MLP model with the runtime's baseline copy"
+  a=$(awk '/^frame 12 / {print $7}' "$tmp/c_mlp.out")
+  b=$(awk '/^frame 12 / {print $7}' "$tmp/c_mlp_base.out")
+  awk -v a="$a" -v b="$b" 'BEGIN { d = a - b; exit !(d < 1e-4 && d > -1e-4) }' ||
+    die "the MLP model's centroid ends at y $b on the baseline copy, $a on the other"
+fi
+# The plugin moved away: nowhere to be found, the host gets a setup error that says what to do.
+mv "$plugin" "$plugin.away"
+status=0
+env -u NSF_MLP_PLUGIN "$tmp/c_host/c_host" "$tmp/tiny_mlp.nsf" "$scene" 1.0 0.5 \
+  >/dev/null 2>"$tmp/c_mlp.err" || status=$?
+mv "$plugin.away" "$plugin"
+((status != 0)) || die "the C host ran an MLP model without the plugin"
+grep -q 'NSF_ERROR_SETUP' "$tmp/c_mlp.err" || die "no NSF_ERROR_SETUP without the plugin"
+grep -qF "$plugin" "$tmp/c_mlp.err" || die "the error does not name $plugin"
+echo "without the plugin: $(head -c 300 "$tmp/c_mlp.err")..."
+
 step "the runtime's copy for x86-64-v3 CPUs (glibc-hwcaps), and the baseline copy"
 libdir=$(dirname "$lib")
 loader=/lib64/ld-linux-x86-64.so.2
@@ -134,10 +177,14 @@ fi
 
 step "a C++14 host through find_package (the imported target asks for C++17) and pkg-config"
 mkdir -p "$tmp/cxx14"
-printf 'cmake_minimum_required(VERSION 3.20)\nproject(h LANGUAGES CXX)\nset(CMAKE_CXX_STANDARD 14)\nfind_package(nsf REQUIRED)\nadd_executable(h main.cpp)\ntarget_link_libraries(h PRIVATE nsf::runtime)\n' \
+printf 'cmake_minimum_required(VERSION 3.20)\nproject(h LANGUAGES CXX)\nset(CMAKE_CXX_STANDARD 14)\nfind_package(nsf REQUIRED)\nmessage(STATUS "plugin: ${nsf_MLP_PLUGIN}")\nadd_executable(h main.cpp)\ntarget_link_libraries(h PRIVATE nsf::runtime)\n' \
   >"$tmp/cxx14/CMakeLists.txt"
 cp "$src/examples/embed/main.cpp" "$tmp/cxx14/main.cpp"
-cmake -S "$tmp/cxx14" -B "$tmp/cxx14/build" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+cmake -S "$tmp/cxx14" -B "$tmp/cxx14/build" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" >"$tmp/cxx14.log"
+# The package says where the MLP plugin is.
+grep -qF -- "-- plugin: $(cd "$(dirname "$plugin")" && pwd -P)/libnsf_mlp.so" "$tmp/cxx14.log" ||
+  grep -qF -- "-- plugin: $plugin" "$tmp/cxx14.log" ||
+  die "the package's nsf_MLP_PLUGIN is not $plugin: $(grep -- '-- plugin' "$tmp/cxx14.log")"
 cmake --build "$tmp/cxx14/build" >/dev/null || die "a C++14 host does not build against nsf::runtime"
 pc="$(dirname "$lib")/pkgconfig"
 [[ -f "$pc/nsf.pc" ]] || die "no nsf.pc installed"

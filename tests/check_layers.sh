@@ -8,6 +8,8 @@
 #   rom/eval, rom/calibration   also io: they run the ROM against a truth read from, and written
 #         to, run files (the library behind nsf rom, report, calibrate and generalize)
 #   runtime   core, mpm, data, nn, rom (the embedding API; it writes no files either)
+#   plugin   core, mpm, io, data, nn (libnsf_mlp.so: an MLP model's networks behind the C table of
+#         nn/mlp_plugin_abi.h, which the runtime opens; neither includes the other)
 #   net   core (the WebSocket server of nsf serve: no model, no engine)
 #   app   anything
 # The embedding API's public header, include/nsf/runtime.h, includes nothing of src/ at all.
@@ -33,6 +35,7 @@ allowed() {
     io | data | nn) echo "core mpm io data nn" ;;
     rom) echo "core mpm data nn rom" ;;
     runtime) echo "core mpm data nn rom runtime" ;;
+    plugin) echo "core mpm io data nn plugin" ;;
     net) echo "core net" ;;
     app) echo "core mpm io data nn rom runtime net app" ;;
     *) return 1 ;;

@@ -1,6 +1,7 @@
 // Loads a model through the embedding API (include/nsf/runtime.h) and times it: the load (model
 // file, scene, the stepper's set-up) and each frame of advance_frame(). Built and run by
-// bench/runtime.py against each runtime it compares; prints one JSON object.
+// bench/runtime.py against each runtime it compares, and by bench/runtime_mlp.py; prints one JSON
+// object.
 //   step_timer MODEL SCENE MU THREADS
 #include <nsf/runtime.h>
 
@@ -39,8 +40,8 @@ int main(int argc, char** argv) {
     for (float v : x) checksum += double(v);
     std::printf("{\"load_s\": %.6f, \"frame_s\": [", load);
     for (size_t f = 0; f < frames.size(); ++f) std::printf("%s%.6f", f ? ", " : "", frames[f]);
-    std::printf("], \"sum_positions\": %.9g, \"build_arch\": \"%s\"}\n", checksum,
-                nsf::build_arch());
+    std::printf("], \"steps_per_frame\": %d, \"sum_positions\": %.9g, \"build_arch\": \"%s\"}\n",
+                rom.steps_per_frame(), checksum, nsf::build_arch());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "step_timer: %s\n", e.what());
     return 1;

@@ -2,8 +2,9 @@
 // The torch-level half of a model behind a torch-free interface: the encoder e and the paper's
 // coordinate networks g, h, l (nn/torch_networks.cpp, in libnsf_nn). NeuralFields holds one when
 // it was loaded with LibTorch (NeuralFields::load); the reduced-order stepper's network
-// sources (src/rom/fields/network_fields.cpp) call it. The torch-free runtime has none, and runs
-// basis models only.
+// sources (src/rom/fields/network_fields.cpp) call it. The torch-free runtime takes one from its
+// MLP plugin (runtime/plugin_networks.h, over the C table of nn/mlp_plugin_abi.h) for an MLP
+// model, and needs none for a basis model.
 #include <Eigen/Core>
 #include <memory>
 #include <string>

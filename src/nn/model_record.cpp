@@ -300,7 +300,7 @@ void adopt_legacy_entries(ModelAttachments& attachments, const nlohmann::json& e
   if (!entries.empty()) attachments.emplace(kLegacyAttachment, entries.dump());
 }
 
-ModelRecord read_model_record(const std::string& path) {
+std::optional<ModelRecord> find_model_record(const std::string& path) {
   bool checked = false;
   const std::string bytes = read_checked_file(path, "model file", checked);
   std::vector<ZipEntry> entries;
@@ -313,6 +313,11 @@ ModelRecord read_model_record(const std::string& path) {
            "or cut, or its zip comment was removed). Copy it again or retrain");
     return decode_model_record(std::string_view(bytes).substr(size_t(e.data), e.size), path);
   }
+  return std::nullopt;
+}
+
+ModelRecord read_model_record(const std::string& path) {
+  if (std::optional<ModelRecord> record = find_model_record(path)) return std::move(*record);
   fail("model file ", path,
        " has no run-time record, which this torch-free runtime needs: it is an MLP model (its "
        "networks need LibTorch: run it with the nsf tool), or a basis model saved by an older "

@@ -4,12 +4,14 @@
 // of a basis model (nsf train, calibrate, upgrade) stores it inside the model file, as one more
 // entry of its zip, and the bases live there alone, so that libnsf_runtime.so loads basis models
 // with the C++ standard library, Eigen and OpenMP. An MLP model's networks need LibTorch: its
-// file has no record.
+// file has no record, and the runtime's MLP plugin (nn/mlp_plugin_abi.h) makes one from the
+// torch archive when it loads the model.
 #include <Eigen/Core>
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -56,7 +58,11 @@ ModelRecord decode_model_record(std::string_view bytes, const std::string& path)
 // Where a record starts inside an archive entry: the entry's first bytes.
 bool is_model_record(const char* p, size_t n);
 
-// The record inside model file `path`, its checksum and the record's own verified. Throws
+// The record inside model file `path`, its checksum and the record's own verified; nothing when
+// the file holds none (an MLP model, or a basis model saved before nsf stored one). Throws
+// nsf::Error naming the file when it cannot be read or is damaged.
+std::optional<ModelRecord> find_model_record(const std::string& path);
+// The same, where the file must hold one. Throws
 // nsf::Error naming the file when it cannot be read, is damaged, or holds no record (an MLP model,
 // or a basis model saved before nsf stored one), saying what to do.
 ModelRecord read_model_record(const std::string& path);

@@ -65,8 +65,21 @@ namespace {
 }  // namespace
 
 NeuralFields NeuralFields::load_basis(const std::string& path) {
+  return from_record(read_model_record(path));
+}
+
+NeuralFields NeuralFields::from_record(ModelRecord record,
+                                       std::unique_ptr<CoordinateNetworks> networks) {
+  const bool mlp = record.family == DecoderFamily::mlp;
+  if (mlp && !networks)
+    fail("model of scene '", record.scene.scene_name,
+         "': an MLP model's record comes without its networks");
+  if (!mlp && networks)
+    fail("model of scene '", record.scene.scene_name,
+         "': a basis model's record comes with networks, which it does not use");
   NeuralFields f;
-  f.record_ = read_model_record(path);
+  f.record_ = std::move(record);
+  f.net_ = std::move(networks);
   return f;
 }
 

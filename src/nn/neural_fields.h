@@ -3,7 +3,8 @@
 // `nsf eval` and other programs evaluate the encoder e and the fields g, h, l over many
 // particles per call. Latents and results are double at the interface; the networks run in float.
 // Loaded with load_basis(), it needs no torch at all (the model file's run-time record,
-// nn/model_record.h), and serves basis models; load() (libnsf_nn) adds the networks.
+// nn/model_record.h), and serves basis models; load() (libnsf_nn) adds the networks, and
+// from_record() takes them from elsewhere (the runtime's MLP plugin).
 #include <Eigen/Core>
 #include <memory>
 #include <string>
@@ -32,6 +33,11 @@ class NeuralFields {
   // nsf::Error naming the file when it cannot be used: an MLP model, or a file without a
   // record, among them.
   static NeuralFields load_basis(const std::string& path);
+  // A model from its run-time record and, for an MLP model, networks that another layer supplies
+  // (the runtime's MLP plugin, runtime/plugin_networks.h). Throws nsf::Error when an MLP record
+  // comes without networks, or a basis record with them.
+  static NeuralFields from_record(ModelRecord record,
+                                  std::unique_ptr<CoordinateNetworks> networks = nullptr);
   ~NeuralFields();
   NeuralFields(NeuralFields&&) noexcept;
   NeuralFields& operator=(NeuralFields&&) noexcept;

@@ -14,6 +14,7 @@
 #include "rom/setup/rom_setup.h"
 #include "rom/step/latent_stepper.h"
 #include "rom/step/step_guard.h"
+#include "runtime/runtime_model.h"
 
 namespace nsf {
 
@@ -64,7 +65,7 @@ struct Runtime::Impl {
   std::unique_ptr<StepGuard> guard;        // and this one to `stepper`
 
   Impl(const std::string& model_path, const std::string& scene_path, const RuntimeOptions& o)
-      : fields(NeuralFields::load_basis(model_path)) {
+      : fields(load_runtime_model(model_path, o.threads)) {
     RomSetup s = rom_setup(fields, scene_path, o.mu, o.overrides, o.samples);
     frames = s.scene.settings.frames;
     frame_time = s.scene.settings.substeps * s.scene.settings.dt;
