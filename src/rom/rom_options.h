@@ -26,7 +26,8 @@ struct RomOptions {
   // a scene is measured, not derived: on metal_small 1.5 gave δ 3.3 %, 1.0 gave 1.5 %; on the
   // paper-size sand 4 gives 3.6 % against 5.2 % at 1.0
   // (docs/experiments/2026-11-25-larger-rom-steps.md). kDtRatioAtCfl: the largest step within the
-  // CFL bound (`cfl` below, else the scene's), so that a scene made stiffer or finer keeps a
+  // CFL bound (`cfl` below, else the scene's; the fastest particle's start speed added to the
+  // wave speed), so that a scene made stiffer or finer keeps a
   // stable step without a new ratio.
   double dt_ratio = 1.0;
   static constexpr double kDtRatioAtCfl = 0;

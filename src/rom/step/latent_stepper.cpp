@@ -118,8 +118,9 @@ struct LatentStepper::Impl {
     mass = P.mass, vol0 = P.vol0;
     const std::vector<Vec3> v0 = P.v;
     const std::vector<Mat3> F0 = P.F;
-    const double cfl_bound =
-        cfl_time_step_bound(scene) * (opt.cfl > 0 ? opt.cfl / scene.settings.cfl : 1.0);
+    double wave_speed = 0;
+    const double cfl_bound = cfl_time_step_bound(scene, &wave_speed) *
+                             (opt.cfl > 0 ? opt.cfl / scene.settings.cfl : 1.0);
     const SimSettings& s = scene.settings;
     const bool at_cfl = opt.dt_ratio == RomOptions::kDtRatioAtCfl;
     if (!(opt.dt_ratio > 0) && !at_cfl)
@@ -134,8 +135,14 @@ struct LatentStepper::Impl {
     // integrated over the step, so the grid's elastic waves do not set the ROM's stability
     // limit (sand_paper runs at 4Δt, 3.7 times the bound;
     // docs/experiments/2026-11-25-larger-rom-steps.md).
-    // At the CFL bound: the fewest whole steps per frame that keep within it.
-    per_frame = at_cfl ? std::max(1, int(std::ceil(s.substeps * s.dt / cfl_bound * (1 - 1e-9))))
+    // At the CFL bound: the fewest whole steps per frame that keep within it, the fastest
+    // particle's start speed added to the wave's (cfl·Δx / (c + |v|), MPM's usual bound): a throw
+    // or an inflow crosses cells too, and a ROM step at the elastic bound alone let a faster
+    // inflow leave the grid (docs/experiments/2026-11-30-step-at-the-cfl-bound.md).
+    double v_max = 0;
+    for (const Vec3& v : v0) v_max = std::max(v_max, v.norm());
+    const double step_bound = cfl_bound * wave_speed / (wave_speed + v_max);
+    per_frame = at_cfl ? std::max(1, int(std::ceil(s.substeps * s.dt / step_bound * (1 - 1e-9))))
                        : std::max(1, int(std::lround(s.substeps / opt.dt_ratio)));
     dt = s.substeps * s.dt / per_frame;
     T = s.frames * s.substeps * s.dt;

@@ -241,28 +241,41 @@ TEST_F(RomEndToEnd, TimeStepRatioIsTakenAsAskedEvenBeyondTheCflBound) {
 }
 
 // "cfl": the fewest whole steps per frame within the CFL bound, the scene's or the ROM's own
-// factor's.
+// factor's, with the fastest particle's start speed added to the wave's: cfl·Δx / (c + |v|).
 TEST_F(RomEndToEnd, TimeStepAtTheCflBoundIsTheLargestWholeStepWithinIt) {
   nsf::NeuralFields f = nsf::NeuralFields::load(model());
-  const nsf::Scene scene = nsf::load_scene(kTinyScene);
-  const double frame_time = scene.settings.substeps * scene.settings.dt;
+  const auto bound_of = [](const nsf::Scene& scene, double cfl) {
+    double c = 0, v = 0;
+    const double elastic = nsf::cfl_time_step_bound(scene, &c);
+    for (const nsf::Vec3& p : scene.particles.v) v = std::max(v, p.norm());
+    return elastic * (cfl > 0 ? cfl / scene.settings.cfl : 1.0) * c / (c + v);
+  };
   nsf::RomOptions o;
   o.sampling.count = 16;
   o.dt_ratio = nsf::RomOptions::kDtRatioAtCfl;
-  for (const double cfl : {0.0, 0.3, 1.0}) {
-    o.cfl = cfl;
-    const double bound =
-        nsf::cfl_time_step_bound(scene) * (cfl > 0 ? cfl / scene.settings.cfl : 1.0);
-    const nsf::LatentStepper rom(f, nsf::load_scene(kTinyScene), test_mu(), o);
-    const int n = rom.steps_per_frame();
-    SCOPED_TRACE("cfl " + std::to_string(cfl) + ", " + std::to_string(n) + " steps a frame");
-    EXPECT_NEAR(rom.dt(), frame_time / n, 1e-15);
-    EXPECT_LE(rom.dt(), bound * (1 + 1e-12));
-    if (n > 1) {
-      EXPECT_GT(frame_time / (n - 1), bound);  // one step fewer would break it
+  const std::vector<std::string> thrown = {"objects[0].velocity=[0,-6,0]"};
+  for (const auto& overrides : {std::vector<std::string>{}, thrown})
+    for (const double cfl : {0.0, 0.3, 1.0}) {
+      o.cfl = cfl;
+      const nsf::Scene scene = nsf::load_scene(kTinyScene, overrides);
+      const double frame_time = scene.settings.substeps * scene.settings.dt;
+      const double bound = bound_of(scene, cfl);
+      const nsf::LatentStepper rom(f, nsf::load_scene(kTinyScene, overrides), test_mu(), o);
+      const int n = rom.steps_per_frame();
+      SCOPED_TRACE("cfl " + std::to_string(cfl) + (overrides.empty() ? "" : ", thrown") + ", " +
+                   std::to_string(n) + " steps a frame");
+      EXPECT_NEAR(rom.dt(), frame_time / n, 1e-15);
+      EXPECT_LE(rom.dt(), bound * (1 + 1e-12));
+      if (n > 1) {
+        EXPECT_GT(frame_time / (n - 1), bound);  // one step fewer would break it
+      }
+      EXPECT_NE(n, scene.settings.substeps);  // not the scene's own step: the case tests something
+      if (!overrides.empty()) {               // thrown faster, more steps
+        o.cfl = cfl;
+        EXPECT_GT(
+            n, nsf::LatentStepper(f, nsf::load_scene(kTinyScene), test_mu(), o).steps_per_frame());
+      }
     }
-    EXPECT_NE(n, scene.settings.substeps);  // not the scene's own step: the case tests something
-  }
 }
 
 TEST_F(RomEndToEnd, SceneSetsTheTimeStepRatioAndTheCommandLineOverridesIt) {
