@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "c_api_options.h"
 #include "cli_runner.h"
 
 extern "C" int nsf_test_c99_run(const char* model, const char* scene, char* message, size_t size);
@@ -63,14 +64,7 @@ class CApi : public ::testing::Test {
   }
   void TearDown() override { nsf_runtime_destroy(rom_); }
 
-  static nsf_runtime_options options() {
-    nsf_runtime_options o;
-    EXPECT_EQ(nsf_runtime_options_init(&o), NSF_OK);
-    o.has_mu = 1;
-    o.mu = 1.0;
-    o.threads = 2;
-    return o;
-  }
+  static nsf_runtime_options options() { return nsf::testing::tiny_c_api_options(); }
   // A runtime of the tiny model at mu 1 in rom_.
   void create(const nsf_runtime_options& o = options()) {
     ASSERT_EQ(nsf_runtime_create(model().c_str(), kScene.c_str(), &o, &rom_), NSF_OK)

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "c_api_options.h"
 #include "tiny_mlp_model.h"
 
 namespace {
@@ -33,14 +34,7 @@ class CApiMlp : public ::testing::Test {
     nsf_runtime_destroy(rom_);
     unsetenv("NSF_MLP_PLUGIN");
   }
-  static nsf_runtime_options options() {
-    nsf_runtime_options o;
-    EXPECT_EQ(nsf_runtime_options_init(&o), NSF_OK);
-    o.has_mu = 1;
-    o.mu = 1.0;
-    o.threads = 2;
-    return o;
-  }
+  static nsf_runtime_options options() { return nsf::testing::tiny_c_api_options(); }
 
   static inline fs::path root_;
   static inline std::string model_, log_;
