@@ -74,7 +74,7 @@ std::string version_text() {
   s << " FMA";
 #endif
   s << "\n";
-  s << "hot kernels (P2G, G2P): " << kernel_isa() << "\n";
+  s << "hot kernels (P2G, G2P, the ROM's products): " << kernel_isa() << "\n";
   s << "OpenMP: " << _OPENMP << ", " << omp_get_num_procs() << " processors here\n";
   s << "LibTorch: " << TORCH_VERSION << "\n";
   s << "CUDA: "

@@ -8,30 +8,37 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/dense_kernels.h"
 #include "core/error.h"
 
 namespace nsf {
 
 Eigen::VectorXd CoefficientNet::operator()(const Eigen::VectorXd& x, Eigen::MatrixXd* J) const {
-  Eigen::VectorXd a = (x - in_shift).cwiseQuotient(in_scale);
-  // ∂a/∂x, carried through the layers (outputs × inputs) when asked for.
-  Eigen::MatrixXd D;
-  if (J) D = in_scale.cwiseInverse().asDiagonal();
+  // Column 0 is the layer's value a; with J, columns 1.. are ∂a/∂x, carried through the layers
+  // (outputs × inputs). One product per layer gives both: W reads once (core/dense_kernels.h).
+  const int64_t inputs = x.size();
+  const int cols = J ? int(1 + inputs) : 1;
+  Eigen::MatrixXd A(inputs, cols), Y;
+  A.col(0) = (x - in_shift).cwiseQuotient(in_scale);
+  if (J) A.rightCols(inputs) = in_scale.cwiseInverse().asDiagonal();
   for (size_t i = 0; i < W.size(); ++i) {
-    Eigen::VectorXd y = W[i] * a + b[i];
-    if (J) D = W[i] * D;
+    if (W[i].cols() != A.rows())
+      fail("internal error: a coefficient layer of ", W[i].cols(), " inputs given ", A.rows());
+    Y.resize(W[i].rows(), cols);
+    narrow_product(W[i].data(), W[i].rows(), W[i].cols(), A.data(), cols, Y.data());
+    Y.col(0) += b[i];
     if (i + 1 < W.size()) {  // ELU between layers, not after the last
-      for (int64_t k = 0; k < y.size(); ++k) {
-        if (y[k] > 0) continue;
-        const double e = std::exp(y[k]);
-        y[k] = e - 1;
-        if (J) D.row(k) *= e;
+      for (int64_t k = 0; k < Y.rows(); ++k) {
+        if (Y(k, 0) > 0) continue;
+        const double e = std::exp(Y(k, 0));
+        Y(k, 0) = e - 1;
+        if (J) Y.row(k).tail(inputs) *= e;
       }
     }
-    a = std::move(y);
+    A.swap(Y);
   }
-  if (J) *J = out_scale.asDiagonal() * D;
-  return a.cwiseProduct(out_scale);
+  if (J) *J = out_scale.asDiagonal() * A.rightCols(inputs);
+  return A.col(0).cwiseProduct(out_scale);
 }
 
 PointBasis PointBasis::rows(const std::vector<uint32_t>& ids) const {

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/dense_kernels.h"
 #include "core/types.h"
 #include "nn/rbf_map.h"
 
@@ -50,23 +51,11 @@ struct PointBasis {
     value_of(&mean[p * size_t(dim)], &modes[p * size_t(dim) * size_t(K)], c, out);
   }
   // The same for rows held elsewhere (a merged point's blend): mean m (dim), modes B (dim × K).
-  // K a multiple of 16 (the trained sizes): each value's dot product in one 16-wide accumulator,
-  // summed once; the ROM reads every row once per step, so a general dot product's set-up per
-  // value costs as much as its arithmetic.
+  // The ROM reads every row once per step, so this is a cloned kernel (core/dense_kernels.h)
+  // called per point: a general product's set-up per point would cost more than its arithmetic.
   void value_of(const float* m, const float* B, const Eigen::VectorXf& c, float* out) const {
-    if (K % 16 != 0) {
-      for (int d = 0; d < dim; ++d)
-        out[d] = m[d] + Eigen::Map<const Eigen::VectorXf>(B + size_t(d) * size_t(K), K).dot(c);
-      return;
-    }
-    using Lanes = Eigen::Array<float, 16, 1>;
-    for (int d = 0; d < dim; ++d) {
-      const float* row = B + size_t(d) * size_t(K);
-      Lanes acc = Eigen::Map<const Lanes>(row) * Eigen::Map<const Lanes>(c.data());
-      for (int k = 16; k < K; k += 16)
-        acc += Eigen::Map<const Lanes>(row + k) * Eigen::Map<const Lanes>(c.data() + k);
-      out[d] = m[d] + acc.sum();
-    }
+    rows_times_vectors(B, dim, K, c.data(), 1, out);
+    for (int d = 0; d < dim; ++d) out[d] += m[d];
   }
   // The same field at the particles `ids` only, in that order (coefficients shared).
   PointBasis rows(const std::vector<uint32_t>& ids) const;

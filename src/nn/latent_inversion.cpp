@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/dense_kernels.h"
 #include "core/error.h"
 
 namespace nsf {
@@ -15,32 +16,37 @@ namespace nsf {
 BasisSamples::BasisSamples(PointBasis u, std::vector<Vec3> rest)
     : u_(std::move(u)), rest_(std::move(rest)) {}
 
-// The samples' rows are contiguous (3|S| × K, row-major), so g and ∂g/∂ẑ at every sample are one
-// matrix-vector and one matrix-matrix product.
-namespace {
-using RowMajorXf = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-}
-
+// The samples' rows are contiguous (3|S| × K, row-major): g at every sample is the rows against
+// c, and ∂g/∂ẑ the rows against ∂c/∂ẑ's columns, in one pass over the rows
+// (core/dense_kernels.h).
 void BasisSamples::evaluate(const Eigen::VectorXd& z, std::vector<Vec3>& g) {
   const Eigen::VectorXf c = u_.net(z).cast<float>();
   const int64_t rows = 3 * int64_t(rest_.size());
-  const Eigen::VectorXf d = Eigen::Map<const Eigen::VectorXf>(u_.mean.data(), rows) +
-                            Eigen::Map<const RowMajorXf>(u_.modes.data(), rows, u_.K) * c;
+  out_.resize(size_t(rows));
+  rows_times_vectors(u_.modes.data(), rows, u_.K, c.data(), 1, out_.data());
   g.resize(rest_.size());
   for (size_t p = 0; p < rest_.size(); ++p)
-    g[p] = rest_[p] + Vec3(d[3 * p], d[3 * p + 1], d[3 * p + 2]);
+    for (int a = 0; a < 3; ++a) g[p][a] = rest_[p][a] + (u_.mean[3 * p + a] + out_[3 * p + a]);
 }
 
 void BasisSamples::jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std::vector<Vec3>& g) {
   Eigen::MatrixXd dc;  // K × r
-  const Eigen::VectorXf c = u_.net(z, &dc).cast<float>();
-  const int64_t rows = 3 * int64_t(rest_.size());
-  const Eigen::Map<const RowMajorXf> B(u_.modes.data(), rows, u_.K);
-  const Eigen::VectorXf d = Eigen::Map<const Eigen::VectorXf>(u_.mean.data(), rows) + B * c;
-  J = (B * dc.cast<float>()).cast<double>();
+  const Eigen::VectorXd c = u_.net(z, &dc);
+  const int64_t rows = 3 * int64_t(rest_.size()), r = dc.cols(), K = u_.K;
+  // The right-hand sides one after another: c, then each column of ∂c/∂ẑ.
+  Eigen::MatrixXf V(K, 1 + r);
+  V.col(0) = c.cast<float>();
+  V.rightCols(r) = dc.cast<float>();
+  const int cols = int(1 + r);
+  out_.resize(size_t(rows * cols));
+  rows_times_vectors(u_.modes.data(), rows, int(K), V.data(), cols, out_.data());
+  J.resize(rows, r);
+  for (int64_t i = 0; i < rows; ++i)
+    for (int64_t j = 0; j < r; ++j) J(i, j) = out_[size_t(i * cols + 1 + j)];
   g.resize(rest_.size());
   for (size_t p = 0; p < rest_.size(); ++p)
-    g[p] = rest_[p] + Vec3(d[3 * p], d[3 * p + 1], d[3 * p + 2]);
+    for (int a = 0; a < 3; ++a)
+      g[p][a] = rest_[p][a] + (u_.mean[3 * p + a] + out_[(3 * p + a) * size_t(cols)]);
 }
 
 namespace {

@@ -44,9 +44,9 @@ TEST(CliHelp, VersionSaysWhatTheToolWasBuiltFrom) {
     expect_contains(out, part);
     // Which clone of the hot kernels the loader picked on this CPU (src/core/isa.h).
 #if defined(NSF_HAS_CLONES)
-  expect_contains(out, "hot kernels (P2G, G2P): x86-64-v");
+  expect_contains(out, "hot kernels (P2G, G2P, the ROM's products): x86-64-v");
 #else
-  expect_contains(out, "hot kernels (P2G, G2P): as built");
+  expect_contains(out, "hot kernels (P2G, G2P, the ROM's products): as built");
 #endif
 }
 
