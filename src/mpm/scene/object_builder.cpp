@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <random>
 
 #include "core/error.h"
 #include "core/json_util.h"
@@ -52,8 +53,23 @@ struct WeakRegion {
   ShapePtr shape;
   double stiffness_scale = 1.0;
   double yield_scale = 1.0;
+  // Which particles are weak, scattered (the paper's App. B, "weak elements perturbed"): each
+  // particle is tested at its position moved by up to `jitter` times the object's extent along
+  // each axis, uniformly at random from `jitter_seed`, in particle order (reproducible).
+  double jitter = 0;
+  std::mt19937_64 rng;
   std::string path;
   bool used = false;
+
+  bool holds(const Vec3& p, const Vec3& extent) {
+    if (jitter == 0) return shape->contains(p);
+    Vec3 moved = p;
+    for (int a = 0; a < 3; ++a) {  // u in [-1, 1), from the top 53 bits: the same on every machine
+      const double u = 2.0 * double(rng() >> 11) * 0x1.0p-53 - 1.0;
+      moved[a] += jitter * extent[a] * u;
+    }
+    return shape->contains(moved);
+  }
 };
 
 std::vector<WeakRegion> parse_weak_regions(const Json& obj, const std::string& path,
@@ -66,7 +82,8 @@ std::vector<WeakRegion> parse_weak_regions(const Json& obj, const std::string& p
   for (size_t i = 0; i < w.size(); ++i) {
     WeakRegion r;
     r.path = js::child(wpath, i);
-    js::check_keys(w[i], r.path, {"shape", "stiffness_scale", "yield_scale"});
+    js::check_keys(w[i], r.path,
+                   {"shape", "stiffness_scale", "yield_scale", "jitter", "jitter_seed"});
     if (!w[i].contains("stiffness_scale") && !w[i].contains("yield_scale"))
       fail("scene: weak region '", r.path,
            "' sets neither 'stiffness_scale' nor 'yield_scale', so it would do nothing");
@@ -75,6 +92,8 @@ std::vector<WeakRegion> parse_weak_regions(const Json& obj, const std::string& p
     r.shape = parse_shape(w[i].at("shape"), js::child(r.path, "shape"), context);
     r.stiffness_scale = js::get_number(w[i], r.path, "stiffness_scale", 1.0, js::non_negative());
     r.yield_scale = js::get_number(w[i], r.path, "yield_scale", 1.0, js::non_negative());
+    r.jitter = js::get_number(w[i], r.path, "jitter", 0.0, js::closed(0, 1));
+    r.rng.seed(uint64_t(js::get_number(w[i], r.path, "jitter_seed", 1.0, js::closed(0, 1e15))));
     out.push_back(std::move(r));
   }
   return out;
@@ -124,13 +143,18 @@ void add_object(const Json& obj, const std::string& path, size_t index, const Sh
   for (const Vec3& p : pts) com += p;
   com /= static_cast<double>(pts.size());
 
+  // The object's extent, which scales a weak region's jitter.
+  Vec3 lo = pts.front(), hi = pts.front();
+  for (const Vec3& p : pts) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Vec3 extent = hi - lo;
+
   const double V = lattice.particle_volume();
   Particles& P = scene.particles;
   for (const Vec3& p : pts) {
     MaterialPoint mp = mat.point;
     // Overlapping regions compound: their scales multiply.
     for (WeakRegion& r : weak) {
-      if (!r.shape->contains(p)) continue;
+      if (!r.holds(p, extent)) continue;
       r.used = true;
       mp.mu *= r.stiffness_scale;
       mp.lambda *= r.stiffness_scale;

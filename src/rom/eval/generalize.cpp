@@ -69,28 +69,27 @@ double rank_correlation(const std::vector<double>& a, const std::vector<double>&
   return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : std::nan("");
 }
 
-// The fraction of draws where the ROM's δ is below the baseline's; a failed ROM loses. Draws
-// without the baseline measured do not count; −1 when none has it.
+// The fraction of draws where the ROM's δ is below the baseline's; a failed ROM loses, whether
+// or not the draw got as far as the baseline. Other draws without the baseline measured do not
+// count; −1 when none counts.
 double win_rate(const std::vector<double>& rom, const std::vector<double>& baseline) {
   int wins = 0, counted = 0;
   for (size_t i = 0; i < rom.size(); ++i) {
-    if (!(baseline[i] >= 0)) continue;
+    if (!(baseline[i] >= 0) && std::isfinite(rom[i])) continue;
     ++counted;
     wins += rom[i] < baseline[i];
   }
   return counted ? double(wins) / counted : -1;
 }
 
-// `v` (a JSON number) times `scale` through printf's `fmt`, or `none` where it is not a number
-// (not measured).
+}  // namespace
+
 std::string formatted(const nlohmann::json& v, double scale, const char* fmt, const char* none) {
   char b[32];
   if (!v.is_number()) return none;
   std::snprintf(b, sizeof b, fmt, scale * v.get<double>());
   return b;
 }
-
-}  // namespace
 
 GeneralizeResult run_generalize(const GeneralizeOptions& o) {
   GeneralizeResult res;
@@ -388,54 +387,6 @@ std::string format_generalize(const nlohmann::json& j) {
     if (k != "all" && !v.get<bool>()) missed += (missed.empty() ? "" : ", ") + k;
   if (!missed.empty()) s << " (misses: " << missed << ")";
   s << "\n";
-  return s.str();
-}
-
-std::string generalize_markdown(const std::vector<nlohmann::json>& in) {
-  std::vector<nlohmann::json> rows = in;
-  std::sort(rows.begin(), rows.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
-    return a.value("scene", "") < b.value("scene", "");
-  });
-  const auto at = [](const nlohmann::json& j, const char* key) {
-    return j.contains(key) ? j[key] : nlohmann::json(nullptr);
-  };
-  const auto pct = [&](const nlohmann::json& j, const char* key) {
-    return formatted(at(j, key), 100, "%.2f %%", "—");
-  };
-  const auto times = [&](const nlohmann::json& j, const char* key) {
-    return formatted(at(j, key), 1, "%.1f×", "—");
-  };
-  const auto share = [&](const nlohmann::json& j, const char* key) {
-    return formatted(at(j, key), 100, "%.0f %%", "—");
-  };
-  std::ostringstream s;
-  s << "## Unseen interactions (`nsf generalize`)\n\n"
-    << "Each scene's reduced model on random perturbations outside its sweep (the scene's "
-       "`generalize` section: collider speeds, paths and stopping points, throws, slopes, "
-       "placements), each draw scored against a fresh full-order run; docs/GENERALIZE.md says "
-       "how. δ columns are medians over the draws (a failed draw counts as infinite); wins are "
-       "the share of draws where the ROM's δ is below the baseline's. Rows: "
-       "`docs/results/generalize/SCENE.json`, each made by the command it names.\n\n"
-    << "| scene | draws | ROM δ (worst) | representation | look-up | interp. | coarse | ROM "
-       "speed-up | coarse speed-up | real time | wins: look-up / interp. / coarse | bar |\n"
-    << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const nlohmann::json& j : rows) {
-    const size_t n = j.contains("draws") ? j["draws"].size() : 0;
-    const int failed = j.value("failed_draws", 0);
-    s << "| " << j.value("scene", "?") << " | " << n
-      << (failed ? " (" + std::to_string(failed) + " failed)" : "") << " | "
-      << pct(j, "median_delta") << " (" << pct(j, "worst_delta") << ") | "
-      << pct(j, "median_representation_delta") << " | " << pct(j, "median_lookup_delta") << " | "
-      << pct(j, "median_interp_delta") << " | " << pct(j, "median_coarse_delta") << " | "
-      << times(j, "median_speedup") << " | " << times(j, "median_coarse_speedup") << " | "
-      << times(j, "median_real_time_factor") << " | " << share(j, "win_rate_lookup") << " / "
-      << share(j, "win_rate_interp") << " / " << share(j, "win_rate_coarse") << " | "
-      << (j.contains("meets_bar") && j["meets_bar"].value("all", false) ? "met" : "not met")
-      << " |\n";
-  }
-  s << "\n";
-  for (const nlohmann::json& j : rows)
-    s << "- " << j.value("scene", "?") << ": `" << j.value("command", "") << "`\n";
   return s.str();
 }
 

@@ -57,8 +57,12 @@ nlohmann::json generalize_json(const GeneralizeResult& result, const std::string
 // A table of the draws and the summary, for the terminal.
 std::string format_generalize(const nlohmann::json& summary);
 
-// docs/RESULTS.md's section on the benchmark: one line per scene's summary (sorted by scene),
-// each naming the command that made it.
+// docs/RESULTS.md's section on the benchmark (generalize_page.cpp): one line per scene's summary
+// (sorted by scene), each naming the command that made it, then the draws by kind of perturbation.
 std::string generalize_markdown(const std::vector<nlohmann::json>& summaries);
+
+// `v` (a JSON number) times `scale` through printf's `fmt`, or `none` where it is not a number
+// (not measured).
+std::string formatted(const nlohmann::json& v, double scale, const char* fmt, const char* none);
 
 }  // namespace nsf

@@ -243,7 +243,7 @@ struct LatentStepper::Impl {
       const uint32_t member = quad.merged_group[j];
       table.X.push_back(quad.merged_X[j]);
       table.material.push_back(table.material[member]);
-      table.mat0.push_back(table.mat0[member]);
+      table.mat0.push_back(merged_material(quad.merged_members[j], member, table.mat0));
     }
     table.merged_members = quad.merged_members;
     tracked->set_points(table);

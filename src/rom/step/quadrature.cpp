@@ -108,4 +108,21 @@ ThinnedQuadrature thin_quadrature(const std::vector<Vec3>& X, const std::vector<
   return q;
 }
 
+MaterialPoint merged_material(const std::vector<std::pair<uint32_t, double>>& members,
+                              uint32_t representative, const std::vector<MaterialPoint>& mat) {
+  MaterialPoint mp = mat.at(representative);
+  const auto same = [&](const std::pair<uint32_t, double>& m) {
+    const MaterialPoint& q = mat.at(m.first);
+    return q.mu == mp.mu && q.lambda == mp.lambda && q.yield_stress == mp.yield_stress;
+  };
+  if (std::all_of(members.begin(), members.end(), same)) return mp;
+  mp.mu = mp.lambda = mp.yield_stress = 0;
+  for (const auto& [p, w] : members) {
+    mp.mu += w * mat[p].mu;
+    mp.lambda += w * mat[p].lambda;
+    mp.yield_stress += w * mat[p].yield_stress;
+  }
+  return mp;
+}
+
 }  // namespace nsf

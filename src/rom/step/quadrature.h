@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "mpm/material_point.h"
 
 namespace nsf {
 
@@ -37,5 +38,13 @@ ThinnedQuadrature thin_quadrature(const std::vector<Vec3>& X, const std::vector<
                                   const std::vector<double>& vol0,
                                   const std::vector<uint16_t>& material, const Vec3& lo, double dx,
                                   int per_cell, const std::vector<uint32_t>& keep);
+
+// Merged point j's material (its members from merged_members[j], `representative` from
+// merged_group[j], the particles' materials `mat`): the group's moduli and yield stress,
+// mass-weighted (the Voigt average), so that a cell of weak and sound particles (a weak region's
+// edge, scattered weak elements) is as stiff as its particles are on average, not as one of them.
+// The rest of the state is the representative's; a group of one material is it exactly.
+MaterialPoint merged_material(const std::vector<std::pair<uint32_t, double>>& members,
+                              uint32_t representative, const std::vector<MaterialPoint>& mat);
 
 }  // namespace nsf

@@ -174,6 +174,54 @@ TEST(Scene, WeakRegionsScaleStiffnessAndYieldInsideOnly) {
   EXPECT_EQ(weak, weaker);
 }
 
+// App. B's "weak elements perturbed": a jitter scatters which particles are weak, reproducibly
+// from its seed, and a larger jitter scatters them farther from the region.
+TEST(Scene, WeakRegionJitterScattersTheWeakParticlesReproducibly) {
+  json j = small_scene();  // the object spans x in [0.25, 0.5]
+  j["objects"][0]["weak_regions"] = json::parse(R"([
+    {"shape": {"type": "box", "min": [0.35, 0, 0], "max": [0.4, 1, 1]}, "stiffness_scale": 0.1}
+  ])");
+  // The weak particles, and how far in x the farthest of them lies outside the region.
+  const auto weak_set = [](const Scene& s, double& farthest) {
+    double mu_max = 0;
+    for (const MaterialPoint& mp : s.particles.mat) mu_max = std::max(mu_max, mp.mu);
+    std::vector<size_t> ids;
+    farthest = 0;
+    for (size_t p = 0; p < s.particles.size(); ++p) {
+      if (s.particles.mat[p].mu >= mu_max) continue;
+      ids.push_back(p);
+      const double x = s.particles.X[p].x();
+      farthest = std::max(farthest, std::max(0.35 - x, x - 0.4));
+    }
+    return ids;
+  };
+  const Scene scene = build_scene(j);
+  Vec3 lo = scene.particles.X.front(), hi = lo;
+  for (const Vec3& X : scene.particles.X) lo = lo.cwiseMin(X), hi = hi.cwiseMax(X);
+  const double extent = hi.x() - lo.x();
+  double d0, d1, d1b, d2, d3;
+  const std::vector<size_t> plain = weak_set(scene, d0);
+  j["objects"][0]["weak_regions"][0]["jitter"] = 0.08;
+  const std::vector<size_t> a = weak_set(build_scene(j), d1);
+  const std::vector<size_t> b = weak_set(build_scene(j), d1b);
+  j["objects"][0]["weak_regions"][0]["jitter_seed"] = 2;
+  const std::vector<size_t> c = weak_set(build_scene(j), d2);
+  j["objects"][0]["weak_regions"][0]["jitter"] = 0.3;
+  const std::vector<size_t> wide = weak_set(build_scene(j), d3);
+  EXPECT_EQ(a, b);                      // the same seed, the same weak particles
+  EXPECT_NE(a, c);                      // another seed, others
+  EXPECT_NE(a, plain);                  // scattered
+  EXPECT_LE(d0, 0.0);                   // without a jitter, every weak particle is inside;
+  EXPECT_GT(d1, 0.0);                   // with one, some are outside,
+  EXPECT_LE(d1, 0.08 * extent + 1e-9);  // within the jitter times the object's extent,
+  EXPECT_GT(d3, d1);                    // and a larger jitter scatters them farther
+  EXPECT_LE(d3, 0.3 * extent + 1e-9);
+  // About as many weak particles: a particle is weak where its moved point is inside.
+  EXPECT_NEAR(double(a.size()), double(plain.size()), 0.25 * double(plain.size()));
+  j["objects"][0]["weak_regions"][0]["jitter"] = 1.5;
+  expect_rejected(j, {"objects[0].weak_regions[0].jitter", "1.5"});
+}
+
 TEST(Scene, WeakRegionMustOverlapItsObjectAndDoSomething) {
   json j = small_scene();
   j["objects"][0]["weak_regions"] = json::parse(

@@ -141,3 +141,44 @@ TEST(RomQuadrature, BadInputIsAClearError) {
           [&] { nsf::thin_quadrature(b.X, short_mass, b.vol0, b.material, b.lo, b.dx, 1, {}); }),
       "masses");
 }
+
+// A merged point of weak and sound particles (a weak region's edge) is as stiff as its group on
+// average by mass; a group of one material keeps it exactly, plastic state included.
+TEST(RomQuadrature, AMergedPointTakesItsGroupsMassWeightedModuli) {
+  const Block b;
+  std::vector<nsf::MaterialPoint> mat(b.X.size());
+  for (size_t p = 0; p < mat.size(); ++p) {
+    mat[p].mu = 100, mat[p].lambda = 200, mat[p].yield_stress = 3, mat[p].hardening = 7;
+    if (b.X[p].x() < 0.1) mat[p].mu *= 0.01, mat[p].lambda *= 0.01, mat[p].yield_stress *= 0.5;
+  }
+  const nsf::ThinnedQuadrature q =
+      nsf::thin_quadrature(b.X, b.mass, b.vol0, b.material, b.lo, b.dx, 1, {});
+  ASSERT_TRUE(q.thinned());
+  for (size_t j = 0; j < q.merged_X.size(); ++j) {
+    const auto& members = q.merged_members[j];
+    double mu = 0, lambda = 0, yield = 0;
+    for (const auto& [p, w] : members)
+      mu += w * mat[p].mu, lambda += w * mat[p].lambda, yield += w * mat[p].yield_stress;
+    const nsf::MaterialPoint m = nsf::merged_material(members, q.merged_group[j], mat);
+    EXPECT_NEAR(m.mu, mu, 1e-12 * mu);
+    EXPECT_NEAR(m.lambda, lambda, 1e-12 * lambda);
+    EXPECT_NEAR(m.yield_stress, yield, 1e-12 * yield);
+    EXPECT_EQ(m.hardening, 7);
+  }
+  // A cell half weak: members on both sides of x = 0.1 within one cell of dx = 0.1 do not
+  // exist in this block (cells align with it), so mix one group by hand.
+  const std::vector<std::pair<uint32_t, double>> mixed = {{0, 0.25},
+                                                          {uint32_t(mat.size() - 1), 0.75}};
+  ASSERT_LT(b.X[0].x(), 0.1);
+  ASSERT_GE(b.X.back().x(), 0.1);
+  const nsf::MaterialPoint m = nsf::merged_material(mixed, 0, mat);
+  EXPECT_DOUBLE_EQ(m.mu, 0.25 * 1 + 0.75 * 100);
+  EXPECT_DOUBLE_EQ(m.lambda, 0.25 * 2 + 0.75 * 200);
+  EXPECT_DOUBLE_EQ(m.yield_stress, 0.25 * 1.5 + 0.75 * 3);
+  // One material: the representative itself, to the bit.
+  const std::vector<std::pair<uint32_t, double>> sound = {{uint32_t(mat.size() - 1), 0.3},
+                                                          {uint32_t(mat.size() - 2), 0.7}};
+  const nsf::MaterialPoint s = nsf::merged_material(sound, uint32_t(mat.size() - 1), mat);
+  EXPECT_EQ(s.mu, 100);
+  EXPECT_EQ(s.lambda, 200);
+}

@@ -201,3 +201,28 @@ TEST_F(Generalize, ASceneWithoutPerturbationsOrAMissingDrawIsAClearError) {
 }
 
 }  // namespace
+
+// docs/RESULTS.md's table by kind of perturbation: each kind's medians, and a failed ROM draw
+// shown as failed and counted as a loss even where the draw never reached its baselines.
+TEST(GeneralizePage, DrawsByKindCountAFailedRomAsALoss) {
+  nlohmann::json row = {{"scene", "bread_tiny"}, {"command", "nsf generalize x"}};
+  row["draws"] = nlohmann::json::array({{{"perturbation", "grips slower"},
+                                         {"delta", 0.01},
+                                         {"representation_delta", 0.002},
+                                         {"lookup_delta", 0.04},
+                                         {"interp_delta", 0.03}},
+                                        {{"perturbation", "weak scattered"}, {"failed", true}},
+                                        {{"perturbation", "grips slower"},
+                                         {"delta", 0.03},
+                                         {"representation_delta", 0.004},
+                                         {"lookup_delta", 0.02},
+                                         {"interp_delta", 0.03}}});
+  const std::string md = nsf::generalize_markdown({row});
+  EXPECT_NE(
+      md.find("| bread_tiny | grips slower | 2 | 2.00 % | 0.30 % | 3.00 % | 3.00 % | 1 of 2 |"),
+      std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| bread_tiny | weak scattered | 1 | failed | — | — | — | 0 of 1 |"),
+            std::string::npos)
+      << md;
+}
