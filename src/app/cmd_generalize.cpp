@@ -120,6 +120,7 @@ void add_generalize_command(CLI::App& app) {
       ->check(in_range(0.0, 1e3));
   add_dt_ratio_option(cmd, a->dt_ratio, "default: the scene's");
   add_profile_option(cmd, a->opt.rom.profile);
+  add_guard_flag(cmd, a->opt.rom.guard);
   cmd->add_option("--coarse-scene", a->opt.coarse_scene,
                   "The coarse engine's scene (default: this scene at 1.5x dx)");
   cmd->add_option("--json", a->json, "Write the draws and the summary here (JSON)");

@@ -82,6 +82,7 @@ void add_rom_command(CLI::App& app) {
       ->capture_default_str()
       ->check(in_range(0.0, 1.0));
   add_profile_option(cmd, a->opt.profile);
+  add_guard_flag(cmd, a->opt.guard);
   cmd->add_flag("--taylor", a->opt.rom.inversion.taylor,
                 "First-order Taylor inversion: one linearised step per time step");
   // Field sources by name (rom/fields/field_registry.cpp); each option lists the registered ones.

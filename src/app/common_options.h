@@ -43,6 +43,14 @@ inline CLI::Option* add_profile_option(CLI::App* cmd, std::string& profile) {
       ->check(CLI::IsMember({"auto", "family", "unseen"}));
 }
 
+// --guard: step through the runtime's step guard (RomEvalOptions::guard).
+inline CLI::Option* add_guard_flag(CLI::App* cmd, bool& guard) {
+  return cmd->add_flag("--guard", guard,
+                       "Step as the runtime does, through its step guard: a step that diverges or "
+                       "passes the error indicator's limits is redone and counted (default: the "
+                       "bare stepper, whose divergence ends the run)");
+}
+
 // --dt-ratio: the ROM step over the scene's Δt, a number, or "cfl" for the largest step within the
 // CFL bound (read as RomOptions::kDtRatioAtCfl). `help` says where the default comes from.
 inline CLI::Option* add_dt_ratio_option(CLI::App* cmd, double& ratio, const std::string& help) {

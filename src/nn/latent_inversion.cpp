@@ -22,11 +22,12 @@ BasisSamples::BasisSamples(PointBasis u, std::vector<Vec3> rest)
 void BasisSamples::evaluate(const Eigen::VectorXd& z, std::vector<Vec3>& g) {
   const Eigen::VectorXf c = u_.net(z).cast<float>();
   const int64_t rows = 3 * int64_t(rest_.size());
-  out_.resize(size_t(rows));
-  rows_times_vectors(u_.modes.data(), rows, u_.K, c.data(), 1, out_.data());
+  // Local, not a member: training and the error budget invert frames on several threads at once.
+  std::vector<float> out(static_cast<size_t>(rows));
+  rows_times_vectors(u_.modes.data(), rows, u_.K, c.data(), 1, out.data());
   g.resize(rest_.size());
   for (size_t p = 0; p < rest_.size(); ++p)
-    for (int a = 0; a < 3; ++a) g[p][a] = rest_[p][a] + (u_.mean[3 * p + a] + out_[3 * p + a]);
+    for (int a = 0; a < 3; ++a) g[p][a] = rest_[p][a] + (u_.mean[3 * p + a] + out[3 * p + a]);
 }
 
 void BasisSamples::jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std::vector<Vec3>& g) {
@@ -38,15 +39,15 @@ void BasisSamples::jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std::v
   V.col(0) = c.cast<float>();
   V.rightCols(r) = dc.cast<float>();
   const int cols = int(1 + r);
-  out_.resize(size_t(rows * cols));
-  rows_times_vectors(u_.modes.data(), rows, int(K), V.data(), cols, out_.data());
+  std::vector<float> out(static_cast<size_t>(rows * cols));
+  rows_times_vectors(u_.modes.data(), rows, int(K), V.data(), cols, out.data());
   J.resize(rows, r);
   for (int64_t i = 0; i < rows; ++i)
-    for (int64_t j = 0; j < r; ++j) J(i, j) = out_[size_t(i * cols + 1 + j)];
+    for (int64_t j = 0; j < r; ++j) J(i, j) = out[size_t(i * cols + 1 + j)];
   g.resize(rest_.size());
   for (size_t p = 0; p < rest_.size(); ++p)
     for (int a = 0; a < 3; ++a)
-      g[p][a] = rest_[p][a] + (u_.mean[3 * p + a] + out_[(3 * p + a) * size_t(cols)]);
+      g[p][a] = rest_[p][a] + (u_.mean[3 * p + a] + out[(3 * p + a) * size_t(cols)]);
 }
 
 namespace {

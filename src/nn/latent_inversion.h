@@ -46,7 +46,6 @@ class BasisSamples final : public SampleDeformation {
  private:
   PointBasis u_;
   std::vector<Vec3> rest_;
-  std::vector<float> out_;  // the rows' products, kept between calls
 };
 
 InversionResult invert_deformation(SampleDeformation& g, const std::vector<Vec3>& target,

@@ -240,6 +240,7 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
     d["rom_seconds"] = r.rom_seconds;
     d["fom_seconds"] = r.fom_seconds;
     d["warnings"] = r.warnings;
+    d["recoveries"] = r.recoveries;  // steps the step guard redid (0 unguarded)
     // Whether the draw took a collider out of the box the model was trained on.
     d["outside_training"] = !r.training_note.empty();
     // What of its scene the model's training runs never took (data/scene_family.h), and the

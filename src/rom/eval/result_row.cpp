@@ -137,6 +137,8 @@ nlohmann::json result_json(const RomReport& r, const std::string& scene_file,
   add_baselines(r, j);
   j["rom_setup_seconds"] = r.rom_setup_seconds;
   j["warnings"] = r.warnings;
+  j["guarded"] = r.guarded;
+  j["recoveries"] = r.recoveries;
   return j;
 }
 

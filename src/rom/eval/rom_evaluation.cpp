@@ -1,7 +1,5 @@
 #include "rom/eval/rom_evaluation.h"
 
-#include "rom/step/step_guard.h"
-
 #include <malloc.h>
 #include <omp.h>
 #include <unistd.h>
@@ -10,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <random>
 
 #include "core/cpu_model.h"
@@ -285,9 +284,15 @@ void run_reduced_order(const RomEvalOptions& o, LatentStepper& rom, FrameRecorde
                        RomReport& rep) {
   recorder.record(0);
   Progress progress("reduced order", rep.frames, "frames");
+  std::optional<StepGuard> guard;
+  if (o.guard) guard.emplace(rom);
+  rep.guarded = o.guard;
   for (int f = 1; f <= rep.frames; ++f) {
     const double t0 = now_seconds();
-    rom.advance_frame();
+    if (guard)
+      guard->advance_frame();
+    else
+      rom.advance_frame();
     rep.rom_seconds += now_seconds() - t0;
     if (rep.training_note.empty()) rep.training_note = outside_training_box(rom);
     recorder.record(f);
@@ -300,6 +305,14 @@ void run_reduced_order(const RomEvalOptions& o, LatentStepper& rom, FrameRecorde
   }
   if (!o.quiet) progress.finish();
   recorder.finish();
+  if (guard && guard->health().recoveries > 0) {
+    rep.recoveries = guard->health().recoveries;
+    rep.last_recovery = guard->health().last_recovery;
+    rep.warnings.push_back("the step guard redid " + std::to_string(rep.recoveries) +
+                           " step(s) that diverged or passed the error indicator's limits, as "
+                           "the runtime does (--guard); the last, at " +
+                           rep.last_recovery);
+  }
   if (!rep.training_note.empty())
     rep.warnings.push_back("the run left the model's training box at " + rep.training_note +
                            ": the model may not hold what followed");

@@ -31,9 +31,14 @@ struct RomEvalOptions {
   std::string truth_path;  // existing ground truth; empty: the full-order run made here
   std::string fom_out;     // where the full-order run goes; empty: a temporary file
   bool full_order = true;  // run the full-order engine for timing and as the ground truth
-  int upsample = 1;        // positions of k points per particle in the output file (Fig. 6)
-  int gzip = 0;            // deflate level of both run files (0 = off; io/run_writer.h)
-  int threads = 0;         // OpenMP and torch threads, for both engines alike; 0: all cores
+  // Step as the runtime steps, through the step guard (rom/step/step_guard.h): a step that
+  // diverges or passes the error indicator's limits is redone (RomReport::recoveries). Off: the
+  // bare stepper, whose divergence ends the run (a redone step also costs a run its momentum,
+  // docs/experiments/2026-11-30-app-b-weak-elements.md).
+  bool guard = false;
+  int upsample = 1;  // positions of k points per particle in the output file (Fig. 6)
+  int gzip = 0;      // deflate level of both run files (0 = off; io/run_writer.h)
+  int threads = 0;   // OpenMP and torch threads, for both engines alike; 0: all cores
   bool quiet = false;
   // Also measure the error budget on the truth's frames (rom/eval/error_budget.h; needs a truth).
   bool budget = false;

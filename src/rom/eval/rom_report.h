@@ -68,6 +68,11 @@ struct RomReport {
   double rom_peak_mib = 0, fom_peak_mib = -1, baseline_mib = 0;
   bool peak_reset = false;  // the kernel restarted the peak between the phases
   std::vector<std::string> warnings;
+  // Steps the step guard redid (RomEvalOptions::guard), and how the last one was redone ("" for
+  // none); guarded: the run went through the guard.
+  bool guarded = false;
+  long recoveries = 0;
+  std::string last_recovery;
   // Where a collider first left the model's training box (rom/step/step_guard.h); "" for never.
   std::string training_note;
   std::string truth_file, rom_file;

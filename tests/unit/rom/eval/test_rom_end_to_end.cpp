@@ -524,6 +524,30 @@ TEST_F(RomEndToEnd, IndicatorRisesOnARunMadeToDivergeBeforeAPointLeavesTheGrid) 
   EXPECT_LT(early, 0.5);
 }
 
+// `nsf rom --guard` (and `nsf generalize --guard`): the same case through the evaluation. The
+// bare stepper's divergence ends the run; the guarded run reaches the scene's end, and its
+// report counts the steps redone and says so in a warning.
+TEST_F(RomEndToEnd, TheGuardedEvaluationFinishesARunTheBareStepperLoses) {
+  nsf::RomEvalOptions o = options();
+  o.mu = 6.0;            // the sweep's speed: thrown at [6, -1, 0] m/s
+  o.truth_path.clear();  // no truth of this case: no δ, only the run
+  o.samples = 8;
+  o.rom.sampling.mode = "cluster";
+  o.rom.sampling.center = Vec3(0.6, 0.26, 0.5);
+  o.rom.sampling.sigma = 0.02;
+  o.latent_prior = 0;  // as the stepper above: no calibrated pull to hold it
+  o.dt_ratio = 1;
+  EXPECT_THAT(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }), HasSubstr("outside the grid"));
+  o.guard = true;
+  const nsf::RomReport r = nsf::evaluate_rom(o);
+  EXPECT_TRUE(r.guarded);
+  EXPECT_GT(r.recoveries, 0);
+  EXPECT_THAT(r.last_recovery, HasSubstr("redone"));
+  EXPECT_TRUE(std::any_of(r.warnings.begin(), r.warnings.end(), [](const std::string& w) {
+    return w.find("the step guard redid") != std::string::npos;
+  }));
+}
+
 // A guarded run of the same case goes on to the scene's end: each failed step is redone (at rest
 // in place, else at rest a step earlier, else from the initial pose at rest), counted and
 // described, without going back to the initial pose here, and every particle
