@@ -31,13 +31,6 @@ nlohmann::json number_or_null(double v) {
   return std::isfinite(v) && v >= 0 ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return -1;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // Ranks 1…n, ties sharing their mean rank.
 std::vector<double> ranks(const std::vector<double>& v) {
   std::vector<size_t> order(v.size());
@@ -69,20 +62,31 @@ double rank_correlation(const std::vector<double>& a, const std::vector<double>&
   return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : std::nan("");
 }
 
-// The fraction of draws where the ROM's δ is below the baseline's; a failed ROM loses, whether
-// or not the draw got as far as the baseline. Other draws without the baseline measured do not
-// count; −1 when none counts.
+// The fraction of wins_against's draws that the ROM won; −1 when none counts.
 double win_rate(const std::vector<double>& rom, const std::vector<double>& baseline) {
+  const auto [wins, counted] = wins_against(rom, baseline);
+  return counted ? double(wins) / counted : -1;
+}
+
+}  // namespace
+
+double median(std::vector<double> v) {
+  if (v.empty()) return -1;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::pair<int, int> wins_against(const std::vector<double>& rom,
+                                 const std::vector<double>& baseline) {
   int wins = 0, counted = 0;
   for (size_t i = 0; i < rom.size(); ++i) {
     if (!(baseline[i] >= 0) && std::isfinite(rom[i])) continue;
     ++counted;
     wins += rom[i] < baseline[i];
   }
-  return counted ? double(wins) / counted : -1;
+  return {wins, counted};
 }
-
-}  // namespace
 
 std::string formatted(const nlohmann::json& v, double scale, const char* fmt, const char* none) {
   char b[32];

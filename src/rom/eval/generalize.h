@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "data/perturbation_spec.h"
@@ -64,5 +65,14 @@ std::string generalize_markdown(const std::vector<nlohmann::json>& summaries);
 // `v` (a JSON number) times `scale` through printf's `fmt`, or `none` where it is not a number
 // (not measured).
 std::string formatted(const nlohmann::json& v, double scale, const char* fmt, const char* none);
+
+// The median of `v`; −1 when it is empty.
+double median(std::vector<double> v);
+
+// Over paired draws: those where the ROM's δ is below the baseline's, and those that count. A
+// failed ROM (+∞) loses, whether or not the draw got as far as the baseline; other draws without
+// the baseline measured (< 0 or NaN) do not count.
+std::pair<int, int> wins_against(const std::vector<double>& rom,
+                                 const std::vector<double>& baseline);
 
 }  // namespace nsf

@@ -11,20 +11,20 @@ namespace nsf {
 
 namespace {
 
-// A draw's value at `key`, a failed or unmeasured one as +∞ (it lost), a baseline's as NaN.
+// A draw's value at `key`: the ROM's δ of a failed draw +∞ (it lost), a value not measured −1.
 double value_at(const nlohmann::json& d, const char* key, bool rom) {
   if (rom && d.value("failed", false)) return std::numeric_limits<double>::infinity();
   const nlohmann::json& v = d.contains(key) ? d[key] : nlohmann::json();
   if (v.is_number()) return v.get<double>();
-  return rom ? std::numeric_limits<double>::infinity() : std::numeric_limits<double>::quiet_NaN();
+  return rom ? std::numeric_limits<double>::infinity() : -1;
 }
 
-double median_of(std::vector<double> v) {
-  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return x != x; }), v.end());
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+// The median of the values measured (a ROM's +∞ included), −1 for none.
+double median_measured(const std::vector<double>& v) {
+  std::vector<double> kept;
+  for (double x : v)
+    if (x >= 0) kept.push_back(x);
+  return median(kept);
 }
 
 // Each scene's draws grouped by perturbation, in the scene's order: which interactions the ROM
@@ -35,8 +35,8 @@ std::string kinds_markdown(const std::vector<nlohmann::json>& rows) {
     << "| scene | perturbation | draws | ROM δ | representation | look-up | interp. | wins: "
        "look-up |\n|---|---|---|---|---|---|---|---|\n";
   const auto pct = [](double v) -> std::string {
-    if (v == std::numeric_limits<double>::infinity()) return "failed";
-    return formatted(v == v ? nlohmann::json(v) : nlohmann::json(), 100, "%.2f %%", "—");
+    if (std::isinf(v)) return "failed";
+    return formatted(v >= 0 ? nlohmann::json(v) : nlohmann::json(), 100, "%.2f %%", "—");
   };
   for (const nlohmann::json& j : rows) {
     if (!j.contains("draws")) continue;
@@ -49,19 +49,17 @@ std::string kinds_markdown(const std::vector<nlohmann::json>& rows) {
     }
     for (const std::string& name : order) {
       std::vector<double> rom, repr, lookup, interp;
-      int wins = 0, counted = 0;
       for (const nlohmann::json* d : kinds[name]) {
         rom.push_back(value_at(*d, "delta", true));
         repr.push_back(value_at(*d, "representation_delta", false));
         lookup.push_back(value_at(*d, "lookup_delta", false));
         interp.push_back(value_at(*d, "interp_delta", false));
-        // A failed ROM loses, as in the summary's win rates.
-        if (lookup.back() == lookup.back() || std::isinf(rom.back()))
-          ++counted, wins += rom.back() < lookup.back();
       }
+      const auto [wins, counted] = wins_against(rom, lookup);  // as the summary counts them
       s << "| " << j.value("scene", "?") << " | " << name << " | " << rom.size() << " | "
-        << pct(median_of(rom)) << " | " << pct(median_of(repr)) << " | " << pct(median_of(lookup))
-        << " | " << pct(median_of(interp)) << " | " << wins << " of " << counted << " |\n";
+        << pct(median_measured(rom)) << " | " << pct(median_measured(repr)) << " | "
+        << pct(median_measured(lookup)) << " | " << pct(median_measured(interp)) << " | " << wins
+        << " of " << counted << " |\n";
     }
   }
   return s.str();
