@@ -16,14 +16,15 @@ namespace nsf {
 Eigen::VectorXd CoefficientNet::operator()(const Eigen::VectorXd& x, Eigen::MatrixXd* J) const {
   // Column 0 is the layer's value a; with J, columns 1.. are ∂a/∂x, carried through the layers
   // (outputs × inputs). One product per layer gives both: W reads once (core/dense_kernels.h).
+  // The layers fit together (checked when the model loads); the input must fit the first.
   const int64_t inputs = x.size();
+  if (!W.empty() && inputs != this->inputs())
+    fail("internal error: a coefficient network of ", this->inputs(), " inputs given ", inputs);
   const int cols = J ? int(1 + inputs) : 1;
   Eigen::MatrixXd A(inputs, cols), Y;
   A.col(0) = (x - in_shift).cwiseQuotient(in_scale);
   if (J) A.rightCols(inputs) = in_scale.cwiseInverse().asDiagonal();
   for (size_t i = 0; i < W.size(); ++i) {
-    if (W[i].cols() != A.rows())
-      fail("internal error: a coefficient layer of ", W[i].cols(), " inputs given ", A.rows());
     Y.resize(W[i].rows(), cols);
     narrow_product(W[i].data(), W[i].rows(), W[i].cols(), A.data(), cols, Y.data());
     Y.col(0) += b[i];

@@ -25,9 +25,7 @@ void BasisSamples::evaluate(const Eigen::VectorXd& z, std::vector<Vec3>& g) {
   // Local, not a member: training and the error budget invert frames on several threads at once.
   std::vector<float> out(static_cast<size_t>(rows));
   rows_times_vectors(u_.modes.data(), rows, u_.K, c.data(), 1, out.data());
-  g.resize(rest_.size());
-  for (size_t p = 0; p < rest_.size(); ++p)
-    for (int a = 0; a < 3; ++a) g[p][a] = rest_[p][a] + (u_.mean[3 * p + a] + out[3 * p + a]);
+  positions(out.data(), 1, g);
 }
 
 void BasisSamples::jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std::vector<Vec3>& g) {
@@ -44,10 +42,14 @@ void BasisSamples::jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std::v
   J.resize(rows, r);
   for (int64_t i = 0; i < rows; ++i)
     for (int64_t j = 0; j < r; ++j) J(i, j) = out[size_t(i * cols + 1 + j)];
+  positions(out.data(), cols, g);
+}
+
+void BasisSamples::positions(const float* products, int stride, std::vector<Vec3>& g) const {
   g.resize(rest_.size());
   for (size_t p = 0; p < rest_.size(); ++p)
     for (int a = 0; a < 3; ++a)
-      g[p][a] = rest_[p][a] + (u_.mean[3 * p + a] + out[(3 * p + a) * size_t(cols)]);
+      g[p][a] = rest_[p][a] + (u_.mean[3 * p + a] + products[(3 * p + a) * size_t(stride)]);
 }
 
 namespace {

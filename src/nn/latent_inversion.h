@@ -44,6 +44,9 @@ class BasisSamples final : public SampleDeformation {
   void jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std::vector<Vec3>& g) override;
 
  private:
+  // g = X + mean + B·c at the samples, B·c the first of each `stride` products.
+  void positions(const float* products, int stride, std::vector<Vec3>& g) const;
+
   PointBasis u_;
   std::vector<Vec3> rest_;
 };
