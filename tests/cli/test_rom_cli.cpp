@@ -47,6 +47,25 @@ TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {
   EXPECT_LT(run("--taylor").at("delta").get<double>(), 0.1);
 }
 
+// `nsf rom --guard`: the run goes through the runtime's step guard and its row says so. On a
+// healthy run the guard redoes nothing and changes nothing: δ to the bit of the bare stepper's.
+TEST_F(RomEndToEnd, CliGuardRunsTheStepGuardAndItsRowSaysSo) {
+  const auto run = [&](const std::string& flag) {
+    const std::string row = (root_ / "guard_row.json").string();
+    const auto r =
+        nsf::testing::run_cli("rom '" + model() + "' '" + kTinyScene + "' --mu " +
+                              std::to_string(test_mu()) + " --truth '" + truth() +
+                              "' --no-full-order -q --threads 2 " + flag + " --json '" + row + "'");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return nlohmann::json::parse(nsf::testing::read_text(row));
+  };
+  const nlohmann::json bare = run(""), guarded = run("--guard");
+  EXPECT_FALSE(bare.at("guarded").get<bool>());
+  EXPECT_TRUE(guarded.at("guarded").get<bool>());
+  EXPECT_EQ(guarded.at("recoveries").get<long>(), 0);
+  EXPECT_EQ(guarded.at("delta").get<double>(), bare.at("delta").get<double>());
+}
+
 TEST_F(RomEndToEnd, CliWritesARunAndPrintsTheSummary) {
   const std::string out = (root_ / "rom.h5").string();
   const auto r = nsf::testing::run_cli("rom '" + model() + "' '" + kTinyScene +
