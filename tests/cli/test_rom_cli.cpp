@@ -25,17 +25,22 @@ using ::testing::Not;
 
 namespace {
 
+// `nsf rom MODEL` on the tiny scene at `mu` with `flags`, against `truth`, without full order:
+// the JSON row it writes to `row`.
+nlohmann::json rom_row(const std::string& model, const std::string& truth, double mu,
+                       const std::string& row, const std::string& flags) {
+  const auto r = nsf::testing::run_cli(
+      "rom '" + model + "' '" + kTinyScene + "' --mu " + std::to_string(mu) + " --truth '" + truth +
+      "' --no-full-order -q --threads 2 " + flags + " --json '" + row + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  return nlohmann::json::parse(nsf::testing::read_text(row));
+}
+
 // The paper's baselines as a user runs them, through the command line: CROM's stress (τ from
 // g's deformation gradient through the material, no l) and the first-order Taylor inversion.
 TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {
   const auto run = [&](const std::string& flag) {
-    const std::string row = (root_ / "baseline_row.json").string();
-    const auto r =
-        nsf::testing::run_cli("rom '" + model() + "' '" + kTinyScene + "' --mu " +
-                              std::to_string(test_mu()) + " --truth '" + truth() +
-                              "' --no-full-order -q --threads 2 " + flag + " --json '" + row + "'");
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-    return nlohmann::json::parse(nsf::testing::read_text(row));
+    return rom_row(model(), truth(), test_mu(), (root_ / "baseline_row.json").string(), flag);
   };
   const nlohmann::json crom = run("--crom");
   EXPECT_EQ(crom.at("field_sources"),
@@ -51,13 +56,7 @@ TEST_F(RomEndToEnd, CromBaselineAndTaylorVariantRun) {
 // healthy run the guard redoes nothing and changes nothing: δ to the bit of the bare stepper's.
 TEST_F(RomEndToEnd, CliGuardRunsTheStepGuardAndItsRowSaysSo) {
   const auto run = [&](const std::string& flag) {
-    const std::string row = (root_ / "guard_row.json").string();
-    const auto r =
-        nsf::testing::run_cli("rom '" + model() + "' '" + kTinyScene + "' --mu " +
-                              std::to_string(test_mu()) + " --truth '" + truth() +
-                              "' --no-full-order -q --threads 2 " + flag + " --json '" + row + "'");
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-    return nlohmann::json::parse(nsf::testing::read_text(row));
+    return rom_row(model(), truth(), test_mu(), (root_ / "guard_row.json").string(), flag);
   };
   const nlohmann::json bare = run(""), guarded = run("--guard");
   EXPECT_FALSE(bare.at("guarded").get<bool>());
