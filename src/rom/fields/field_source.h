@@ -42,7 +42,7 @@ struct FieldContext {
   const PointTable& points;
   const std::vector<std::unique_ptr<Material>>& materials;
   double mu = 0;                        // the run's parameter (h's input when the model takes it)
-  double dt = 0;                        // the ROM step
+  double dt = 0;                        // the ROM step (a split step shortens it)
   TrackedParticles* tracked = nullptr;  // the particles' own state, for the tracked sources
 };
 

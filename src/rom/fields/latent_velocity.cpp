@@ -8,22 +8,22 @@ namespace {
 
 class LatentVelocity final : public VelocitySource {
  public:
-  explicit LatentVelocity(double dt) : dt_(dt) {}
+  explicit LatentVelocity(const FieldContext& c) : c_(c) {}
   std::string describe() const override { return ""; }
   void evaluate(const std::vector<uint32_t>& ids, const std::vector<Vec3>& x,
                 const std::vector<Vec3>& x_prev, std::vector<Vec3>& v) override {
     v.resize(ids.size());
-    for (size_t k = 0; k < ids.size(); ++k) v[k] = (x[k] - x_prev[k]) / dt_;
+    for (size_t k = 0; k < ids.size(); ++k) v[k] = (x[k] - x_prev[k]) / c_.dt;
   }
 
  private:
-  double dt_;
+  const FieldContext& c_;  // its Δt is the step's, which a split step shortens
 };
 
 }  // namespace
 
 std::unique_ptr<VelocitySource> make_latent_velocity(const FieldContext& c) {
-  return std::make_unique<LatentVelocity>(c.dt);
+  return std::make_unique<LatentVelocity>(c);
 }
 
 }  // namespace nsf

@@ -34,7 +34,7 @@ class TrackedField final : public PointFieldSource {
 // takes g's backward difference.
 class TrackedVelocity final : public VelocitySource {
  public:
-  explicit TrackedVelocity(const FieldContext& c) : tracked_(*c.tracked), dt_(c.dt) {
+  explicit TrackedVelocity(const FieldContext& c) : tracked_(*c.tracked), c_(c) {
     tracked_.enlist("--velocity tracked", false);
   }
   std::string describe() const override { return "v from each point's own G2P"; }
@@ -43,13 +43,13 @@ class TrackedVelocity final : public VelocitySource {
     v.resize(ids.size());
     for (size_t k = 0; k < ids.size(); ++k) {
       const Vec3* own = tracked_.last_velocity(ids[k]);
-      v[k] = own ? *own : Vec3((x[k] - x_prev[k]) / dt_);
+      v[k] = own ? *own : Vec3((x[k] - x_prev[k]) / c_.dt);
     }
   }
 
  private:
   TrackedParticles& tracked_;
-  double dt_;
+  const FieldContext& c_;  // its Δt is the step's, which a split step shortens
 };
 
 }  // namespace

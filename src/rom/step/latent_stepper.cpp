@@ -489,6 +489,21 @@ struct LatentStepper::Impl {
     }
   }
 
+  // Every cache of g at a latent goes: the candidates are found again from all positions.
+  void forget_cached_positions() {
+    cache_step = -1;
+    xK_last_valid = false;
+    refreshed_at = -1;
+    K = CandidateSet(opt.halo);
+  }
+
+  // The step's length, in every part that reads it.
+  void set_dt(double step) {
+    dt = step;
+    context->dt = step;
+    tracked->set_dt(step);
+  }
+
   void verify_integration_set() {
     // Brute force: g on every quadrature point, N by the definition, compared with the scheme's.
     std::vector<Vec3> x;
@@ -509,17 +524,34 @@ LatentStepper::~LatentStepper() = default;
 void LatentStepper::step() {
   impl_->step();
 }
-LatentStepper::Checkpoint LatentStepper::checkpoint() const {
-  return {impl_->z, impl_->z_prev, impl_->t, impl_->n};
+LatentStepper::Checkpoint LatentStepper::checkpoint() {
+  Impl& m = *impl_;
+  return {m.z, m.z_prev, m.t, m.n, m.tracked->active() ? m.tracked->mark() : 0};
 }
 void LatentStepper::restore(const Checkpoint& c) {
   Impl& m = *impl_;
   m.z = c.z, m.z_prev = c.z_prev, m.t = c.t, m.n = c.n;
-  // Every cache of g at a latent goes: the candidates are found again from all positions.
-  m.cache_step = -1;
-  m.xK_last_valid = false;
-  m.refreshed_at = -1;
-  m.K = CandidateSet(m.opt.halo);
+  if (m.tracked->active()) m.tracked->rollback(c.tracked_mark);
+  m.forget_cached_positions();
+}
+void LatentStepper::step_split(int parts) {
+  if (parts < 1) fail("rom: a step splits into one part or more, got ", parts);
+  Impl& m = *impl_;
+  const double t0 = m.t, full = m.dt;
+  const long n0 = m.n;
+  m.z_prev = m.z - (m.z - m.z_prev) / parts;
+  m.forget_cached_positions();  // g at the old ẑ_{n−1} among them
+  m.set_dt(full / parts);
+  try {
+    for (int i = 0; i < parts; ++i) m.step();
+  } catch (...) {
+    m.set_dt(full);
+    throw;
+  }
+  m.set_dt(full);
+  m.z_prev = m.z - parts * (m.z - m.z_prev);
+  m.t = t0 + full, m.n = n0 + 1;
+  m.forget_cached_positions();  // they are keyed by a step count the substeps ran past
 }
 LatentStepper::Signals LatentStepper::signals() const {
   return {impl_->last_residual / impl_->dx, impl_->last_courant, impl_->last_margin};

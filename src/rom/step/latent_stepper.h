@@ -61,14 +61,21 @@ class LatentStepper {
   void advance_frame();  // steps_per_frame() steps
 
   // The latent pair and the clock of the run: what a guard (rom/step/step_guard.h) keeps before a
-  // step and puts back to redo it. The tracked state's own F and plastic state are not in it.
+  // step and puts back to redo it. The tracked state's own F and plastic state are not copied:
+  // restoring the newest checkpoint also rolls them back (TrackedParticles::rollback); an older
+  // one leaves them as they are.
   struct Checkpoint {
     Latent z, z_prev;
     double t = 0;
     long n = 0;
+    long tracked_mark = 0;
   };
-  Checkpoint checkpoint() const;
+  Checkpoint checkpoint();
   void restore(const Checkpoint& c);
+  // One step of Δt taken as `parts` steps of Δt/parts (the same clock and step count after), the
+  // latent velocity kept: ẑ_{n−1} is moved to ẑ_n − (ẑ_n − ẑ_{n−1})/parts before and back to a full
+  // step's distance after. A guard's recovery that keeps the run's momentum.
+  void step_split(int parts);
   // What the last step tells of its own health, online: the inversion's rms misfit at S in
   // cells, the Courant number on N (RomDiagnostics::last_residual / Δx and ::courant), and the
   // cells left between N and the place where the engine's stencils no longer fit (1.5 Δx inside

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <string>
 
 #include "core/error.h"
 #include "mpm/colliders/rigid_collider.h"
@@ -52,9 +53,12 @@ void StepGuard::check_training_box() {
   if (health_.training_note.empty()) health_.training_note = note;
 }
 
-bool StepGuard::attempt(std::string& why) {
+bool StepGuard::attempt(std::string& why, int parts) {
   try {
-    rom_.step();
+    if (parts == 1)
+      rom_.step();
+    else
+      rom_.step_split(parts);
   } catch (const RomDiverged& e) {
     if (!options_.recover) throw;
     why = e.what();
@@ -90,6 +94,16 @@ void StepGuard::step_or_recover() {
   ++health_.recoveries;
   char when[96];
   std::snprintf(when, sizeof when, "step %ld (t = %.4g s): ", before.n, before.t);
+  // The same step in shorter parts, with its momentum: a step past the Courant limit, or one
+  // whose motion g could not follow, is most often one taken too long.
+  for (int parts : {2, 4}) {
+    rom_.restore(before);
+    if (attempt(again, parts)) {
+      health_.last_recovery =
+          when + why + "; redone as " + std::to_string(parts) + " shorter steps, momentum kept";
+      return;
+    }
+  }
   LatentStepper::Checkpoint still = before;  // the same pose, at rest
   still.z_prev = still.z;
   rom_.restore(still);
@@ -98,10 +112,11 @@ void StepGuard::step_or_recover() {
     return;
   }
   // The pose a step earlier, at rest, now: the last step may have put a point where no step
-  // from its pose can go on (off the grid).
+  // from its pose can go on (off the grid). The tracked state goes back to before the step (an
+  // older one is not kept).
   LatentStepper::Checkpoint earlier = previous_;
   earlier.z_prev = earlier.z;
-  earlier.t = before.t, earlier.n = before.n;
+  earlier.t = before.t, earlier.n = before.n, earlier.tracked_mark = before.tracked_mark;
   rom_.restore(earlier);
   if (attempt(again)) {
     health_.last_recovery = when + why + "; redone at rest from the pose a step earlier";
@@ -109,7 +124,7 @@ void StepGuard::step_or_recover() {
   }
   LatentStepper::Checkpoint start = initial_;  // the scene's initial pose, at rest, now
   start.z_prev = start.z;
-  start.t = before.t, start.n = before.n;
+  start.t = before.t, start.n = before.n, start.tracked_mark = before.tracked_mark;
   rom_.restore(start);
   if (attempt(again)) {
     health_.last_recovery = when + why + "; at rest in place, " + again +

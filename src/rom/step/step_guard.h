@@ -12,9 +12,10 @@
 // the margin: at or past 1 the step is flagged. A step is redone when it throws RomDiverged (a
 // point left the grid, a fit that is not finite) or its misfit or Courant number passes its
 // limit (a margin alone only warns: the pose is the last step's, and resting there keeps it
-// inside): from the state before it with the latent velocity set to zero (the run loses its
-// momentum there and keeps its pose), else at rest from the pose a step earlier, else from the
-// scene's initial pose at rest, always at the same time. Each recovery is counted and described.
+// inside): from the state before it (the tracked state too) as two, then four, shorter steps that
+// keep the latent velocity; else with the latent velocity set to zero (the run loses its momentum
+// there and keeps its pose), else at rest from the pose a step earlier, else from the scene's
+// initial pose at rest, always at the same time. Each recovery is counted and described.
 // Apart from the indicator, each step checks the colliders against the model's training box
 // (data/training_box.h): a collider more than a cell outside where the training runs moved it, or
 // faster than they moved it, marks the run as outside the training box; the step goes on.
@@ -69,7 +70,8 @@ class StepGuard {
   void check_training_box();
   // Runs one step from the stepper's state; true when it is kept (no RomDiverged, misfit and
   // Courant number within their limits), else `why` says what went wrong.
-  bool attempt(std::string& why);
+  // `parts` > 1 takes it as that many shorter steps (LatentStepper::step_split).
+  bool attempt(std::string& why, int parts = 1);
 
   LatentStepper& rom_;
   GuardOptions options_;

@@ -79,6 +79,7 @@ Mat3 TrackedParticles::update(size_t p) {
 void TrackedParticles::advance(const std::vector<uint32_t>& ids, const Particles& P,
                                const std::vector<uint32_t>& rows) {
   advanced_ = true;
+  if (mark_ > 0) keep_for_undo(ids);
   ++advances_;
   const int64_t n = int64_t(ids.size());
   // Each point on its own: any thread count gives the same bits.
@@ -91,6 +92,33 @@ void TrackedParticles::advance(const std::vector<uint32_t>& ids, const Particles
     v_[p] = P.v[rows[k]];
     advanced_in_[p] = advances_;
   }
+}
+
+long TrackedParticles::mark() {
+  undo_.clear();
+  advances_at_mark_ = advances_;
+  return ++mark_;
+}
+
+void TrackedParticles::keep_for_undo(const std::vector<uint32_t>& ids) {
+  if (kept_in_.size() != F_.size()) kept_in_.assign(F_.size(), 0);
+  for (uint32_t p : ids) {
+    if (kept_in_[p] == mark_) continue;
+    kept_in_[p] = mark_;
+    undo_.push_back({p, F_[p], tau_[p], C_[p], v_[p], advanced_in_[p], mp_[p]});
+  }
+}
+
+bool TrackedParticles::rollback(long mark) {
+  if (mark != mark_ || mark_ == 0) return false;
+  for (const Kept& k : undo_) {
+    F_[k.p] = k.F, tau_[k.p] = k.tau, C_[k.p] = k.C, v_[k.p] = k.v;
+    advanced_in_[k.p] = k.advanced_in, mp_[k.p] = k.mp;
+    kept_in_[k.p] = 0;
+  }
+  undo_.clear();
+  advances_ = advances_at_mark_;
+  return true;
 }
 
 }  // namespace nsf

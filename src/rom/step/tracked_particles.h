@@ -43,6 +43,15 @@ class TrackedParticles {
   void advance(const std::vector<uint32_t>& ids, const Particles& P,
                const std::vector<uint32_t>& rows);
 
+  // An undo of the state since a mark, for a guard that redoes a step (rom/step/step_guard.h):
+  // after mark(), each advance first keeps the old state of the points it is the first since the
+  // mark to change; rollback(m) puts them back while m is the newest mark (true), else changes
+  // nothing (false). Before the first mark nothing is kept.
+  long mark();
+  bool rollback(long mark);
+  // The step the material integrates over (a split step's substeps are shorter).
+  void set_dt(double dt) { dt_ = dt; }
+
   // Point p's state; a particle merged into a quadrature point reads its group's.
   const Mat3& F(size_t p) const { return F_[at(p)]; }
   const Mat3& tau(size_t p) const { return tau_[at(p)]; }
@@ -56,6 +65,7 @@ class TrackedParticles {
 
  private:
   Mat3 update(size_t p);
+  void keep_for_undo(const std::vector<uint32_t>& ids);
   size_t at(size_t p) const { return p < owner_.size() ? owner_[p] : p; }
 
   size_t particles_;  // the particles' ids come first, then the merged points'
@@ -66,6 +76,16 @@ class TrackedParticles {
   std::vector<long> advanced_in_;  // per point: the advance it last went through (0: none)
   long advances_ = 0;
   std::vector<MaterialPoint> mp_;
+  struct Kept {
+    uint32_t p;
+    Mat3 F, tau, C;
+    Vec3 v;
+    long advanced_in;
+    MaterialPoint mp;
+  };
+  std::vector<Kept> undo_;     // since the newest mark
+  std::vector<long> kept_in_;  // per point: the mark its state was kept under (0: none)
+  long mark_ = 0, advances_at_mark_ = 0;
   std::vector<uint16_t> material_;
   const std::vector<std::unique_ptr<Material>>& materials_;
   double dt_;

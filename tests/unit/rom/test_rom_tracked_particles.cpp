@@ -1,7 +1,7 @@
 // The tracked state of the integration points (rom/step/tracked_particles.h): a merged quadrature
 // point starts from its group's state and stands for its members, the state cannot be renumbered
-// once the run has begun, and a plastic material's state remembers its path where an elastic one's
-// does not.
+// once the run has begun, a plastic material's state remembers its path where an elastic one's
+// does not, and a guard's rollback puts back the state of the newest mark.
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -109,6 +109,40 @@ TEST(TrackedParticles, APlasticPointRemembersItsPath) {
       EXPECT_LT(t.tau(0).norm(), 1e-6);
     }
   }
+}
+
+// A step a guard redoes must start from the state before it: rollback to the newest mark puts
+// back F, the plastic state, τ, C and each point's velocity however many advances ran since (a
+// split step's substeps), and may be repeated; an older mark, or none, changes nothing.
+TEST(TrackedParticles, RollbackPutsBackTheStateOfTheNewestMark) {
+  // Hardening: each plastic load raises the yield stress, which a rollback must take back.
+  Materials s = one_material(
+      "von_mises", {{"E", kE}, {"nu", kNu}, {"yield_stress", 50.0}, {"hardening", 10.0}}, 1);
+  nsf::TrackedParticles t({Mat3::Identity()}, s.mat0, s.material, s.materials, 1e-3);
+  t.enlist("--stress tracked", true);
+  EXPECT_FALSE(t.rollback(0));
+  advance_to(t, stretch(1.1));
+  const long older = t.mark();
+  const long newest = t.mark();
+  const Mat3 F = t.F(0), tau = t.tau(0);
+  const nsf::Vec3 v = *t.last_velocity(0);
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    advance_to(t, t.F(0) * stretch(1.3));  // past the yield stress: the plastic state moves
+    advance_to(t, t.F(0) * stretch(1.1));
+    ASSERT_GT((t.F(0) - F).norm(), 0.1);
+    EXPECT_FALSE(t.rollback(older));
+    ASSERT_TRUE(t.rollback(newest));
+    EXPECT_EQ(t.F(0), F);
+    EXPECT_EQ(t.tau(0), tau);
+    ASSERT_NE(t.last_velocity(0), nullptr);
+    EXPECT_EQ(*t.last_velocity(0), v);
+  }
+  // The plastic state came back too: the same load from it gives the same F again.
+  advance_to(t, t.F(0) * stretch(1.3));
+  const Mat3 again = t.F(0);
+  ASSERT_TRUE(t.rollback(newest));
+  advance_to(t, t.F(0) * stretch(1.3));
+  EXPECT_EQ(t.F(0), again);
 }
 
 }  // namespace

@@ -586,6 +586,68 @@ TEST_F(RomEndToEnd, AGuardedRunRecoversFromADivergenceAndSaysSo) {
   EXPECT_EQ(plain.latent(), watched.latent());
 }
 
+// The guard's first recovery (LatentStepper::step_split): one step taken as two or four shorter
+// ones keeps the run's momentum. On the tiny scene thrown at [2, 0, 0] m/s, the latent velocity
+// and the particles' mean velocity after a split step stay close to a plain step's, on the same
+// clock and step count; the next recovery, the latent velocity set to zero, loses them.
+TEST_F(RomEndToEnd, ASplitStepKeepsTheRunsMomentum) {
+  nsf::NeuralFields f = nsf::NeuralFields::load(model());
+  nsf::RomOptions o;
+  o.sampling.count = 100;
+  auto run = [&] {
+    return nsf::LatentStepper(f, nsf::load_scene(kTinyScene, {"objects[0].velocity=[2.0,0,0]"}),
+                              1.5, o);
+  };
+  auto mean_velocity = [](nsf::LatentStepper& rom) {
+    std::vector<Vec3> x, v;
+    rom.particle_state(x, &v);
+    Vec3 sum = Vec3::Zero();
+    for (const Vec3& u : v) sum += u;
+    return Vec3(sum / double(v.size()));
+  };
+  nsf::LatentStepper plain = run();
+  for (int k = 0; k < 5; ++k) plain.step();
+  nsf::LatentStepper::Checkpoint before = plain.checkpoint();
+  plain.step();
+  const Eigen::VectorXd dz = plain.latent() - plain.previous_latent();
+  const Vec3 v = mean_velocity(plain);
+  ASSERT_GT(v[0], 1.0) << "the throw is not under way";
+  for (int parts : {2, 4}) {
+    SCOPED_TRACE(parts);
+    nsf::LatentStepper split = run();
+    for (int k = 0; k < 5; ++k) split.step();
+    split.step_split(parts);
+    EXPECT_DOUBLE_EQ(split.time(), plain.time());
+    EXPECT_EQ(split.step_count(), plain.step_count());
+    EXPECT_LT((split.latent() - split.previous_latent() - dz).norm(), 0.1 * dz.norm());
+    EXPECT_LT((mean_velocity(split) - v).norm(), 0.05 * v.norm());
+  }
+  before.z_prev = before.z;
+  plain.restore(before);
+  plain.step();
+  EXPECT_LT(mean_velocity(plain)[0], 0.5 * v[0]);
+}
+
+// With the tracked state, a step redone must start from that state as it was: restoring the
+// newest checkpoint rolls back each point's F, plastic state, C and velocity, however many steps
+// ran since, so the redone steps give the plain run's latents.
+TEST_F(RomEndToEnd, RestoringACheckpointRollsTheTrackedStateBack) {
+  nsf::NeuralFields f = nsf::NeuralFields::load(model());
+  nsf::RomOptions o;
+  o.sampling.count = 100;
+  o.fields.stress = o.fields.affine = o.fields.velocity = "tracked";
+  nsf::LatentStepper plain(f, nsf::load_scene(kTinyScene), 1.5, o);
+  nsf::LatentStepper redone(f, nsf::load_scene(kTinyScene), 1.5, o);
+  for (int k = 0; k < 4; ++k) plain.step(), redone.step();
+  const nsf::LatentStepper::Checkpoint c = redone.checkpoint();
+  for (int k = 0; k < 3; ++k) redone.step();
+  const Eigen::VectorXd away = redone.latent();
+  redone.restore(c);
+  for (int k = 0; k < 3; ++k) plain.step(), redone.step();
+  EXPECT_EQ(redone.latent(), away) << "the redone steps started from another state";
+  EXPECT_LT((redone.latent() - plain.latent()).norm(), 1e-9 * plain.latent().norm());
+}
+
 // Issue #53 item 1: the runtime's torch-free load (the file's run-time record) steps as the model
 // loaded with LibTorch does, bit for bit: QDEIM's tangents at the training latents, the latent
 // prior over them, and e(X) at the rest state all come from the record.
