@@ -619,6 +619,7 @@ TEST_F(RomEndToEnd, ASplitStepKeepsTheRunsMomentum) {
     split.step_split(parts);
     EXPECT_DOUBLE_EQ(split.time(), plain.time());
     EXPECT_EQ(split.step_count(), plain.step_count());
+    EXPECT_NE(split.latent(), plain.latent()) << "the step was not split";
     EXPECT_LT((split.latent() - split.previous_latent() - dz).norm(), 0.1 * dz.norm());
     EXPECT_LT((mean_velocity(split) - v).norm(), 0.05 * v.norm());
   }
