@@ -526,12 +526,13 @@ void LatentStepper::step() {
 }
 LatentStepper::Checkpoint LatentStepper::checkpoint() {
   Impl& m = *impl_;
-  return {m.z, m.z_prev, m.t, m.n, m.tracked->active() ? m.tracked->mark() : 0};
+  if (m.tracked->active()) m.tracked->mark();
+  return {m.z, m.z_prev, m.t, m.n};
 }
 void LatentStepper::restore(const Checkpoint& c) {
   Impl& m = *impl_;
   m.z = c.z, m.z_prev = c.z_prev, m.t = c.t, m.n = c.n;
-  if (m.tracked->active()) m.tracked->rollback(c.tracked_mark);
+  if (m.tracked->active()) m.tracked->rollback();
   m.forget_cached_positions();
 }
 void LatentStepper::step_split(int parts) {

@@ -62,13 +62,12 @@ class LatentStepper {
 
   // The latent pair and the clock of the run: what a guard (rom/step/step_guard.h) keeps before a
   // step and puts back to redo it. The tracked state's own F and plastic state are not copied:
-  // restoring the newest checkpoint also rolls them back (TrackedParticles::rollback); an older
-  // one leaves them as they are.
+  // restoring any checkpoint puts them back as they were at the newest one
+  // (TrackedParticles::rollback), since older states are not kept.
   struct Checkpoint {
     Latent z, z_prev;
     double t = 0;
     long n = 0;
-    long tracked_mark = 0;
   };
   Checkpoint checkpoint();
   void restore(const Checkpoint& c);

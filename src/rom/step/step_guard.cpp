@@ -116,7 +116,7 @@ void StepGuard::step_or_recover() {
   // older one is not kept).
   LatentStepper::Checkpoint earlier = previous_;
   earlier.z_prev = earlier.z;
-  earlier.t = before.t, earlier.n = before.n, earlier.tracked_mark = before.tracked_mark;
+  earlier.t = before.t, earlier.n = before.n;
   rom_.restore(earlier);
   if (attempt(again)) {
     health_.last_recovery = when + why + "; redone at rest from the pose a step earlier";
@@ -124,7 +124,7 @@ void StepGuard::step_or_recover() {
   }
   LatentStepper::Checkpoint start = initial_;  // the scene's initial pose, at rest, now
   start.z_prev = start.z;
-  start.t = before.t, start.n = before.n, start.tracked_mark = before.tracked_mark;
+  start.t = before.t, start.n = before.n;
   rom_.restore(start);
   if (attempt(again)) {
     health_.last_recovery = when + why + "; at rest in place, " + again +

@@ -94,10 +94,10 @@ void TrackedParticles::advance(const std::vector<uint32_t>& ids, const Particles
   }
 }
 
-long TrackedParticles::mark() {
+void TrackedParticles::mark() {
   undo_.clear();
   advances_at_mark_ = advances_;
-  return ++mark_;
+  ++mark_;
 }
 
 void TrackedParticles::keep_for_undo(const std::vector<uint32_t>& ids) {
@@ -109,8 +109,8 @@ void TrackedParticles::keep_for_undo(const std::vector<uint32_t>& ids) {
   }
 }
 
-bool TrackedParticles::rollback(long mark) {
-  if (mark != mark_ || mark_ == 0) return false;
+bool TrackedParticles::rollback() {
+  if (mark_ == 0) return false;
   for (const Kept& k : undo_) {
     F_[k.p] = k.F, tau_[k.p] = k.tau, C_[k.p] = k.C, v_[k.p] = k.v;
     advanced_in_[k.p] = k.advanced_in, mp_[k.p] = k.mp;

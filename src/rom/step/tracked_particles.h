@@ -43,12 +43,12 @@ class TrackedParticles {
   void advance(const std::vector<uint32_t>& ids, const Particles& P,
                const std::vector<uint32_t>& rows);
 
-  // An undo of the state since a mark, for a guard that redoes a step (rom/step/step_guard.h):
-  // after mark(), each advance first keeps the old state of the points it is the first since the
-  // mark to change; rollback(m) puts them back while m is the newest mark (true), else changes
-  // nothing (false). Before the first mark nothing is kept.
-  long mark();
-  bool rollback(long mark);
+  // An undo of the state since the last mark, for a guard that redoes a step
+  // (rom/step/step_guard.h): after mark(), each advance first keeps the old state of the points it
+  // is the first since the mark to change; rollback() puts them back (and may be repeated). Only
+  // the newest mark's state is kept; before the first mark nothing is, and rollback() is false.
+  void mark();
+  bool rollback();
   // The step the material integrates over (a split step's substeps are shorter).
   void set_dt(double dt) { dt_ = dt; }
 
@@ -83,9 +83,9 @@ class TrackedParticles {
     long advanced_in;
     MaterialPoint mp;
   };
-  std::vector<Kept> undo_;     // since the newest mark
-  std::vector<long> kept_in_;  // per point: the mark its state was kept under (0: none)
-  long mark_ = 0, advances_at_mark_ = 0;
+  std::vector<Kept> undo_;                // since the newest mark
+  std::vector<long> kept_in_;             // per point: the mark its state was kept under (0: none)
+  long mark_ = 0, advances_at_mark_ = 0;  // mark_: marks so far
   std::vector<uint16_t> material_;
   const std::vector<std::unique_ptr<Material>>& materials_;
   double dt_;
