@@ -46,6 +46,9 @@ struct RomOptions {
   // > 0: the CFL factor the tracked state's explicit step is held to (the step's bound is
   // cfl · Δx / wave speed), in place of the scene's simulation.cfl, which bounds full order's.
   double cfl = 0;
+  // The ROM's grid spacing over the scene's Δx (≥ 1): the MPM step on N, its transfers and its CFL
+  // bound use a grid this many times coarser; the particles, g and the samples are the scene's.
+  double grid_factor = 1;
   // A step over fewer candidate points than this runs on one thread: its parallel loops are too
   // small for a second thread to pay for waking up (docs/ROM.md). 0: always on every thread.
   size_t serial_below_points = 8192;

@@ -334,6 +334,7 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
                   {"sampling", g.report->sampling},
                   {"sample_condition", g.report->sample_condition},
                   {"quadrature_per_cell", g.report->quadrature_per_cell},
+                  {"grid", g.report->grid_factor},
                   {"field_sources", g.report->field_sources},
                   {"profile", g.report->profile}};
       break;

@@ -32,6 +32,7 @@ void add_setup(const RomReport& r, nlohmann::json& j) {
   j["mean_N"] = r.mean_N;
   j["quadrature_points"] = r.quadrature_points;
   j["quadrature_per_cell"] = r.quadrature_per_cell;
+  j["rom_grid"] = r.grid_factor;
   j["threads"] = r.threads;
   if (!r.cpu.empty()) j["cpu"] = r.cpu;
   j["latent_prior"] = r.latent_prior;

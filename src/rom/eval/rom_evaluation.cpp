@@ -334,6 +334,7 @@ void describe_rom(const LatentStepper& rom, const RomOptions& ro, RomReport& rep
     rep.warnings.push_back(w);
   rep.quadrature_points = d.quadrature_points;
   rep.quadrature_per_cell = ro.quadrature_per_cell;
+  rep.grid_factor = ro.grid_factor;
   rep.refreshes = d.refreshes;
   rep.rom_times = d.times;
 }

@@ -52,6 +52,9 @@ std::string format_rom_report(const RomReport& r) {
   if (r.quadrature_points > 0 && r.quadrature_points < r.particles)
     put("  thinned quadrature: N drawn from %zu points standing for the %zu particles",
         r.quadrature_points, r.particles);
+  if (r.grid_factor > 1)
+    put("  ROM grid: %g times the scene's dx (its MPM step, transfers and CFL bound)",
+        r.grid_factor);
   s << "  " << r.field_sources << "\n";
   if (r.delta >= 0) {
     put("  delta (eq. 11) vs %s: %.3f%%", r.truth_file.c_str(), 100 * r.delta);

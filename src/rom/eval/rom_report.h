@@ -45,13 +45,14 @@ struct RomReport {
   // LatentStepper::training_distance over frames 1…N; −1 when the model has no training latents.
   double training_distance_mean = 0, training_distance_max = 0;
   // The inversion's rms residual ‖g − x‖ on S after each frame's last step (RomDiagnostics::
-  // last_residual), over frames 1…N, in units of the scene's Δx: how far the latent space falls
+  // last_residual), over frames 1…N, in units of the ROM grid's Δx: how far the latent space falls
   // short of the motion the MPM step gave the samples. Computed online, without a truth.
   double residual_cells_mean = 0, residual_cells_max = 0;
   int threads = 0;               // in use, for both engines alike
   std::string cpu;               // the processor they ran on (core/cpu_model.h)
   size_t quadrature_points = 0;  // particles that can join N: |P| unless the quadrature is thinned
   int quadrature_per_cell = 0;   // the run's thinned quadrature (0: every particle)
+  double grid_factor = 1;        // the ROM grid's Δx over the scene's (RomOptions::grid_factor)
   long refreshes = 0;
   double delta = -1;  // eq. (11) against the ground truth; < 0 when there is none
   std::vector<double> delta_per_frame;

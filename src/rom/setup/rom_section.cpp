@@ -76,6 +76,10 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
         "scene key 'rom.cfl' must be at most 1 (an elastic wave crosses less than a cell per "
         "step), got ",
         *s.cfl);
+  s.grid = number("grid", false, "the ROM grid's spacing over the scene's dx");
+  if (s.grid && *s.grid < 1)
+    fail("scene key 'rom.grid' must be at least 1 (the ROM's grid is the scene's or coarser), got ",
+         *s.grid);
   if (rom.contains("fields")) {
     const nlohmann::json& f = rom.at("fields");
     if (!f.is_object()) fail("scene key 'rom.fields' must be an object, got ", f.dump());
@@ -167,6 +171,7 @@ RomOptions with_rom_section(RomOptions o, const RomSection& s, const ModelCalibr
   o.quadrature_per_cell = s.quadrature.value_or(o.quadrature_per_cell);
   o.inversion.max_iterations = s.gn_iterations.value_or(o.inversion.max_iterations);
   o.cfl = s.cfl.value_or(o.cfl);
+  o.grid_factor = s.grid.value_or(o.grid_factor);
   for (auto [mine, scenes] : {std::pair{&o.fields.deformation, &s.fields.deformation},
                               std::pair{&o.fields.stress, &s.fields.stress},
                               std::pair{&o.fields.affine, &s.fields.affine},

@@ -42,6 +42,13 @@ class OneThreadBelow {
   int threads_;
 };
 
+// The scene with the ROM's grid: Δx `factor` times the scene's, the particles unchanged.
+Scene on_rom_grid(Scene scene, double factor) {
+  if (!(factor >= 1)) fail("rom: the ROM grid's factor must be at least 1, got ", factor);
+  scene.settings.dx *= factor;
+  return scene;
+}
+
 }  // namespace
 
 struct LatentStepper::Impl {
@@ -518,7 +525,8 @@ struct LatentStepper::Impl {
 
 LatentStepper::LatentStepper(NeuralFields& fields, Scene scene, double mu,
                              const RomOptions& options)
-    : impl_(std::make_unique<Impl>(fields, std::move(scene), mu, options)) {}
+    : impl_(std::make_unique<Impl>(fields, on_rom_grid(std::move(scene), options.grid_factor), mu,
+                                   options)) {}
 LatentStepper::~LatentStepper() = default;
 
 void LatentStepper::step() {

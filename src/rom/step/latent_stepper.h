@@ -116,7 +116,8 @@ class LatentStepper {
   // The scene's colliders, which the MPM step on N sets to its time: a host moves one between
   // steps with RigidCollider::drive.
   std::vector<std::unique_ptr<Collider>>& colliders();
-  // The model's training box (data/training_box.h) and the grid's cell size.
+  // The model's training box (data/training_box.h) and the cell size of the grid it steps on (the
+  // scene's Δx × RomOptions::grid_factor).
   const TrainingBox& training_box() const;
   double grid_dx() const;
 

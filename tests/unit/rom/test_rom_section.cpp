@@ -80,6 +80,11 @@ TEST(RomSection, TakesQuadratureIterationsAndFieldSources) {
   EXPECT_EQ(with_rom_section(RomOptions(), parse_rom_section(json::object())).cfl, 0.0);
   expect_rejected({{"cfl", 0}}, {"rom.cfl", "positive"});
   expect_rejected({{"cfl", 1.5}}, {"rom.cfl", "at most 1"});
+  EXPECT_EQ(with_rom_section(RomOptions(), parse_rom_section(json{{"grid", 1.25}})).grid_factor,
+            1.25);
+  EXPECT_EQ(with_rom_section(RomOptions(), parse_rom_section(json::object())).grid_factor, 1.0);
+  expect_rejected({{"grid", 0.5}}, {"rom.grid", "at least 1"});
+  expect_rejected({{"grid", "coarse"}}, {"rom.grid", "positive"});
   expect_rejected({{"fields", {{"affine", 3}}}}, {"rom.fields.affine", "name"});
   expect_rejected({{"fields", {{"density", "none"}}}},
                   {"rom.fields.density", "deformation, stress, affine, velocity"});

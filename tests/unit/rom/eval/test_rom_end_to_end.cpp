@@ -23,6 +23,7 @@
 #include "nn/train/trainer.h"
 #include "rom/eval/result_row.h"
 #include "rom/eval/rom_evaluation.h"
+#include "rom/eval/rom_report.h"
 #include "rom/fields/field_source.h"
 #include "rom/setup/rom_setup.h"
 #include "rom/step/latent_stepper.h"
@@ -863,6 +864,28 @@ TEST_F(RomEndToEnd, TrackedStateOnTheIntegrationPointsReplacesTheNetworks) {
   } catch (const nsf::Error& e) {
     EXPECT_THAT(std::string(e.what()), HasSubstr("exceeds the CFL bound"));
   }
+}
+
+// A coarser ROM grid (rom.grid): the tracked state's quadrature is binned per cell of that grid,
+// the step at the CFL bound grows with its Δx, and the run stays close to the truth.
+TEST_F(RomEndToEnd, ACoarserRomGridThinsTheQuadratureAndLengthensTheStep) {
+  nsf::RomEvalOptions o = options();
+  o.samples = 100;
+  o.rom.fields.stress = o.rom.fields.affine = "tracked";
+  o.rom.quadrature_per_cell = 1;
+  o.dt_ratio = nsf::RomOptions::kDtRatioAtCfl;
+  const nsf::RomReport fine = nsf::evaluate_rom(o);
+  o.overrides = {"rom.grid=1.5"};
+  const nsf::RomReport coarse = nsf::evaluate_rom(o);
+  EXPECT_EQ(fine.grid_factor, 1.0);
+  EXPECT_EQ(coarse.grid_factor, 1.5);
+  EXPECT_LT(coarse.quadrature_points, fine.quadrature_points);
+  EXPECT_GT(coarse.dt_ratio, 1.25 * fine.dt_ratio) << fine.dt_ratio << " " << coarse.dt_ratio;
+  EXPECT_NE(coarse.delta, fine.delta);
+  EXPECT_LT(coarse.delta, 0.05);
+  EXPECT_THAT(nsf::format_rom_report(coarse), HasSubstr("ROM grid: 1.5 times the scene's dx"));
+  o.overrides = {"rom.grid=0.5"};
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }), "rom.grid");
 }
 
 TEST_F(RomEndToEnd, BadInputIsAClearError) {
