@@ -35,7 +35,8 @@ extra=$(cd "$prefix/include" && find . -type f ! -path './nsf/*')
 step "the public header alone"
 echo '#include <nsf/runtime.h>' >"$tmp/header_only.cpp"
 c++ -std=c++17 -fsyntax-only -H -I "$prefix/include" "$tmp/header_only.cpp" 2>"$tmp/included.txt"
-if grep -Ei 'torch|c10|eigen|nlohmann|/src/' "$tmp/included.txt"; then
+# Past nsf's own headers, whose random temporary path could spell "c10" too.
+if grep -vF "$prefix/include/nsf/" "$tmp/included.txt" | grep -Ei 'torch|c10|eigen|nlohmann|/src/'; then
   die "the public header reaches the headers above"
 fi
 if nm -DC --defined-only "$lib" | grep -E ' (Eigen|at|c10|torch|nlohmann)::'; then
@@ -107,7 +108,8 @@ awk -v a="$y_moved" -v b="$y_still" 'BEGIN { exit !(a > b) }' ||
 step "an MLP model through the installed runtime and its MLP plugin"
 plugin="$(dirname "$lib")/nsf/libnsf_mlp.so"
 [[ -f "$plugin" ]] || die "no MLP plugin installed at $plugin"
-if ldd "$lib" | grep -Ei 'torch|c10'; then
+# Library names only: a load address such as 0x00007fc8726c1000 holds "c10" too.
+if ldd "$lib" | grep -E '(^|[[:space:]/])lib(torch|c10)[^[:space:]]*\.so'; then
   die "the installed runtime loads LibTorch (above): only its MLP plugin may"
 fi
 nm -D --defined-only "$plugin" | grep -q ' T nsf_mlp_plugin_table$' ||
