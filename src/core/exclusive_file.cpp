@@ -18,6 +18,20 @@ namespace nsf {
 
 namespace fs = std::filesystem;
 
+void check_replaceable(const std::string& path) {
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) != 0) {
+    if (errno == ENOENT) return;
+    fail("cannot inspect the output path ", path, ": ", std::strerror(errno));
+  }
+  // A link is replaced by the rename, never written through.
+  if (S_ISREG(st.st_mode) || S_ISLNK(st.st_mode)) return;
+  fail(path,
+       S_ISDIR(st.st_mode) ? " is a directory" : " is not a regular file (a device or a pipe)",
+       ": nsf writes an output under a temporary name and renames it into place, which would "
+       "replace it; give a file path");
+}
+
 void clear_stale_temp(const std::string& tmp) {
   struct stat st {};
   if (::lstat(tmp.c_str(), &st) != 0) {

@@ -10,6 +10,11 @@
 
 namespace nsf {
 
+// Fails naming `path` when something other than a regular file or a symbolic link sits there (a
+// device such as /dev/null, a directory, a pipe): the write's rename would replace it. Every
+// writer calls it before it creates its temporary file.
+void check_replaceable(const std::string& path);
+
 // Removes a stale regular file at `tmp`, and fails naming `tmp` if a symbolic link, a directory or
 // another non-regular file is there. For writers whose library creates the file itself with
 // O_EXCL (HDF5's H5F_ACC_EXCL).

@@ -139,6 +139,8 @@ XdmfSeriesWriter::XdmfSeriesWriter(std::string xdmf_path, std::string h5_path,
   const size_t p = w.material.size();
   if (p == 0 || w.object.size() != p)
     fail(w.h5_path, ": no particles, or arrays of different lengths");
+  check_replaceable(w.h5_path);
+  check_replaceable(w.xdmf_path);
   h5::QuietErrors quiet;
   w.file = Handle(h5::create_exclusive(w.tmp), H5Fclose);
   w.registration = TempFileRegistration(w.tmp);

@@ -3,6 +3,7 @@
 // cannot make nsf open files outside the dataset. Each case: a clear error naming the link (or the
 // file), a non-zero exit, and the link's target untouched.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <fstream>
@@ -41,6 +42,23 @@ TEST_F(TempLinks, SimulateRefusesALinkAtTheRunsTempName) {
   EXPECT_EQ(run_cli("simulate " + quoted(scene) + " -q -j 1 --out " + quoted(out)).exit_code, 0);
   EXPECT_TRUE(fs::is_regular_file(out));
   expect_victim_untouched();
+}
+
+// `--out` naming a pipe (or, as root, /dev/null): refused before the run, the pipe left a pipe.
+TEST_F(TempLinks, SimulateRefusesAnOutputThatIsNotARegularFile) {
+  const fs::path scene = dir_ / "scene.json", out = dir_ / "o.h5";
+  std::ofstream(scene) << R"({"name": "tiny",
+    "simulation": {"domain_lo": [0,0,0], "domain_hi": [0.5,0.5,0.5], "dx": 0.03125, "dt": 5e-4,
+                   "frames": 1, "substeps": 2},
+    "objects": [{"shape": {"type": "box", "min": [0.15,0.15,0.15], "max": [0.3,0.3,0.3]},
+                 "material": {"type": "fixed_corotated", "E": 1e4, "nu": 0.3}}]})";
+  ASSERT_EQ(::mkfifo(out.c_str(), 0600), 0);
+  const auto r = run_cli("simulate " + quoted(scene) + " -q -j 1 --out " + quoted(out));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  expect_contains(r.output, out.string() + " is not a regular file");
+  EXPECT_TRUE(fs::is_fifo(out));
+  EXPECT_FALSE(fs::exists(dir_ / "o.h5.tmp"));
+  EXPECT_FALSE(fs::exists(dir_ / "o.xdmf"));
 }
 
 TEST_F(TempLinks, TrainRefusesLinksAtTheModelsAndCheckpointsTempNames) {

@@ -3,6 +3,7 @@
 // cli/test_temp_links_cli.cpp's). Each case: a clear error naming the link, and the link's target
 // untouched.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <fstream>
@@ -69,6 +70,33 @@ TEST_F(TempLinks, PngAndManifestWritersRefuseALink) {
   expect_refused(
       error_of([&] { nsf::write_json_atomically(manifest.string(), nlohmann::json::object()); }),
       manifest);
+}
+
+// A device, a pipe or a directory at the output itself: the rename into place would replace it
+// (as root, `-o /dev/null` replaced the device with a regular file). Refused before anything is
+// written, naming the output, which is left as it was, with no temporary file beside it.
+TEST_F(TempLinks, AnOutputThatIsNotARegularFileIsRefused) {
+  const fs::path fifo = dir_ / "pipe.json", folder = dir_ / "folder.png";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  fs::create_directory(folder);
+  const std::string e1 = error_of([&] { nsf::write_file_atomic(fifo.string(), "{}"); });
+  expect_contains(e1, fifo.string());
+  expect_contains(e1, "not a regular file");
+  const std::string e2 = error_of([&] {
+    nsf::write_png(nsf::Image(4, 4, {1, 2, 3}), folder.string());
+  });
+  expect_contains(e2, folder.string());
+  expect_contains(e2, "is a directory");
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_TRUE(fs::is_directory(folder));
+  EXPECT_FALSE(fs::exists(dir_ / "pipe.json.tmp"));
+  EXPECT_FALSE(fs::exists(dir_ / "folder.png.tmp"));
+  // A symbolic link at the output is replaced by the rename, never written through.
+  const fs::path link = dir_ / "linked.json";
+  fs::create_symlink(victim(), link);
+  nsf::write_file_atomic(link.string(), "{}\n");
+  EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(link)));
+  expect_victim_untouched();
 }
 
 }  // namespace
