@@ -24,8 +24,10 @@ void check_replaceable(const std::string& path) {
     if (errno == ENOENT) return;
     fail("cannot inspect the output path ", path, ": ", std::strerror(errno));
   }
-  // A link is replaced by the rename, never written through.
-  if (S_ISREG(st.st_mode) || S_ISLNK(st.st_mode)) return;
+  // A link is replaced by the rename, never written through; one that stands for a device or a
+  // pipe (/dev/stdout) is refused like the device.
+  if (S_ISLNK(st.st_mode) && (::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode))) return;
+  if (S_ISREG(st.st_mode)) return;
   fail(path,
        S_ISDIR(st.st_mode) ? " is a directory" : " is not a regular file (a device or a pipe)",
        ": nsf writes an output under a temporary name and renames it into place, which would "

@@ -10,9 +10,10 @@
 
 namespace nsf {
 
-// Fails naming `path` when something other than a regular file or a symbolic link sits there (a
-// device such as /dev/null, a directory, a pipe): the write's rename would replace it. Every
-// writer calls it before it creates its temporary file.
+// Fails naming `path` when something other than a regular file sits there (a device such as
+// /dev/null, a directory, a pipe, or a symbolic link to one, such as /dev/stdout): the write's
+// rename would replace it. A link to a regular file, or a dangling one, is replaced by the rename.
+// Every writer calls it before it creates its temporary file.
 void check_replaceable(const std::string& path);
 
 // Removes a stale regular file at `tmp`, and fails naming `tmp` if a symbolic link, a directory or

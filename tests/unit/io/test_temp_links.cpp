@@ -91,7 +91,13 @@ TEST_F(TempLinks, AnOutputThatIsNotARegularFileIsRefused) {
   EXPECT_TRUE(fs::is_directory(folder));
   EXPECT_FALSE(fs::exists(dir_ / "pipe.json.tmp"));
   EXPECT_FALSE(fs::exists(dir_ / "folder.png.tmp"));
-  // A symbolic link at the output is replaced by the rename, never written through.
+  // A link to the pipe stands for it; a link to a regular file is replaced by the rename, never
+  // written through.
+  const fs::path to_pipe = dir_ / "to_pipe.json";
+  fs::create_symlink(fifo, to_pipe);
+  expect_contains(error_of([&] { nsf::write_file_atomic(to_pipe.string(), "{}"); }),
+                  "not a regular file");
+  EXPECT_TRUE(fs::is_symlink(to_pipe));
   const fs::path link = dir_ / "linked.json";
   fs::create_symlink(victim(), link);
   nsf::write_file_atomic(link.string(), "{}\n");
