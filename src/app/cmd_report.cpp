@@ -120,7 +120,8 @@ void report_run(const ReportArgs& a, const std::string& scene, const DecoderRows
   ro.fom_out = a.out + "/" + tag + "_full_order.h5";
   ro.gzip = 1;  // half the disk (a paper-size row's two runs: gigabytes); outside the timings
   // The baselines beside the ROM: look-up and interpolation from the training runs; the
-  // engine on the small scene (for a paper-size row), or on the small scene at 1.5× Δx.
+  // engine on the small scene (for a paper-size row), or on the small scene at 1.5× Δx (or the
+  // coarsest tenth below that builds: rom/eval/rom_evaluation.h).
   ro.baseline_data = data;
   if (a.size == "paper")
     ro.coarse_scene = std::regex_replace(scene, std::regex("_paper\\.json$"), "_small.json");

@@ -1,5 +1,6 @@
 #include "rom/eval/baseline_inputs.h"
 
+#include <cmath>
 #include <cstdio>
 
 #include "core/error.h"
@@ -65,13 +66,35 @@ BaselineInputs read_baseline_inputs(const RomEvalOptions& o, const RomSetup& set
     fail("rom: the baselines need a ground truth (--truth, or the full-order run)");
   if (!o.baseline_data.empty()) in.runs = read_training_runs(o, setup);
   if (!o.coarse_scene.empty() || o.coarse_factor > 0) {
-    try {
-      read_coarse_scene(o, setup, in);
-    } catch (const Error& e) {
-      if (!o.coarse_optional) throw;
-      in.coarse.reset();
-      in.coarse_skipped = std::string("coarse engine not measured: ") + e.what();
+    // Where the coarse engine is optional and this scene is coarsened, a factor it cannot build
+    // (a body inside the coarser wall band: jelly_small at 1.5x) steps down by tenths to 1.1, and
+    // the report says which factor ran.
+    std::vector<double> factors{o.coarse_factor};
+    if (o.coarse_optional && o.coarse_scene.empty())
+      for (int tenths = int(std::ceil(o.coarse_factor * 10 - 1e-9)) - 1; tenths >= 11; --tenths)
+        factors.push_back(tenths / 10.0);
+    std::string first_error;
+    for (double factor : factors) {
+      RomEvalOptions at = o;
+      at.coarse_factor = factor;
+      try {
+        read_coarse_scene(at, setup, in);
+      } catch (const Error& e) {
+        if (!o.coarse_optional) throw;
+        in.coarse.reset();
+        if (first_error.empty()) first_error = e.what();
+        continue;
+      }
+      if (factor != o.coarse_factor) {
+        char note[160];
+        std::snprintf(note, sizeof note,
+                      "the coarse engine runs at %gx dx, the coarsest that builds: at %gx ", factor,
+                      o.coarse_factor);
+        in.coarse_note = note + first_error;
+      }
+      break;
     }
+    if (!in.coarse) in.coarse_skipped = "coarse engine not measured: " + first_error;
   }
   return in;
 }

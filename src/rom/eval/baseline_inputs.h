@@ -18,11 +18,12 @@ struct BaselineInputs {
   nlohmann::json coarse_json;  // at μ
   std::string label;           // what the coarse engine runs, for the report
   std::string coarse_skipped;  // why the coarse engine is not measured (coarse_optional)
+  std::string coarse_note;     // the coarser factor it fell back to, and why
 };
 
 // Those `o` asks for, for the run `setup` describes. Throws nsf::Error naming the dataset or
 // scene at fault (a coarse scene that cannot be built only sets coarse_skipped when
-// o.coarse_optional).
+// o.coarse_optional, after this scene coarsened has stepped down to 1.1x).
 BaselineInputs read_baseline_inputs(const RomEvalOptions& o, const RomSetup& setup);
 
 }  // namespace nsf

@@ -366,6 +366,7 @@ RomReport evaluate_rom(const RomEvalOptions& o) {
   const BaselineInputs baseline_inputs = read_baseline_inputs(o, s);
   if (!baseline_inputs.coarse_skipped.empty())
     rep.warnings.push_back(baseline_inputs.coarse_skipped);
+  if (!baseline_inputs.coarse_note.empty()) rep.warnings.push_back(baseline_inputs.coarse_note);
   describe_setup(o, fields, s, rep);
   // Memory a caller freed before (training in `nsf report`, say) goes back to the system first,
   // so that it does not sit in the baseline and hide each phase's own peak.

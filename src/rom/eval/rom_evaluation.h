@@ -53,7 +53,9 @@ struct RomEvalOptions {
   double coarse_factor = 0;
   // A coarse scene that cannot be built (a body inside the coarser wall band, say) leaves the
   // coarse engine unmeasured, with a warning in the report, instead of stopping the run
-  // (`nsf report`, which picks the coarse scene itself; `nsf rom --coarse` stops).
+  // (`nsf report` and `nsf generalize`, which pick the coarse scene themselves; `nsf rom
+  // --coarse` stops). This scene coarsened steps down by tenths of coarse_factor to 1.1 first,
+  // with a warning naming the factor that ran.
   bool coarse_optional = false;
 };
 

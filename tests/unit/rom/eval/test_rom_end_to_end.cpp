@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "core/error.h"
@@ -1007,24 +1008,48 @@ TEST_F(RomEndToEnd, OutputHoldsTheStressAndAffineFieldsOfEachFramesLatent) {
   EXPECT_EQ(r.field_sources, "x from g, tau from h, C from l");
 }
 
-// `nsf report` picks the coarse scene itself: one it cannot build (here 6x coarser: too few cells
-// for the wall layers; the jelly at 1.5x puts its wall in them) leaves the coarse engine
-// unmeasured, with a warning in the row, and the ROM and the other baselines still stand; asked for
-// by hand (`nsf rom --coarse-factor`), it stops.
-TEST_F(RomEndToEnd, ACoarseSceneThatCannotBeBuiltIsAWarningWhereItIsOptional) {
+// `nsf report` and `nsf generalize` pick the coarse scene themselves: one they cannot build (here
+// 6x coarser: too few cells for the wall layers) steps down by tenths until one builds, with a
+// warning naming the factor that ran and why 6x did not; asked for by hand (`nsf rom
+// --coarse-factor`), it stops. A scene that builds at no coarser factor (the domain's top lowered
+// to the bar's wall band: 0.44 - 3 x 0.04 = 0.32, the bar's top) leaves the coarse engine
+// unmeasured, with a warning, and the ROM and the other baselines still stand.
+TEST_F(RomEndToEnd, ACoarseSceneThatCannotBeBuiltStepsDownOrIsAWarningWhereItIsOptional) {
   nsf::RomEvalOptions o = options();
   o.model_path = basis_model();
   o.baseline_data = (root_ / "data").string();
   o.coarse_factor = 6;
   EXPECT_THROW(nsf::evaluate_rom(o), nsf::Error);
   o.coarse_optional = true;
-  const nsf::RomReport r = nsf::evaluate_rom(o);
+  nsf::RomReport r = nsf::evaluate_rom(o);
+  EXPECT_GE(r.delta, 0);
+  EXPECT_GT(r.baselines.coarse_delta, 0) << "measured at a smaller factor";
+  double factor = 0;
+  ASSERT_EQ(std::sscanf(r.baselines.coarse_scene.c_str(), "rom_tiny at %lfx dx", &factor), 1)
+      << r.baselines.coarse_scene;
+  EXPECT_GE(factor, 1.1);
+  EXPECT_LT(factor, 6);
+  EXPECT_NEAR(factor * 10, std::round(factor * 10), 1e-9) << "a tenth";
+  ASSERT_FALSE(r.warnings.empty());
+  const std::string label = r.baselines.coarse_scene.substr(std::string("rom_tiny at ").size());
+  EXPECT_THAT(r.warnings.back(), HasSubstr("the coarse engine runs at " + label));
+  EXPECT_THAT(r.warnings.back(), HasSubstr("at 6x"));
+  EXPECT_THAT(r.warnings.back(), HasSubstr("rom_tiny.json: scene:"));  // why, and where
+  // The next tenth up does not build: the factor that ran is the coarsest.
+  nsf::RomEvalOptions up = o;
+  up.coarse_optional = false;
+  up.coarse_factor = factor + 0.1;
+  EXPECT_THROW(nsf::evaluate_rom(up), nsf::Error);
+
+  o.overrides.push_back("simulation.domain_hi=[1,0.44,1]");
+  o.coarse_factor = 1.5;
+  r = nsf::evaluate_rom(o);
   EXPECT_GE(r.delta, 0);
   EXPECT_GT(r.baselines.lookup_delta, 0);
   EXPECT_LT(r.baselines.coarse_delta, 0) << "not measured";
   ASSERT_FALSE(r.warnings.empty());
   EXPECT_THAT(r.warnings.back(), HasSubstr("coarse engine not measured"));
-  EXPECT_THAT(r.warnings.back(), HasSubstr("rom_tiny.json: scene:"));  // why, and where
+  EXPECT_THAT(r.warnings.back(), HasSubstr("rom_tiny.json: scene:"));
 }
 
 // The error budget against a truth that lies on the model's own manifold — a ROM run of the same
