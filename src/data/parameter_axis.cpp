@@ -27,7 +27,7 @@ bool same_particles(const nlohmann::json& a, const nlohmann::json& b) {
 ParameterAxis parse_parameter_axis(const nlohmann::json& j, const std::string& path,
                                    const nlohmann::json& base,
                                    const std::vector<std::vector<std::string>>& after,
-                                   const std::string& unchanged_hint) {
+                                   bool change_at_both_ends, const std::string& unchanged_hint) {
   namespace js = nsf::json;
   js::require_object(j, path);
   js::check_keys(j, path, {"name", "range", "set"});
@@ -43,6 +43,7 @@ ParameterAxis parse_parameter_axis(const nlohmann::json& j, const std::string& p
     apply_overrides(s, then);
     return s;
   };
+  std::vector<size_t> unchanged(after.size(), 0);  // per `after`: the ends that change nothing
   for (double v : {p.lo, p.hi}) {
     std::vector<std::string> overrides;
     try {
@@ -56,10 +57,11 @@ ParameterAxis parse_parameter_axis(const nlohmann::json& j, const std::string& p
            "\") changes the particles (an object's shape or the simulation section) at v = ", v,
            ": a reduced model runs on the particles it was trained on; move a collider, set a ",
            "velocity or change a material instead");
-    for (const auto& then : after)
-      if (at(overrides, then) == at({}, then))
+    for (size_t k = 0; k < after.size(); ++k)
+      if (at(overrides, after[k]) == at({}, after[k]) &&
+          (change_at_both_ends || ++unchanged[k] == 2))
         fail("scene: '", path, "' (\"", p.name, "\") leaves the scene unchanged at v = ", v,
-             unchanged_hint);
+             change_at_both_ends ? "" : " and at its other end", unchanged_hint);
   }
   return p;
 }

@@ -20,11 +20,13 @@ struct ParameterAxis {
 // sections that hold axes). Its templates are applied at both ends of its range, followed by each
 // list of `after` (the overrides the runs apply after the axis's, e.g. a sweep's at either end of
 // μ). At each end the axis must keep the particles (a reduced model runs on the particles it was
-// trained on) and must change the scene under every `after`; `unchanged_hint` ends the message
-// of the last check.
+// trained on). It must change the scene under every `after`: at both ends with
+// `change_at_both_ends` (a perturbation, which perturbs at every value), else at one end at least
+// (a sweep's axis may start from the scene's own value: a throw from rest); `unchanged_hint` ends
+// the message of that check.
 ParameterAxis parse_parameter_axis(const nlohmann::json& j, const std::string& path,
                                    const nlohmann::json& base,
                                    const std::vector<std::vector<std::string>>& after,
-                                   const std::string& unchanged_hint);
+                                   bool change_at_both_ends, const std::string& unchanged_hint);
 
 }  // namespace nsf

@@ -48,7 +48,7 @@ GeneralizeSpec parse_generalize(const nlohmann::json& j, const nlohmann::json& s
   for (size_t i = 0; i < list.size(); ++i)
     for (const nlohmann::json& b : bases) {
       Perturbation p = parse_parameter_axis(list[i], js::child(js::child(path, "perturbations"), i),
-                                            b, after, hint);
+                                            b, after, true, hint);
       if (&b == &bases.front()) s.perturbations.push_back(std::move(p));
     }
   s.draws = js::get_int(j, path, "draws", 10, 1, 10000);

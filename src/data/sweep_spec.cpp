@@ -127,8 +127,8 @@ SweepSpec parse_sweep(const nlohmann::json& j, const nlohmann::json& scene) {
         " once mu's templates are applied: an axis must change what mu leaves as it is";
     for (size_t i = 0; i < list.size(); ++i) {
       const std::string where = js::child(js::child(path, "vary"), i);
-      ParameterAxis axis = parse_parameter_axis(list[i], where, at_lo, {{}}, hint);
-      parse_parameter_axis(list[i], where, at_hi, {{}}, hint);
+      ParameterAxis axis = parse_parameter_axis(list[i], where, at_lo, {{}}, false, hint);
+      parse_parameter_axis(list[i], where, at_hi, {{}}, false, hint);
       for (const ParameterAxis& other : s.vary)
         if (other.name == axis.name)
           fail("scene: '", where, ".name' = \"", axis.name, "\" is already an axis");

@@ -209,6 +209,21 @@ TEST(SweepSpec, AMultiAxisSweepRefusesWhatItCannotRunNamingTheKey) {
           "overwrites what mu sets");
   refused([](json& s) { s["sweep"]["vary"][0]["set"] = {"colliders[0].point=[0,0.25,0]"}; },
           "leaves the scene unchanged");
+  // An axis that starts from the scene's own value (a throw from rest) changes it at its other
+  // end, and is taken; one the scene already holds at both ends is not.
+  json from_rest = plates_scene();
+  from_rest["objects"][0]["velocity"] = {0, 0, 0};
+  from_rest["sweep"]["vary"].push_back(
+      {{"name", "thrown down"}, {"range", {0, 0.4}}, {"set", {"objects[0].velocity[1]={v*-1}"}}});
+  EXPECT_EQ(parsed(from_rest).vary.size(), 2u);
+  refused(
+      [](json& s) {
+        s["objects"][0]["velocity"] = {0, 0, 0};
+        s["sweep"]["vary"].push_back({{"name", "thrown down"},
+                                      {"range", {0, 0.4}},
+                                      {"set", {"objects[0].velocity[1]={v*0}"}}});
+      },
+      "and at its other end");
   refused([](json& s) { s["sweep"]["vary"][0]["set"] = {"objects[0].shape.max[0]={v}"}; },
           "changes the particles");
   refused([](json& s) { s["sweep"]["paths"][0]["collider"] = 5; }, "sweep.paths[0].collider");
