@@ -13,6 +13,7 @@
 #include <iterator>
 
 #include "cli_runner.h"
+#include "nn/dataset.h"
 #include "nn/neural_fields.h"
 #include "nn/train/trainer.h"
 #include "rom/calibration/latent_prior_calibration.h"
@@ -184,6 +185,46 @@ TEST_F(RomEndToEnd, CalibrationStoresTheLatentPriorWithTheLowestMeanDeltaOnTrain
 // `nsf calibrate --dt-ratios`: at the chosen ε, each ratio's δ is the ROM's at that step on the
 // same runs; the largest ratio whose mean stays within the tolerance of the best's is stored, and
 // `nsf rom` (and the runtime) take it where neither the command line nor the scene sets a step.
+// A sweep with a "vary" axis: each training run is more than its μ, and the calibration's ROM runs
+// each at its own values (here the bar's stiffness, which the tracked state's material law reads),
+// as the run file holds them. δ of a cell made again by hand with that value matches; at μ alone
+// (the scene's own stiffness) it does not.
+TEST_F(RomEndToEnd, CalibrationRunsEachTrainingRunOfAMultiAxisSweepAtItsOwnValues) {
+  nsf::SweepOptions so;
+  so.out_dir = (root_ / "data_vary").string();
+  so.jobs = 2;
+  so.quiet = true;
+  so.overrides = {R"(sweep.vary=[{"name": "stiffness", "range": [12000, 30000],
+                                   "set": ["objects[0].material.E={v}"]}])"};
+  nsf::run_sweep(kTinyScene, so);
+  nsf::CalibrationOptions co = calibration_options("vary_calibrated.nsf");
+  co.data_dir = so.out_dir;
+  co.overrides = {R"(rom.fields={"stress": "tracked"})"};
+  co.grid = {0.0};
+  const nsf::CalibrationResult r = nsf::calibrate_latent_prior(co);
+  ASSERT_EQ(r.runs.size(), 2u);
+  const nsf::Dataset data(so.out_dir);
+  for (size_t k = 0; k < r.runs.size(); ++k) {
+    SCOPED_TRACE(r.runs[k]);
+    double stiffness = -1;
+    for (const nsf::SimulationFile& f : data.train())
+      if (fs::path(f.path).filename() == r.runs[k])
+        for (const nsf::ParameterRange& p : f.box.parameters)
+          if (p.name == "stiffness") stiffness = p.lo;
+    ASSERT_GT(stiffness, 12000);
+    nsf::RomEvalOptions o = options();
+    o.model_path = basis_model();
+    o.mu = r.mu[k];
+    o.truth_path = (fs::path(so.out_dir) / r.runs[k]).string();
+    o.latent_prior = 0.0;
+    o.overrides = so.overrides;
+    o.overrides.push_back(co.overrides[0]);
+    EXPECT_NE(nsf::evaluate_rom(o).delta, r.delta[0][k]) << "at μ alone";
+    o.overrides.push_back("objects[0].material.E=" + nlohmann::json(stiffness).dump());
+    EXPECT_EQ(nsf::evaluate_rom(o).delta, r.delta[0][k]);
+  }
+}
+
 TEST_F(RomEndToEnd, CalibrationChoosesTheLargestStepWithinTheToleranceAndStoresIt) {
   nsf::CalibrationOptions co = calibration_options("step_calibrated.nsf");
   const std::string calibrated = co.model_path;

@@ -7,12 +7,15 @@
 #include <fstream>
 #include <limits>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "core/error.h"
 #include "core/input_file.h"
 #include "core/progress.h"
 #include "core/timer.h"
+#include "data/sweep_spec.h"
+#include "io/run_reader.h"
 #include "nn/dataset.h"
 #include "nn/neural_fields.h"
 #include "rom/calibration/rom_calibration.h"
@@ -73,6 +76,27 @@ struct Measured {
   int frames = 0, steps_per_frame = 0;
 };
 
+// A run of a sweep with "vary" axes or collider paths holds more than μ: the sections those set
+// ("colliders" for a path, the first key of each axis's templates), taken from the scene stored
+// in the run file, so that the ROM runs the case the run is. Nothing for a sweep over μ alone.
+std::vector<std::string> own_sections(const std::string& scene,
+                                      const std::vector<std::string>& overrides,
+                                      const SimulationFile& run) {
+  const SceneFile f = read_scene_file(scene, overrides);
+  if (!f.sections.sweep) return {};
+  const SweepSpec& spec = *f.sections.sweep;
+  std::set<std::string> keys;
+  if (!spec.paths.empty()) keys.insert("colliders");
+  for (const ParameterAxis& axis : spec.vary)
+    for (const std::string& t : axis.set) keys.insert(t.substr(0, t.find_first_of(".[=")));
+  if (keys.empty()) return {};
+  const nlohmann::json stored = nlohmann::json::parse(RunReader(run.path).scene_json());
+  std::vector<std::string> out;
+  for (const std::string& key : keys)
+    if (stored.contains(key)) out.push_back(key + "=" + stored.at(key).dump());
+  return out;
+}
+
 Measured measure(const CalibrationOptions& o, const std::string& scene,
                  const std::vector<std::string>& overrides, const SimulationFile& run, double eps,
                  std::optional<double> dt_ratio) {
@@ -80,6 +104,8 @@ Measured measure(const CalibrationOptions& o, const std::string& scene,
   ro.model_path = o.model_path;
   ro.scene_path = scene;
   ro.overrides = overrides;
+  for (std::string& own : own_sections(scene, overrides, run))
+    ro.overrides.push_back(std::move(own));
   ro.mu = run.mu;
   ro.latent_prior = eps;
   ro.dt_ratio = dt_ratio;
