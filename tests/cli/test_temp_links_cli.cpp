@@ -24,13 +24,18 @@ using nsf::testing::quoted;
 using nsf::testing::run_cli;
 using nsf::testing::temp_links::TempLinks;
 
-TEST_F(TempLinks, SimulateRefusesALinkAtTheRunsTempName) {
-  const fs::path scene = dir_ / "scene.json", out = dir_ / "o.h5";
+// A one-frame scene for `nsf simulate`.
+void write_tiny_scene(const fs::path& scene) {
   std::ofstream(scene) << R"({"name": "tiny",
     "simulation": {"domain_lo": [0,0,0], "domain_hi": [0.5,0.5,0.5], "dx": 0.03125, "dt": 5e-4,
                    "frames": 1, "substeps": 2},
     "objects": [{"shape": {"type": "box", "min": [0.15,0.15,0.15], "max": [0.3,0.3,0.3]},
                  "material": {"type": "fixed_corotated", "E": 1e4, "nu": 0.3}}]})";
+}
+
+TEST_F(TempLinks, SimulateRefusesALinkAtTheRunsTempName) {
+  const fs::path scene = dir_ / "scene.json", out = dir_ / "o.h5";
+  write_tiny_scene(scene);
   plant(dir_ / "o.h5.tmp");
   const auto r = run_cli("simulate " + quoted(scene) + " -q -j 1 --out " + quoted(out));
   EXPECT_EQ(r.exit_code, 1) << r.output;
@@ -47,11 +52,7 @@ TEST_F(TempLinks, SimulateRefusesALinkAtTheRunsTempName) {
 // `--out` naming a pipe (or, as root, /dev/null): refused before the run, the pipe left a pipe.
 TEST_F(TempLinks, SimulateRefusesAnOutputThatIsNotARegularFile) {
   const fs::path scene = dir_ / "scene.json", out = dir_ / "o.h5";
-  std::ofstream(scene) << R"({"name": "tiny",
-    "simulation": {"domain_lo": [0,0,0], "domain_hi": [0.5,0.5,0.5], "dx": 0.03125, "dt": 5e-4,
-                   "frames": 1, "substeps": 2},
-    "objects": [{"shape": {"type": "box", "min": [0.15,0.15,0.15], "max": [0.3,0.3,0.3]},
-                 "material": {"type": "fixed_corotated", "E": 1e4, "nu": 0.3}}]})";
+  write_tiny_scene(scene);
   ASSERT_EQ(::mkfifo(out.c_str(), 0600), 0);
   const auto r = run_cli("simulate " + quoted(scene) + " -q -j 1 --out " + quoted(out));
   EXPECT_EQ(r.exit_code, 1) << r.output;

@@ -34,6 +34,13 @@ inline pid_t spawn_cli(const std::vector<std::string>& args, const std::string& 
     ::dup2(fd, STDERR_FILENO);
     ::close(fd);
   }
+  // The signals the tests send reach nsf as from a terminal, even where the test runner was
+  // started with them ignored (a background job of a non-interactive shell ignores SIGINT, and
+  // nsf keeps an ignored signal ignored).
+  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) ::signal(sig, SIG_DFL);
+  sigset_t none;
+  sigemptyset(&none);
+  ::sigprocmask(SIG_SETMASK, &none, nullptr);
   if (in_child) in_child();
   ::execv(ptrs[0], ptrs.data());
   ::_exit(127);
