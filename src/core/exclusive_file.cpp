@@ -34,7 +34,8 @@ void check_replaceable(const std::string& path) {
        "replace it; give a file path");
 }
 
-void clear_stale_temp(const std::string& tmp) {
+void clear_stale_temp(const std::string& tmp, const std::string& dest) {
+  check_replaceable(dest);
   struct stat st {};
   if (::lstat(tmp.c_str(), &st) != 0) {
     if (errno == ENOENT) return;
@@ -53,8 +54,8 @@ void clear_stale_temp(const std::string& tmp) {
     fail("cannot remove the stale temporary file ", tmp, ": ", std::strerror(errno));
 }
 
-int create_exclusive(const std::string& tmp) {
-  clear_stale_temp(tmp);
+int create_exclusive(const std::string& tmp, const std::string& dest) {
+  clear_stale_temp(tmp, dest);
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
   if (fd < 0) {
     if (errno == EEXIST)  // something appeared there since clear_stale_temp: another writer

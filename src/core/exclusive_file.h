@@ -13,17 +13,16 @@ namespace nsf {
 // Fails naming `path` when something other than a regular file sits there (a device such as
 // /dev/null, a directory, a pipe, or a symbolic link to one, such as /dev/stdout): the write's
 // rename would replace it. A link to a regular file, or a dangling one, is replaced by the rename.
-// Every writer calls it before it creates its temporary file.
 void check_replaceable(const std::string& path);
 
-// Removes a stale regular file at `tmp`, and fails naming `tmp` if a symbolic link, a directory or
-// another non-regular file is there. For writers whose library creates the file itself with
-// O_EXCL (HDF5's H5F_ACC_EXCL).
-void clear_stale_temp(const std::string& tmp);
+// check_replaceable(dest), the name `tmp` will be renamed to; then removes a stale regular file at
+// `tmp`, and fails naming `tmp` if a symbolic link, a directory or another non-regular file is
+// there. For writers whose library creates the file itself with O_EXCL (HDF5's H5F_ACC_EXCL).
+void clear_stale_temp(const std::string& tmp, const std::string& dest);
 
 // clear_stale_temp(), then creates `tmp` exclusively for writing (mode 0666 less the umask).
 // Returns the file descriptor (close-on-exec); fails naming `tmp` when it cannot.
-int create_exclusive(const std::string& tmp);
+int create_exclusive(const std::string& tmp, const std::string& dest);
 
 // A directory only this process uses (mkdtemp: a fresh name, mode 0700) in the system's temp
 // directory, removed with everything in it on destruction. For programs nsf runs (ffmpeg,

@@ -73,8 +73,7 @@ class AtomicFile::FdBuf : public std::streambuf {
 
 AtomicFile::AtomicFile(std::string path)
     : path_(std::move(path)), tmp_(path_ + ".tmp"), out_(nullptr) {
-  check_replaceable(path_);
-  const int fd = create_exclusive(tmp_);  // fails naming tmp_
+  const int fd = create_exclusive(tmp_, path_);  // fails naming tmp_
   registration_ = TempFileRegistration(tmp_);
   buf_ = std::make_unique<FdBuf>(fd);
   out_.rdbuf(buf_.get());

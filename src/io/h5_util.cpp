@@ -165,8 +165,8 @@ std::vector<hsize_t> dataset_shape(hid_t file_id, const std::string& name,
   return dims;
 }
 
-hid_t create_exclusive(const std::string& tmp) {
-  clear_stale_temp(tmp);
+hid_t create_exclusive(const std::string& tmp, const std::string& dest) {
+  clear_stale_temp(tmp, dest);
   return check(H5Fcreate(tmp.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT), tmp,
                "cannot create file");
 }

@@ -72,9 +72,9 @@ class QuietErrors {
 // Returns id, or fails naming the file and `what` when id is an HDF5 error value.
 hid_t check(hid_t id, const std::string& file, const std::string& what);
 
-// A new HDF5 file at `tmp`, created exclusively (H5F_ACC_EXCL: never through a link planted
-// there) after a stale regular file of that name is removed (core/exclusive_file.h).
-hid_t create_exclusive(const std::string& tmp);
+// A new HDF5 file at `tmp`, to be renamed to `dest`, created exclusively (H5F_ACC_EXCL: never
+// through a link planted there) after clear_stale_temp (core/exclusive_file.h).
+hid_t create_exclusive(const std::string& tmp, const std::string& dest);
 void check_status(herr_t status, const std::string& file, const std::string& what);
 
 // Root-group attributes. Writing replaces an attribute of the same name.

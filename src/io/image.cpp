@@ -35,9 +35,8 @@ void write_png(const Image& img, const std::string& path) {
   if (img.rgb.size() != 3 * static_cast<size_t>(img.width) * img.height) {
     fail(path, ": image buffer does not match its ", img.width, "x", img.height, " size");
   }
-  check_replaceable(path);
   const std::string tmp = path + ".tmp";
-  FILE* file = ::fdopen(create_exclusive(tmp), "wb");  // never through a link at tmp
+  FILE* file = ::fdopen(create_exclusive(tmp, path), "wb");  // never through a link at tmp
   if (!file) fail(path, ": cannot open ", tmp, " for writing");
   const TempFileRegistration registration(tmp);  // a fatal signal deletes it
   png_image pi;

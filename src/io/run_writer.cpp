@@ -250,7 +250,6 @@ RunWriter::RunWriter(const std::string& path, const Particles& p, const SimSetti
   if (options.gzip_level > 0 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) <= 0) {
     h5::fail(w.tmp, "this HDF5 library has no gzip filter");
   }
-  check_replaceable(path);
   refuse_if_being_written(w.tmp, path);
   // Like `nsf sweep` and `nsf train`, every command that writes a run makes its directory.
   if (const fs::path dir = fs::path(path).parent_path(); !dir.empty()) {
@@ -259,7 +258,7 @@ RunWriter::RunWriter(const std::string& path, const Particles& p, const SimSetti
     if (ec)
       nsf::fail(path, ": cannot create the directory ", dir.string(), " (", ec.message(), ")");
   }
-  w.file = Handle(h5::create_exclusive(w.tmp), H5Fclose);
+  w.file = Handle(h5::create_exclusive(w.tmp, path), H5Fclose);
   w.registration = TempFileRegistration(w.tmp);
   w.created = true;
   w.write_attributes(s, scene_name, scene_json);

@@ -139,10 +139,9 @@ XdmfSeriesWriter::XdmfSeriesWriter(std::string xdmf_path, std::string h5_path,
   const size_t p = w.material.size();
   if (p == 0 || w.object.size() != p)
     fail(w.h5_path, ": no particles, or arrays of different lengths");
-  check_replaceable(w.h5_path);
-  check_replaceable(w.xdmf_path);
+  check_replaceable(w.xdmf_path);  // written last: refused before the frames are
   h5::QuietErrors quiet;
-  w.file = Handle(h5::create_exclusive(w.tmp), H5Fclose);
+  w.file = Handle(h5::create_exclusive(w.tmp, w.h5_path), H5Fclose);
   w.registration = TempFileRegistration(w.tmp);
   w.created = true;
   std::vector<int64_t> connectivity(p);
