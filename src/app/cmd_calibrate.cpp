@@ -1,6 +1,7 @@
-// `nsf calibrate models/NAME.nsf data/NAME [--dt-ratios 1,1.5,2]`: choose the model's latent prior
-// ε (and the ROM's step) on its training runs and store them in the model file
-// (rom/calibration/latent_prior_calibration.h, docs/ROM.md).
+// `nsf calibrate models/NAME.nsf data/NAME [--dt-ratios 1,1.5,2] [--unseen]`: choose the model's
+// latent prior ε (and the ROM's step) on its training runs, or its unseen profile's on perturbed
+// cases, and store them in the model file (rom/calibration/latent_prior_calibration.h,
+// docs/ROM.md).
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -24,6 +25,7 @@ struct CalibrateArgs {
   std::string json;
   bool dry_run = false;
   int recipe = 1;  // of the scene's train.calibrate list, from 1
+  int seed = -1;   // --seed; < 0: not given
 };
 
 // A scene whose rom section sets latent_prior (or dt_ratio, where the step was calibrated) for
@@ -32,14 +34,17 @@ struct CalibrateArgs {
 void warn_if_scene_overrides(const CalibrationOptions& o, DecoderFamily decoders, bool step) {
   const SceneRomSettings scene = scene_rom_settings(o, decoders);
   const std::string family = family_name(decoders);
-  const std::string where = scene.tracked ? "tracked object" : family + " object";
+  const std::string where = o.unseen        ? "unseen object"
+                            : scene.tracked ? "tracked object"
+                                            : family + " object";
   const auto warn = [&](const char* key, const std::string& value, const char* unit) {
     std::fprintf(stderr,
-                 "nsf: warning: the scene sets rom.%s = %s%s for %s models%s, which nsf rom uses "
+                 "nsf: warning: the scene sets rom.%s = %s%s for %s%s, which nsf rom uses "
                  "ahead of the model's calibration; remove it there (or set it to null in its "
                  "rom.%s) to use the calibration\n",
-                 key, value.c_str(), unit, family.c_str(),
-                 scene.tracked ? " with the tracked state" : "", where.c_str());
+                 key, value.c_str(), unit,
+                 o.unseen ? "runs on its unseen profile" : (family + " models").c_str(),
+                 scene.tracked && !o.unseen ? " with the tracked state" : "", where.c_str());
   };
   if (scene.latent_prior) {
     std::ostringstream prior;
@@ -93,6 +98,20 @@ void add_calibrate_command(CLI::App& app) {
   cmd->add_option("--runs", a->opt.runs, "Training runs to measure on, spread over the sweep")
       ->capture_default_str()
       ->check(in_range(1, 1000));
+  CLI::Option* unseen = cmd->add_flag(
+      "--unseen", a->opt.unseen,
+      "Calibrate the scene's rom.unseen profile instead, on perturbed cases drawn from its "
+      "generalize section (never the benchmark's draws), each run at full order once; a run "
+      "outside the training family takes it (default: the scene's train.calibrate.unseen)");
+  CLI::Option* draws =
+      cmd->add_option("--draws", a->opt.draws,
+                      "Perturbed cases to measure on, with --unseen (default: the scene's "
+                      "train.calibrate.draws, else 4)")
+          ->check(in_range(1, 1000));
+  cmd->add_option("--seed", a->seed,
+                  "Seed of those draws (default: the scene's generalize.calibration_seed); never "
+                  "the benchmark's")
+      ->check(in_range(0, 1 << 30));
   cmd->add_option("--recipe", a->recipe,
                   "Which of the scene's train.calibrate recipes fills what the command line does "
                   "not give, where it has several (one per kind of run: the decoded stress's, the "
@@ -103,7 +122,7 @@ void add_calibrate_command(CLI::App& app) {
   cmd->add_flag("--dry-run", a->dry_run, "Measure and print, leave the model file as it is");
   add_threads_option(cmd, a->opt.threads);
   add_quiet_flag(cmd, a->opt.quiet);
-  cmd->callback([a, grid, dt_ratios, set] {
+  cmd->callback([a, grid, dt_ratios, set, unseen, draws] {
     // Checked here, before anything is read, as a usage error: the list's values are in range.
     for (size_t i = 1; i < a->opt.dt_ratios.size() && dt_ratios->count() > 0; ++i)
       if (!(a->opt.dt_ratios[i] > a->opt.dt_ratios[i - 1])) {
@@ -113,8 +132,15 @@ void add_calibrate_command(CLI::App& app) {
         throw CLI::ValidationError("--dt-ratios", why.str());
       }
     // The scene's train.calibrate recipe where the command line gives none of its own.
-    apply_calibration_recipe(a->opt, {grid->count() > 0, dt_ratios->count() > 0, set->count() > 0},
+    apply_calibration_recipe(a->opt,
+                             {grid->count() > 0, dt_ratios->count() > 0, set->count() > 0,
+                              unseen->count() > 0, draws->count() > 0},
                              size_t(a->recipe - 1));
+    if (a->seed >= 0) {
+      if (!a->opt.unseen)
+        throw CLI::ValidationError("--seed", "seeds the perturbed cases of --unseen");
+      a->opt.seed = uint64_t(a->seed);
+    }
     const CalibrationResult r = calibrate_latent_prior(a->opt);
     std::printf("%s%s", r.table().c_str(), r.summary().c_str());
     warn_if_scene_overrides(a->opt, NeuralFields::load(a->opt.model_path).family(),

@@ -14,7 +14,7 @@ GeneralizeSpec parse_generalize(const nlohmann::json& j, const nlohmann::json& s
   namespace js = nsf::json;
   const std::string path = "generalize";
   js::require_object(j, path);
-  js::check_keys(j, path, {"perturbations", "draws", "seed"});
+  js::check_keys(j, path, {"perturbations", "draws", "seed", "calibration_seed"});
   GeneralizeSpec s;
   if (!j.contains("perturbations") || !j.at("perturbations").is_array() ||
       j.at("perturbations").empty())
@@ -53,6 +53,11 @@ GeneralizeSpec parse_generalize(const nlohmann::json& j, const nlohmann::json& s
     }
   s.draws = js::get_int(j, path, "draws", 10, 1, 10000);
   s.seed = uint64_t(js::get_int(j, path, "seed", 1, 0, 1 << 30));
+  s.calibration_seed =
+      uint64_t(js::get_int(j, path, "calibration_seed", int(s.seed) + 1000, 0, (1 << 30) + 1000));
+  if (s.calibration_seed == s.seed)
+    fail("scene: 'generalize.calibration_seed' must differ from 'generalize.seed' (", s.seed,
+         "): a model calibrated on the benchmark's own draws would be scored on them");
   return s;
 }
 

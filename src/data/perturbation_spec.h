@@ -24,6 +24,9 @@ struct GeneralizeSpec {
   std::vector<Perturbation> perturbations;
   int draws = 10;     // how many cases `nsf generalize` scores by default
   uint64_t seed = 1;  // of the draws
+  // Of the draws `nsf calibrate --unseen` measures a model's unseen profile on: other cases of
+  // the same perturbations, never the benchmark's (default: seed + 1000; never seed itself).
+  uint64_t calibration_seed = 1001;
 };
 
 struct PerturbationDraw {

@@ -209,6 +209,16 @@ TEST(TrainSection, TakesACalibrationRecipe) {
   expect_rejected(app("3"), {"train.calibrate"});
   expect_rejected(app("[]"), {"train.calibrate", "non-empty list"});
   expect_rejected(app(R"([{"grid": [0]}, {"grid": [-1]}])"), {"train.calibrate[1].grid[0]"});
+  // The unseen profile's recipe: measured on perturbed cases, "draws" of them.
+  const std::vector<nsf::CalibrationRecipe> unseen =
+      nsf::parse_calibration_recipes(app(R"({"unseen": true, "draws": 6, "grid": [0, 0.001]})"));
+  ASSERT_EQ(unseen.size(), 1u);
+  EXPECT_TRUE(unseen[0].unseen);
+  EXPECT_EQ(unseen[0].draws, 6);
+  EXPECT_FALSE(nsf::parse_calibration_recipes(app(R"({"grid": [0]})"))[0].unseen);
+  expect_rejected(app(R"({"unseen": 1})"), {"train.calibrate.unseen", "true or false"});
+  expect_rejected(app(R"({"draws": 4})"), {"train.calibrate.draws", "\"unseen\": true"});
+  expect_rejected(app(R"({"unseen": true, "draws": 0})"), {"train.calibrate.draws"});
 }
 
 // The recipe fills what nsf calibrate's command line left open, and only that.
@@ -238,6 +248,24 @@ TEST(TrainSection, CalibrationRecipeFillsWhatTheCommandLineLeftOpen) {
   EXPECT_EQ(given.grid, (std::vector<double>{0.5}));
   EXPECT_EQ(given.dt_ratios, (std::vector<double>{1, 2}));
   EXPECT_EQ(given.overrides, (std::vector<std::string>{"rom.samples=9"}));
+  EXPECT_FALSE(given.unseen);
+  // An unseen recipe: the perturbed cases and their count, unless the command line gave its own.
+  json with_unseen = scene;
+  with_unseen["train"]["calibrate"] = json::parse(R"({"unseen": true, "draws": 3})");
+  std::ofstream(p) << with_unseen.dump();
+  CalibrationOptions u;
+  u.scene_path = p.string();
+  u.quiet = true;
+  apply_calibration_recipe(u, {});
+  EXPECT_TRUE(u.unseen);
+  EXPECT_EQ(u.draws, 3);
+  CalibrationOptions u_given;
+  u_given.scene_path = p.string();
+  u_given.quiet = true;
+  u_given.draws = 8;
+  apply_calibration_recipe(u_given, {false, false, false, false, true});
+  EXPECT_TRUE(u_given.unseen);
+  EXPECT_EQ(u_given.draws, 8);
 }
 
 // A list of recipes: nsf calibrate --recipe N takes the Nth; each kind of run reads the scene's

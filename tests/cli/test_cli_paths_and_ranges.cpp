@@ -120,6 +120,8 @@ TEST_F(PathsAndRanges, NumericOptionsOutOfRangeOrNaNAreRefused) {
       {rom + "--upsample 0", "--upsample"},
       {rom + "--gzip 10", "--gzip"},
       {eval + "--every 0", "--every"},
+      {"calibrate " + quoted(model()) + " " + quoted(dir_) + " --unseen --draws 0", "--draws"},
+      {"calibrate " + quoted(model()) + " " + quoted(dir_) + " --seed 5", "--seed"},
       {eval + "--particles -1", "--particles"},
       {"render " + quoted(model()) + " --out " + quoted(dir_ / "r") + " --fov nan", "--fov"},
       {"demo --steps 0,1,1", "--steps"},

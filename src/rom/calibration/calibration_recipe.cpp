@@ -31,8 +31,21 @@ std::vector<double> numbers(const nlohmann::json& j, const std::string& path, bo
 
 CalibrationRecipe parse_calibration_recipe(const nlohmann::json& j, const std::string& path) {
   json::require_object(j, path);
-  json::check_keys(j, path, {"grid", "dt_ratios", "set"});
+  json::check_keys(j, path, {"grid", "dt_ratios", "set", "unseen", "draws"});
   CalibrationRecipe c;
+  if (j.contains("unseen")) {
+    if (!j.at("unseen").is_boolean())
+      fail("scene: '", json::child(path, "unseen"),
+           "' must be true or false (calibrate the rom.unseen profile on perturbed cases), got ",
+           j.at("unseen").dump());
+    c.unseen = j.at("unseen").get<bool>();
+  }
+  if (j.contains("draws")) {
+    if (!c.unseen)
+      fail("scene: '", json::child(path, "draws"),
+           "' counts perturbed cases: it goes with \"unseen\": true");
+    c.draws = json::get_int(j, path, "draws", 1, 1000);
+  }
   if (j.contains("grid"))
     c.grid = numbers(j.at("grid"), json::child(path, "grid"), true, false,
                      "the latent prior lengths tried, metres");

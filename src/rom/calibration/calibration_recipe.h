@@ -14,9 +14,13 @@ namespace nsf {
 // runs (`--set`). A scene may give several (a list), one for each kind of run a model keeps a
 // calibration of: the decoded stress's and the tracked state's
 // (`"set": ["rom.fields.stress=tracked", ...]`).
+// A recipe with "unseen": true calibrates the scene's rom.unseen profile on "draws" perturbed
+// cases (CalibrationOptions::unseen).
 struct CalibrationRecipe {
   std::vector<double> grid, dt_ratios;
   std::vector<std::string> set;
+  bool unseen = false;
+  int draws = 0;  // 0: not given
 };
 
 // The recipes of a scene's "train" section `train` (at `path`): its "calibrate", one recipe or a

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/exclusive_file.h"
 #include "core/input_file.h"
 #include "core/progress.h"
 #include "core/timer.h"
@@ -19,6 +20,7 @@
 #include "nn/dataset.h"
 #include "nn/neural_fields.h"
 #include "rom/calibration/rom_calibration.h"
+#include "rom/eval/generalize.h"
 #include "rom/eval/rom_evaluation.h"
 #include "rom/setup/scene_file.h"
 #include "rom/step/rom_diverged.h"
@@ -68,7 +70,18 @@ std::vector<SimulationFile> spread_runs(std::vector<SimulationFile> runs, int co
   return out;
 }
 
-// One ROM run against one training run. δ is +inf where the latent dynamics diverged or the ROM
+// One case the ROM is measured on: a training run, whose file is the truth, or a perturbed draw
+// (CalibrationOptions::unseen), whose truth is run at full order the first time it is measured
+// and kept for the others.
+struct Case {
+  std::string label;                   // the run's file name, or the draw's perturbation and v
+  std::optional<double> mu;            // none for a draw of a scene without a sweep
+  std::vector<std::string> overrides;  // the run's own sections, or the draw's axes and templates
+  std::string truth;                   // the truth's file; "" until the draw's is made
+  std::string truth_out;               // where a draw's full-order run goes
+};
+
+// One ROM run against one case. δ is +inf where the latent dynamics diverged or the ROM
 // refused the step (the tracked state's CFL bound); any other failure is thrown.
 struct Measured {
   double delta = 0;
@@ -98,21 +111,33 @@ std::vector<std::string> own_sections(const std::string& scene,
 }
 
 Measured measure(const CalibrationOptions& o, const std::string& scene,
-                 const std::vector<std::string>& overrides, const SimulationFile& run, double eps,
+                 const std::vector<std::string>& overrides, Case& c, double eps,
                  std::optional<double> dt_ratio) {
   RomEvalOptions ro;
   ro.model_path = o.model_path;
   ro.scene_path = scene;
   ro.overrides = overrides;
-  for (std::string& own : own_sections(scene, overrides, run))
-    ro.overrides.push_back(std::move(own));
-  ro.mu = run.mu;
+  ro.overrides.insert(ro.overrides.end(), c.overrides.begin(), c.overrides.end());
+  ro.mu = c.mu;
   ro.latent_prior = eps;
   ro.dt_ratio = dt_ratio;
-  ro.truth_path = run.path;
-  ro.full_order = false;
+  ro.truth_path = c.truth;
+  ro.full_order = c.truth.empty();
+  ro.fom_out = c.truth.empty() ? c.truth_out : "";
+  if (o.unseen) ro.profile = "unseen";
   ro.threads = o.threads;
   ro.quiet = true;
+  // Every perturbed case lies outside the family, as its table says: not said once per run.
+  ro.print_warnings = !o.unseen;
+  // The draw's truth stands once written, whether or not the ROM then ran (the truth comes first).
+  struct KeepTruth {
+    Case& c;
+    ~KeepTruth() {
+      std::error_code ec;
+      if (c.truth.empty() && std::filesystem::is_regular_file(c.truth_out, ec))
+        c.truth = c.truth_out;
+    }
+  } keep{c};
   Measured m;
   try {
     const RomReport rep = evaluate_rom(ro);
@@ -152,8 +177,8 @@ namespace {
 
 // The step pass: each ratio at ε on the same runs; the largest within tolerance of the best wins.
 StepCalibration calibrate_step(const CalibrationOptions& o, const std::string& scene,
-                               const std::vector<std::string>& overrides,
-                               const std::vector<SimulationFile>& runs, double eps) {
+                               const std::vector<std::string>& overrides, std::vector<Case>& runs,
+                               double eps) {
   StepCalibration s;
   s.ratios = o.dt_ratios;
   s.tolerance = o.dt_tolerance;
@@ -196,6 +221,60 @@ StepCalibration calibrate_step(const CalibrationOptions& o, const std::string& s
   if (!o.quiet) bar.finish();
   s.chosen = chosen_step(s);
   return s;
+}
+
+// The training runs measured on: `o.runs` of them spread over the sweep.
+std::vector<Case> training_cases(const CalibrationOptions& o, const std::string& scene,
+                                 const std::vector<std::string>& overrides) {
+  const Dataset data(o.data_dir);
+  if (!data.has_mu()) fail("calibrate: dataset ", o.data_dir, " has no parameter mu per run");
+  std::vector<Case> cases;
+  for (const SimulationFile& f : spread_runs(data.train(), o.runs)) {
+    Case c;
+    c.label = std::filesystem::path(f.path).filename().string();
+    c.mu = f.mu;
+    c.overrides = own_sections(scene, overrides, f);
+    c.truth = f.path;
+    cases.push_back(std::move(c));
+  }
+  return cases;
+}
+
+// The perturbed cases measured on: `o.draws` draws of the scene's "generalize" section from its
+// calibration seed (or `o.seed`), which must not be the benchmark's; `seed` is set to it.
+std::vector<Case> unseen_cases(const CalibrationOptions& o, const std::string& scene,
+                               const std::vector<std::string>& overrides, const PrivateDir& dir,
+                               uint64_t& seed) {
+  const SceneFile file = read_scene_file(scene, overrides);
+  if (!file.sections.generalize)
+    fail("calibrate --unseen: scene ", scene,
+         " has no \"generalize\" section to draw perturbed cases from (docs/GENERALIZE.md)");
+  if (!file.sections.rom.unseen)
+    fail("calibrate --unseen: scene ", scene,
+         " has no rom.unseen profile to calibrate (docs/GENERALIZE.md, \"Outside the training "
+         "family\")");
+  const GeneralizeSpec& spec = *file.sections.generalize;
+  seed = o.seed ? *o.seed : spec.calibration_seed;
+  if (seed == spec.seed)
+    fail("calibrate --unseen: seed ", seed,
+         " is the benchmark's (the scene's generalize.seed): a model calibrated on the draws "
+         "that score it would be scored on what it saw; give another --seed");
+  const SweepSpec* sweep = file.sections.sweep ? &*file.sections.sweep : nullptr;
+  std::vector<Case> cases;
+  for (const PerturbationDraw& d : plan_draws(spec, sweep, o.draws, seed)) {
+    RomEvalOptions ro;
+    set_up_draw(ro, d, sweep);
+    Case c;
+    char label[160];
+    std::snprintf(label, sizeof label, "draw %d (%s, v = %.4g)", d.index, d.perturbation.c_str(),
+                  d.value);
+    c.label = label;
+    c.mu = ro.mu;
+    c.overrides = std::move(ro.overrides);
+    c.truth_out = dir.path("draw_" + std::to_string(d.index) + ".h5");
+    cases.push_back(std::move(c));
+  }
+  return cases;
 }
 
 // One table row's δ per run: "-" where skipped, `failed` where +inf.
@@ -245,6 +324,8 @@ void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& giv
   if (!c.grid.empty() && !given.grid) o.grid = c.grid, list("grid", c.grid);
   if (!c.dt_ratios.empty() && !given.dt_ratios)
     o.dt_ratios = c.dt_ratios, list("dt_ratios", c.dt_ratios);
+  if (c.unseen && !given.unseen) o.unseen = true, took << " unseen";
+  if (c.draws > 0 && !given.draws) o.draws = c.draws, took << " draws " << c.draws;
   if (!c.set.empty() && !given.set) {
     o.overrides.insert(o.overrides.end(), c.set.begin(), c.set.end());
     list("set", c.set);
@@ -263,6 +344,11 @@ SceneRomSettings scene_rom_settings(const CalibrationOptions& o, DecoderFamily f
   if (scene.empty()) return {};
   const SceneFile file = read_scene_file(scene, calibration_overrides(o));
   const RomSection& rom = file.sections.rom;
+  if (o.unseen) {
+    if (!rom.unseen) return {};  // calibrate_latent_prior says so
+    const RomSection& u = *rom.unseen;
+    return {u.fields.stress == "tracked", u.latent_prior, u.dt_ratio};
+  }
   const RomSection& section = rom.for_run(family);
   return {rom.tracks_stress(family), section.latent_prior, section.dt_ratio};
 }
@@ -294,8 +380,7 @@ CalibrationResult calibrate_latent_prior(const CalibrationOptions& o) {
         "calibrate: --dt-tolerance must be at least 1 (a factor on the best ratio's mean delta), "
         "got ",
         o.dt_tolerance);
-  const Dataset data(o.data_dir);
-  if (!data.has_mu()) fail("calibrate: dataset ", o.data_dir, " has no parameter mu per run");
+  if (o.unseen && o.draws < 1) fail("calibrate: --draws must be at least 1, got ", o.draws);
   const std::string scene = o.scene_path.empty() ? dataset_scene_file(o.data_dir) : o.scene_path;
   if (scene.empty())
     fail("calibrate: dataset ", o.data_dir,
@@ -304,14 +389,24 @@ CalibrationResult calibrate_latent_prior(const CalibrationOptions& o) {
 
   CalibrationResult r;
   r.grid = o.grid;
+  r.unseen = o.unseen;
   r.tracked = scene_rom_settings(o, NeuralFields::load(o.model_path).family()).tracked;
-  const std::vector<SimulationFile> runs = spread_runs(data.train(), o.runs);
-  for (const SimulationFile& f : runs) {
-    r.runs.push_back(std::filesystem::path(f.path).filename().string());
-    r.mu.push_back(f.mu);
+  std::unique_ptr<PrivateDir> truths;  // the draws' full-order runs, gone with the calibration
+  std::vector<Case> runs;
+  if (o.unseen) {
+    truths = std::make_unique<PrivateDir>("nsf_calibrate_unseen");
+    runs = unseen_cases(o, scene, overrides, *truths, r.seed);
+  } else {
+    runs = training_cases(o, scene, overrides);
+  }
+  for (const Case& c : runs) {
+    r.runs.push_back(c.label);
+    r.mu.push_back(c.mu.value_or(NAN));
   }
   const double start = now_seconds();
-  Progress bar("calibrating the latent prior", long(r.grid.size() * runs.size()), "runs");
+  Progress bar(
+      o.unseen ? "calibrating the unseen profile's latent prior" : "calibrating the latent prior",
+      long(r.grid.size() * runs.size()), o.unseen ? "draws" : "runs");
   long done = 0;
   const double n = double(runs.size());
   double best_mean = kInf;  // the lowest mean of an ε measured on every run so far
@@ -357,8 +452,11 @@ nlohmann::json CalibrationResult::to_json() const {
   j["chosen"] = chosen;
   j["all_diverged"] = all_diverged;
   j["tracked"] = tracked;
+  j["unseen"] = unseen;
+  if (unseen) j["seed"] = seed;  // generalize refuses to score the model on these draws
   j["runs"] = runs;
-  j["mu"] = mu;
+  j["mu"] = nlohmann::json::array();
+  for (double m : mu) j["mu"].push_back(std::isnan(m) ? nlohmann::json() : nlohmann::json(m));
   j["seconds"] = seconds;
   j["grid"] = nlohmann::json::array();
   for (size_t g = 0; g < grid.size(); ++g) {
@@ -391,10 +489,16 @@ nlohmann::json CalibrationResult::to_json() const {
 
 std::string CalibrationResult::table() const {
   std::ostringstream s;
-  s << "latent prior calibration" << (tracked ? " of the tracked state" : "")
-    << ": delta on training runs";
-  for (size_t k = 0; k < runs.size(); ++k)
-    s << (k ? ", " : " ") << runs[k] << " (mu " << mu[k] << ")";
+  s << "latent prior calibration" << (unseen ? " of the unseen profile" : "")
+    << (tracked ? (unseen ? " (tracked state)" : " of the tracked state") : "");
+  if (unseen)
+    s << ": delta on perturbed cases against their full-order runs (seed " << seed << "):";
+  else
+    s << ": delta on training runs";
+  for (size_t k = 0; k < runs.size(); ++k) {
+    s << (k ? ", " : " ") << runs[k];
+    if (!std::isnan(mu[k])) s << " (mu " << mu[k] << ")";
+  }
   s << "\n";
   char line[64];
   for (size_t g = 0; g < grid.size(); ++g) {
@@ -472,9 +576,9 @@ bool calibrate_trained_model(const std::string& model_path, const std::string& d
       apply_calibration_recipe(one, {}, i);
       const SceneRomSettings scene = scene_rom_settings(one, DecoderFamily::basis);
       if (scene.latent_prior) {
-        skip("scene " + o.scene_path +
-             " sets rom.latent_prior = " + millimetres(*scene.latent_prior) +
-             (scene.tracked ? " for runs with the tracked state" : ""));
+        skip("scene " + o.scene_path + " sets rom." + (one.unseen ? "unseen." : "") +
+             "latent_prior = " + millimetres(*scene.latent_prior) +
+             (scene.tracked && !one.unseen ? " for runs with the tracked state" : ""));
         continue;
       }
       r = calibrate_latent_prior(one);
@@ -496,14 +600,15 @@ std::string CalibrationResult::summary() const {
   const double best = *std::min_element(mean.begin(), mean.end());
   if (all_diverged)
     std::snprintf(line, sizeof line,
-                  "latent prior: none (every epsilon diverged on some of %zu training runs; %.0f "
-                  "s)\n",
-                  runs.size(), seconds);
+                  "latent prior: none (every epsilon diverged on some of %zu %s; %.0f s)\n",
+                  runs.size(), unseen ? "perturbed cases" : "training runs", seconds);
   else
-    std::snprintf(line, sizeof line,
-                  "latent prior: %g mm, mean delta %.3f %% on %zu training runs (%.0f s)\n",
-                  1e3 * chosen, 100 * best, runs.size(), seconds);
-  std::string out = tracked ? "tracked state: " + std::string(line) : std::string(line);
+    std::snprintf(line, sizeof line, "latent prior: %g mm, mean delta %.3f %% on %zu %s (%.0f s)\n",
+                  1e3 * chosen, 100 * best, runs.size(),
+                  unseen ? "perturbed cases" : "training runs", seconds);
+  std::string out = unseen    ? "unseen profile: " + std::string(line)
+                    : tracked ? "tracked state: " + std::string(line)
+                              : std::string(line);
   if (step && step->chosen > 0) {
     const size_t i = size_t(std::find(step->ratios.begin(), step->ratios.end(), step->chosen) -
                             step->ratios.begin());
@@ -522,7 +627,7 @@ std::string CalibrationResult::summary() const {
 
 void store_calibration(const std::string& model_path, const CalibrationResult& r) {
   RomCalibrations all = rom_calibrations(NeuralFields::load(model_path));
-  RomCalibration& c = r.tracked ? all.tracked : all.decoded;
+  RomCalibration& c = r.unseen ? all.unseen : r.tracked ? all.tracked : all.decoded;
   c.latent_prior = r.chosen;
   c.table = r.to_json();
   if (r.step) c.dt_ratio = r.step->chosen;

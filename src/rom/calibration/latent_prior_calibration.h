@@ -5,6 +5,10 @@
 // held-out ones: they are what a user has before any test. `nsf calibrate` and `nsf train`.
 // Optionally also the ROM's time step (`--dt-ratios`): at the chosen ε, the largest ratio of the
 // ROM step to the scene's Δt whose mean δ stays within a tolerance of the best ratio's.
+// With `--unseen`, the scene's rom.unseen profile instead, on perturbed cases drawn from its
+// "generalize" section (never the benchmark's draws) against their own full-order runs: what a
+// run outside the training family takes, chosen on runs outside it.
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,7 +31,15 @@ struct CalibrationOptions {
   double dt_tolerance = 1.25;  // a ratio qualifies where its mean δ ≤ this × the best's,
   double dt_budget = 0;        // or ≤ this (a δ, e.g. 0.01; 0: none)
   int runs = 4;                // training runs, spread over the sweep's interior
-  int threads = 0;             // as `nsf rom -j`; 0: all cores
+  // Calibrate the scene's rom.unseen profile instead (`--unseen`), on perturbed cases, never on
+  // training runs: `draws` draws of the scene's "generalize" section from `seed` (none: its
+  // calibration_seed; never the benchmark's seed), each run at full order once as its truth,
+  // the ROM on the unseen profile. Stored as the model's unseen calibration, which a run on that
+  // profile takes where the profile sets no latent_prior (dt_ratio).
+  bool unseen = false;
+  int draws = 4;
+  std::optional<uint64_t> seed;
+  int threads = 0;  // as `nsf rom -j`; 0: all cores
   bool quiet = false;
 };
 
@@ -56,8 +68,8 @@ double chosen_step(const StepCalibration& s);
 
 struct CalibrationResult {
   std::vector<double> grid;
-  std::vector<std::string> runs;  // the training runs' files
-  std::vector<double> mu;
+  std::vector<std::string> runs;  // the training runs' files, or the draws (unseen)
+  std::vector<double> mu;         // NaN for a draw of a scene without a sweep
   // δ per ε and run: +inf where the latent dynamics diverged, NaN where the run was skipped
   // (its ε had diverged on an earlier run, or was stopped).
   std::vector<std::vector<double>> delta;
@@ -70,6 +82,8 @@ struct CalibrationResult {
   std::optional<StepCalibration> step;  // with CalibrationOptions::dt_ratios
   // The runs carried the tracked state (their stress "tracked"): the model keeps it apart.
   bool tracked = false;
+  bool unseen = false;  // measured on perturbed cases (CalibrationOptions::unseen)
+  uint64_t seed = 0;    // of their draws
   double seconds = 0;
 
   nlohmann::json to_json() const;
@@ -88,7 +102,7 @@ size_t calibration_recipes(const std::string& scene_path);
 // the ROM steps and the `--set` values. Prints what it took unless quiet. Throws nsf::Error for an
 // index the scene does not have (where it has any).
 struct CalibrationGiven {
-  bool grid = false, dt_ratios = false, set = false;
+  bool grid = false, dt_ratios = false, set = false, unseen = false, draws = false;
 };
 void apply_calibration_recipe(CalibrationOptions& o, const CalibrationGiven& given,
                               size_t index = 0);

@@ -44,12 +44,13 @@ nlohmann::json to_json(const RomCalibrations& c) {
   nlohmann::json j = nlohmann::json::object();
   put(j, "", c.decoded);
   put(j, "tracked_", c.tracked);
+  put(j, "unseen_", c.unseen);
   return j;
 }
 
 RomCalibrations rom_calibrations_from_json(const nlohmann::json& j, const std::string& what) {
   if (!j.is_object()) fail(what, ": damaged ROM calibration (not a JSON object)");
-  return {get(j, "", what), get(j, "tracked_", what)};
+  return {get(j, "", what), get(j, "tracked_", what), get(j, "unseen_", what)};
 }
 
 RomCalibrations rom_calibrations(const NeuralFields& fields) {

@@ -10,6 +10,9 @@
 //       decoders give: ε (metres), its table (JSON), the step over the scene's Δt
 //   tracked_latent_prior, tracked_latent_prior_calibration, tracked_calibrated_dt_ratio   the
 //       same for the run whose points carry their own stress (the tracked state)
+//   unseen_latent_prior, unseen_latent_prior_calibration, unseen_calibrated_dt_ratio   the same
+//       for a run on the scene's rom.unseen profile, measured on perturbed runs
+//       (`nsf calibrate --unseen`); its table names the seed of the draws it measured
 // each absent where never chosen.
 #include <nlohmann/json.hpp>
 #include <string>
@@ -27,9 +30,10 @@ struct RomCalibration {
 
 // The calibrations of a model: for the ROM whose stress the decoders give (h, or what stands in
 // for it), and for the ROM whose points carry their own (the tracked state). The two integrate
-// differently, so each has its own.
+// differently, so each has its own. And for a run outside the training family, on the scene's
+// unseen profile, measured on cases outside the family too.
 struct RomCalibrations {
-  RomCalibration decoded, tracked;
+  RomCalibration decoded, tracked, unseen;
 };
 
 // The name of the model file's attachment that holds it.

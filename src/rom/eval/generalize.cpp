@@ -11,6 +11,7 @@
 #include "core/progress.h"
 #include "nn/dataset.h"
 #include "nn/neural_fields.h"
+#include "rom/calibration/rom_calibration.h"
 #include "rom/setup/scene_file.h"
 
 namespace nsf {
@@ -95,6 +96,18 @@ std::string formatted(const nlohmann::json& v, double scale, const char* fmt, co
   return b;
 }
 
+void set_up_draw(RomEvalOptions& ro, const PerturbationDraw& draw, const SweepSpec* sweep) {
+  ro.axes.clear();
+  for (size_t k = 0; sweep && k < sweep->vary.size(); ++k) {
+    for (std::string& a : expand_templates(sweep->vary[k].set, "v", draw.values.at(k)))
+      ro.overrides.push_back(std::move(a));
+    ro.axes[sweep->vary[k].name] = draw.values.at(k);
+  }
+  ro.overrides.insert(ro.overrides.end(), draw.overrides.begin(), draw.overrides.end());
+  ro.mu.reset();
+  if (sweep) ro.mu = draw.mu;
+}
+
 GeneralizeResult run_generalize(const GeneralizeOptions& o) {
   GeneralizeResult res;
   res.model_file = o.model_path;
@@ -128,7 +141,12 @@ GeneralizeResult run_generalize(const GeneralizeOptions& o) {
 
   // Bad input stops here, not as a failure of every draw: the model (of this scene) and the
   // dataset the baselines play back, whose runs must hold a value of each of the sweep's axes.
-  NeuralFields::load(o.model_path);
+  const RomCalibration unseen = rom_calibrations(NeuralFields::load(o.model_path)).unseen;
+  if (unseen.table.is_object() && unseen.table.value("seed", res.seed + 1) == res.seed)
+    fail("generalize: ", o.model_path, "'s unseen profile was calibrated on the draws of seed ",
+         res.seed,
+         " (nsf calibrate --unseen): the benchmark scores a model on draws it never saw; give "
+         "another --seed, or calibrate with another");
   if (sweep) {
     const Dataset data(o.data_dir);
     for (const ParameterAxis& axis : sweep->vary)
@@ -148,17 +166,7 @@ GeneralizeResult run_generalize(const GeneralizeOptions& o) {
     ro.model_path = o.model_path;
     ro.scene_path = res.scene_file;
     ro.overrides = o.overrides;
-    // The sweep's other axes at the draw's values, then the perturbation (μ's templates follow
-    // when the scene is set up at μ).
-    ro.axes.clear();
-    for (size_t k = 0; sweep && k < sweep->vary.size(); ++k) {
-      for (std::string& a : expand_templates(sweep->vary[k].set, "v", g.draw.values.at(k)))
-        ro.overrides.push_back(std::move(a));
-      ro.axes[sweep->vary[k].name] = g.draw.values.at(k);
-    }
-    ro.overrides.insert(ro.overrides.end(), g.draw.overrides.begin(), g.draw.overrides.end());
-    ro.mu.reset();
-    if (sweep) ro.mu = g.draw.mu;
+    set_up_draw(ro, g.draw, sweep);
     ro.full_order = true;
     ro.truth_path.clear();
     ro.quiet = true;  // one progress line, over the draws

@@ -45,9 +45,15 @@ struct GeneralizeResult {
   std::vector<GeneralizeDraw> draws;
 };
 
+// `ro` set up for the case `draw` of a scene whose sweep is `sweep` (none: it has none): the
+// sweep's other axes at the draw's values and the perturbation appended to its overrides (μ's
+// templates follow when the scene is set up at μ), the axes by name and μ.
+void set_up_draw(RomEvalOptions& ro, const PerturbationDraw& draw, const SweepSpec* sweep);
+
 // Plans the draws and runs them in turn, with a progress line; a draw whose ROM fails is recorded
 // with its error, and the others still run. Throws nsf::Error for bad input (no "generalize"
-// section, a model of another scene, a dataset without μ).
+// section, a model of another scene, a dataset without μ, a seed whose draws calibrated the model:
+// `nsf calibrate --unseen`).
 GeneralizeResult run_generalize(const GeneralizeOptions& options);
 
 // The per-draw rows and their summary: medians, worst δ, speed-ups, real-time factor, win rates

@@ -361,7 +361,8 @@ RomReport evaluate_rom(const RomEvalOptions& o) {
   NeuralFields fields = NeuralFields::load(o.model_path);
   RomSetup s = rom_setup(fields, o.model_path, read_scene_file(o.scene_path, o.overrides), o.mu,
                          setting_choices(o));
-  for (const std::string& w : s.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  if (o.print_warnings)
+    for (const std::string& w : s.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   rep.warnings = s.warnings;
   const BaselineInputs baseline_inputs = read_baseline_inputs(o, s);
   if (!baseline_inputs.coarse_skipped.empty())

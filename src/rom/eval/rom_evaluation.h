@@ -40,6 +40,7 @@ struct RomEvalOptions {
   int gzip = 0;      // deflate level of both run files (0 = off; io/run_writer.h)
   int threads = 0;   // OpenMP and torch threads, for both engines alike; 0: all cores
   bool quiet = false;
+  bool print_warnings = true;  // the setup's warnings on stderr too (the report keeps them)
   // Also measure the error budget on the truth's frames (rom/eval/error_budget.h; needs a truth).
   bool budget = false;
   // The simple baselines of rom/eval/baselines.h, against the same truth (needs one): look-up and

@@ -163,6 +163,11 @@ ModelCalibration calibration_of(const NeuralFields& fields, const RomSection& ro
   return {c.decoded.latent_prior, c.decoded.dt_ratio};
 }
 
+ModelCalibration unseen_calibration_of(const NeuralFields& fields) {
+  const RomCalibration c = rom_calibrations(fields).unseen;
+  return {c.latent_prior, c.dt_ratio};
+}
+
 RomOptions with_rom_section(RomOptions o, const RomSection& s, const ModelCalibration& calibrated) {
   o.sampling = s.sampling;
   o.dt_ratio = s.dt_ratio.value_or(calibrated.dt_ratio > 0 ? calibrated.dt_ratio : o.dt_ratio);

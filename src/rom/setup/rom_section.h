@@ -64,6 +64,10 @@ struct ModelCalibration {
 };
 ModelCalibration calibration_of(const NeuralFields& fields, const RomSection& rom,
                                 const std::string& stress = "");
+// What `nsf calibrate --unseen` chose for a run on the scene's unseen profile, measured on cases
+// outside the training family; < 0 where it chose nothing (the training runs' calibration never
+// reaches such a run).
+ModelCalibration unseen_calibration_of(const NeuralFields& fields);
 
 // `options` with the section's settings: its sampling, and each other value the section gives;
 // a field source only where `options` names none (a command line's own choice wins). A section

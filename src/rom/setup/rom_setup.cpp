@@ -68,7 +68,8 @@ void choose_settings(const NeuralFields& fields, const SceneFile& file,
   const bool unseen = reads_unseen_profile(given.profile, file, s);
   s.profile = unseen ? "unseen" : "family";
   const ModelCalibration calibrated =
-      unseen ? ModelCalibration{} : calibration_of(fields, scene_rom, given.rom.fields.stress);
+      unseen ? unseen_calibration_of(fields)
+             : calibration_of(fields, scene_rom, given.rom.fields.stress);
   const RomSection& section =
       unseen ? *scene_rom.unseen : scene_rom.for_run(fields.family(), given.rom.fields.stress);
   if (file.json.contains("rom"))

@@ -6,8 +6,8 @@
 //   model's family, or of the tracked state, first) > the model's calibration (nsf calibrate) >
 //   the default.
 // A run outside the model's training family (a scene value its training runs never took) reads
-// the scene's "unseen" profile instead, and no calibration: what was calibrated on the training
-// runs holds a run to them.
+// the scene's "unseen" profile instead, and none of the training runs' calibration, which holds a
+// run to them: only the unseen calibration, measured on perturbed cases (nsf calibrate --unseen).
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>

@@ -57,6 +57,18 @@ TEST(PerturbationSpec, DrawsAreReproducibleFromTheSeedAndLieInTheirRanges) {
   const nsf::GeneralizeSpec spec = nsf::parse_generalize(section(), s, &sweep);
   EXPECT_EQ(spec.draws, 6);
   EXPECT_EQ(spec.seed, 3u);
+  EXPECT_EQ(spec.calibration_seed, 1003u) << "the calibration's draws: seed + 1000 by default";
+  json own = section();
+  own["calibration_seed"] = 7;
+  EXPECT_EQ(nsf::parse_generalize(own, s, &sweep).calibration_seed, 7u);
+  own["calibration_seed"] = 3;
+  try {
+    nsf::parse_generalize(own, s, &sweep);
+    ADD_FAILURE() << "took the benchmark's seed for the calibration's";
+  } catch (const nsf::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("must differ from 'generalize.seed'"), std::string::npos)
+        << e.what();
+  }
   const auto a = nsf::plan_draws(spec, &sweep, spec.draws, spec.seed);
   const auto b = nsf::plan_draws(spec, &sweep, spec.draws, spec.seed);
   const auto c = nsf::plan_draws(spec, &sweep, spec.draws, spec.seed + 1);

@@ -11,7 +11,10 @@
 #include "error_matchers.h"
 #include "nn/torch_settings.h"
 #include "nn/train/trainer.h"
+#include "rom/calibration/latent_prior_calibration.h"
+#include "rom/calibration/rom_calibration.h"
 #include "rom/eval/generalize.h"
+#include "rom/setup/scene_file.h"
 
 namespace {
 
@@ -161,6 +164,110 @@ TEST_F(Generalize, QdeimSamplesKeepTheInversionWellConditionedOnADraw) {
   EXPECT_GE(b.sample_condition, 1.0);
   EXPECT_LT(b.sample_condition, 30.0);
   EXPECT_NE(b.delta, a.delta);
+}
+
+// `nsf calibrate --unseen`: the unseen profile's ε chosen on perturbed cases, each against its
+// own full-order run, drawn from the scene's calibration seed and never the benchmark's. A run on
+// that profile takes it where the profile sets none; a run in the family never does; the benchmark
+// refuses to score the model on the draws that calibrated it.
+TEST_F(Generalize, TheUnseenProfileIsCalibratedOnPerturbedCasesNeverTheBenchmarks) {
+  const std::string calibrated = (root_ / "unseen_calibrated.nsf").string();
+  fs::copy_file(model(), calibrated, fs::copy_options::overwrite_existing);
+  const std::string profile = R"(rom.unseen={"samples": 48})";
+  nsf::CalibrationOptions co;
+  co.model_path = calibrated;
+  co.data_dir = data();
+  co.scene_path = kTinyScene;
+  co.overrides = {profile};
+  co.unseen = true;
+  co.draws = 2;
+  co.grid = {0.0, 0.3};  // none, and one that pins the latent to the training runs
+  co.threads = 2;
+  co.quiet = true;
+  const nsf::CalibrationResult r = nsf::calibrate_latent_prior(co);
+  EXPECT_TRUE(r.unseen);
+  EXPECT_EQ(r.seed, 1001u) << "the scene's generalize.seed (1) + 1000";
+  ASSERT_EQ(r.runs.size(), 2u);
+  EXPECT_EQ(r.runs[0].rfind("draw 0 (spun about z, v = ", 0), 0u) << r.runs[0];
+  EXPECT_EQ(r.runs[1].rfind("draw 1 (floor tilted, v = ", 0), 0u) << r.runs[1];
+  // Not the benchmark's cases: the same perturbations at other values.
+  const nsf::SceneFile file = nsf::read_scene_file(kTinyScene);
+  const nsf::SweepSpec* sweep = &*file.sections.sweep;
+  const auto bench = nsf::plan_draws(*file.sections.generalize, sweep, 2, 1);
+  const auto own = nsf::plan_draws(*file.sections.generalize, sweep, 2, 1001);
+  for (size_t k = 0; k < 2; ++k) {
+    EXPECT_NE(own[k].value, bench[k].value);
+    EXPECT_EQ(r.mu[k], own[k].mu);
+  }
+  // δ of one cell made again by hand: the ROM on the unseen profile at that draw, against a fresh
+  // full-order run of it.
+  nsf::RomEvalOptions ro;
+  ro.model_path = calibrated;
+  ro.scene_path = kTinyScene;
+  ro.overrides = {profile};
+  nsf::set_up_draw(ro, own[1], sweep);
+  ro.profile = "unseen";
+  ro.latent_prior = r.grid[0];
+  ro.threads = 2;
+  ro.quiet = true;
+  const nsf::RomReport by_hand = nsf::evaluate_rom(ro);
+  EXPECT_EQ(by_hand.profile, "unseen");
+  EXPECT_EQ(by_hand.samples, 48u);
+  EXPECT_NEAR(by_hand.delta, r.delta[0][1], 1e-9 + 1e-6 * by_hand.delta);
+  EXPECT_NE(r.mean[0], r.mean[1]) << "the grid's ends must differ for the choice to mean anything";
+  const size_t best = r.mean[0] <= r.mean[1] ? 0 : 1;
+  EXPECT_EQ(r.chosen, r.grid[best]);
+
+  // Stored as the unseen calibration, beside the training runs' (none here).
+  nsf::CalibrationResult stored = r;
+  stored.chosen = 0.02;  // a value no default gives, to see where it goes
+  nsf::store_calibration(calibrated, stored);
+  const nsf::RomCalibrations c = nsf::rom_calibrations(nsf::NeuralFields::load(calibrated));
+  EXPECT_EQ(c.unseen.latent_prior, 0.02);
+  EXPECT_EQ(c.unseen.table.value("seed", 0), 1001);
+  EXPECT_LT(c.decoded.latent_prior, 0);
+  // A run on the unseen profile takes it; the scene's own value wins over it; the family never.
+  ro.latent_prior.reset();
+  ro.full_order = false;
+  ro.truth_path.clear();
+  nsf::RomReport used = nsf::evaluate_rom(ro);
+  EXPECT_EQ(used.latent_prior, 0.02);
+  EXPECT_EQ(used.latent_prior_source, "model");
+  ro.overrides = {R"(rom.unseen={"samples": 48, "latent_prior": 0.04})"};
+  used = nsf::evaluate_rom(ro);
+  EXPECT_EQ(used.latent_prior, 0.04);
+  EXPECT_EQ(used.latent_prior_source, "scene");
+  ro.profile = "family";
+  used = nsf::evaluate_rom(ro);
+  EXPECT_EQ(used.latent_prior, 0.0);
+  EXPECT_EQ(used.latent_prior_source, "default");
+
+  // The benchmark on the calibration's seed is refused, before any draw runs.
+  nsf::GeneralizeOptions g = options();
+  g.model_path = calibrated;
+  g.seed = 1001;
+  try {
+    nsf::run_generalize(g);
+    ADD_FAILURE() << "scored a model on the draws that calibrated it";
+  } catch (const nsf::Error& e) {
+    nsf::testing::expect_contains(e.what(), "calibrated on the draws of seed 1001");
+  }
+  // Calibrating on the benchmark's seed, or a scene without an unseen profile: clear errors.
+  co.seed = 1;
+  try {
+    nsf::calibrate_latent_prior(co);
+    ADD_FAILURE() << "calibrated on the benchmark's draws";
+  } catch (const nsf::Error& e) {
+    nsf::testing::expect_contains(e.what(), "is the benchmark's");
+  }
+  co.seed.reset();
+  co.overrides.clear();
+  try {
+    nsf::calibrate_latent_prior(co);
+    ADD_FAILURE() << "calibrated a profile the scene does not have";
+  } catch (const nsf::Error& e) {
+    nsf::testing::expect_contains(e.what(), "has no rom.unseen profile to calibrate");
+  }
 }
 
 TEST_F(Generalize, ASceneWithoutPerturbationsOrAMissingDrawIsAClearError) {
