@@ -56,8 +56,10 @@ void apply_overrides(nlohmann::json& scene, const std::vector<std::string>& over
 // means the working directory.
 Scene build_scene(const nlohmann::json& scene, const std::string& base_dir = "");
 
-// Reads a file and applies overrides, without building (a sweep builds one scene per μ). Fills
-// in "name" from the file name when the file has none. Throws nsf::Error naming the file.
+// Reads a file and applies overrides, without building (a sweep builds one scene per μ). A file
+// with "extends": "base.json" is merged over that scene file (relative to its own directory; RFC
+// 7386: objects key by key, any other value replaced, null removes), all but its name. Fills in
+// "name" from the file name when the file has none. Throws nsf::Error naming the file.
 nlohmann::json read_scene_json(const std::string& path,
                                const std::vector<std::string>& overrides = {});
 

@@ -31,25 +31,70 @@ std::string parse_detail(const std::string& what) {
   return colon == std::string::npos ? what : what.substr(colon + 2);
 }
 
-}  // namespace
+// How many scene files one may extend in a chain (a extends b extends c ...).
+constexpr size_t kMaxExtends = 8;
 
-nlohmann::json read_scene_json(const std::string& path, const std::vector<std::string>& overrides) {
+// The file's JSON as written (comments allowed, so example scenes can explain themselves).
+nlohmann::json parse_scene_text(const std::string& path) {
   // A directory opens as a stream that reads nothing, which would come out as "not valid JSON".
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     fail("scene file '", path, "' is a directory, not a JSON file");
   // A regular file or a pipe, at most 64 MiB (core/input_file.h): not /dev/zero read to the end.
   const std::string text = read_input_file(path, "scene file");
-
-  nlohmann::json j;
   try {
-    // Comments are allowed so example scenes can explain themselves.
-    j = json::parse_bounded(text, "scene file '" + path + "'", /*ignore_comments=*/true);
+    return json::parse_bounded(text, "scene file '" + path + "'", /*ignore_comments=*/true);
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte is one past the offending character.
     fail("scene file '", path, "' is not valid JSON at ",
          line_column(text, e.byte ? e.byte - 1 : 0), ": ", parse_detail(e.what()));
   }
+}
+
+// The file's JSON with the scene it "extends" under it: that file (relative to this one's
+// directory) read the same way, with this file's keys merged over it (RFC 7386: an object key by
+// key, any other value replaced, null removes the key). The name is this file's own, never the
+// base's. `chain` holds the files already on the way, to refuse a cycle.
+nlohmann::json scene_with_base(const std::string& path, std::vector<std::string>& chain) {
+  nlohmann::json j = parse_scene_text(path);
+  if (!j.is_object() || !j.contains("extends")) return j;
+  const nlohmann::json& e = j.at("extends");
+  if (!e.is_string() || e.get<std::string>().empty())
+    fail("scene file '", path,
+         "': 'extends' must be the path of the scene file it extends (relative to this one), got ",
+         e.dump());
+  namespace fs = std::filesystem;
+  const fs::path base = fs::path(path).parent_path() / e.get<std::string>();
+  std::error_code ec;
+  const std::string key = fs::weakly_canonical(base, ec).string();
+  for (const std::string& seen : chain)
+    if (seen == key) fail("scene file '", path, "' extends ", base.string(), ", which extends it");
+  if (chain.size() >= kMaxExtends)
+    fail("scene file '", path, "': more than ", kMaxExtends, " scene files extend one another");
+  // A regular file only: a pipe named inside a scene could hold its reader forever.
+  if (fs::exists(base, ec) && !fs::is_regular_file(base, ec))
+    fail("scene file '", path, "' extends ", base.string(), ", which is not a regular file");
+  chain.push_back(key);
+  nlohmann::json merged;
+  try {
+    merged = scene_with_base(base.string(), chain);
+  } catch (const Error& err) {
+    fail("scene file '", path, "' extends '", e.get<std::string>(), "': ", err.what());
+  }
+  if (!merged.is_object())
+    fail("scene file '", path, "' extends ", base.string(), ", which is not a JSON object");
+  merged.erase("name");
+  j.erase("extends");
+  merged.merge_patch(j);
+  return merged;
+}
+
+}  // namespace
+
+nlohmann::json read_scene_json(const std::string& path, const std::vector<std::string>& overrides) {
+  std::error_code ec;
+  std::vector<std::string> chain = {std::filesystem::weakly_canonical(path, ec).string()};
+  nlohmann::json j = scene_with_base(path, chain);
   try {
     apply_overrides(j, overrides);
   } catch (const Error& e) {

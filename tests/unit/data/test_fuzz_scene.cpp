@@ -42,9 +42,9 @@ std::vector<Seed> corpus() {
     std::sort(files.begin(), files.end());
     for (const fs::path& p : files) {
       if (p.extension() != ".json" || p.string().find("_paper") != std::string::npos) continue;
-      std::ifstream in(p);
-      out.push_back({p.filename().string(), p.parent_path().string(),
-                     json::parse(in, nullptr, true, /*ignore_comments=*/true)});
+      // As the engine reads it: a scene that extends another, merged over it.
+      out.push_back(
+          {p.filename().string(), p.parent_path().string(), nsf::read_scene_json(p.string())});
     }
   }
   std::ifstream in(root / "docs" / "SCENES.md");

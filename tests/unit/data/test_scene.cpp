@@ -396,6 +396,51 @@ TEST(LoadScene, AppliesOverridesAndNamesTheSceneAfterTheFile) {
   EXPECT_EQ(s.source["simulation"]["frames"], 7);
 }
 
+// "extends": the file's keys merged over another scene file's (RFC 7386), its name its own; the
+// base may extend another; a cycle, a missing base or a base that is not a file is a named error.
+TEST(LoadScene, ASceneExtendsAnotherWithItsOwnKeysMergedOver) {
+  json base = small_scene();
+  base["name"] = "the_base";
+  base["description"] = "a box";
+  write_temp("extends_base.json", base.dump());
+  const json child = json::parse(R"({"extends": "extends_base.json",
+    "simulation": {"frames": 5}, "description": null,
+    "colliders": [{"type": "plane", "point": [0, 0.2, 0], "normal": [0, 1, 0]}]})");
+  const fs::path c = write_temp("extends_child.json", child.dump());
+  json want = base;
+  want.erase("name");
+  want.merge_patch(json::parse(R"({"simulation": {"frames": 5}, "description": null,
+    "colliders": [{"type": "plane", "point": [0, 0.2, 0], "normal": [0, 1, 0]}]})"));
+  want["name"] = "extends_child";  // its own file's, not the base's
+  EXPECT_EQ(read_scene_json(c.string()), want);
+  EXPECT_EQ(want["simulation"]["dt"], base["simulation"]["dt"]) << "a nested key kept";
+  EXPECT_FALSE(want.contains("description"));
+  // Overrides apply to the merged scene; a chain of two; the scene builds.
+  write_temp("extends_grandchild.json",
+             R"({"extends": "extends_child.json", "name": "g", "simulation": {"substeps": 3}})");
+  const Scene g = load_scene((fs::path(::testing::TempDir()) / "extends_grandchild.json").string(),
+                             {"simulation.frames=6"});
+  EXPECT_EQ(g.name, "g");
+  EXPECT_EQ(g.settings.frames, 6);
+  EXPECT_EQ(g.settings.substeps, 3);
+  EXPECT_EQ(g.source["colliders"].size(), 1u);
+  EXPECT_FALSE(g.source.contains("extends"));
+
+  const auto refused = [](const std::string& text, const std::string& needle) {
+    const fs::path p = write_temp("extends_bad.json", text);
+    const std::string msg = error_of([&] { read_scene_json(p.string()); });
+    EXPECT_NE(msg.find(needle), std::string::npos) << msg;
+    EXPECT_NE(msg.find("extends_bad.json"), std::string::npos) << msg;
+  };
+  refused(R"({"extends": 3})", "'extends' must be the path");
+  refused(R"({"extends": "no_such_base.json"})", "no_such_base.json");
+  refused(R"({"extends": "extends_bad.json"})", "which extends it");
+  refused(R"({"extends": "."})", "not a regular file");
+  write_temp("extends_loop_a.json", R"({"extends": "extends_loop_b.json"})");
+  write_temp("extends_loop_b.json", R"({"extends": "extends_loop_a.json"})");
+  refused(R"({"extends": "extends_loop_a.json"})", "which extends it");
+}
+
 TEST(LoadScene, MissingFileNamesTheFile) {
   std::string msg = error_of([] { load_scene("/nonexistent/dir/scene.json"); });
   EXPECT_NE(msg.find("/nonexistent/dir/scene.json"), std::string::npos) << msg;
