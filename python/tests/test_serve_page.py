@@ -159,6 +159,10 @@ def test_the_page_draws_the_ground_and_moves(nsf_cli, tiny_model, tiny_scene):
             w, h, late = browser.picture()
         finally:
             browser.close()
+    except AssertionError as e:  # what the server said, for a failure that is hard to repeat
+        server.terminate()
+        said, _ = server.communicate(timeout=30)
+        raise AssertionError(f"{e}\nnsf serve said:\n{said[-3000:]}") from e
     finally:
         server.terminate()
         server.wait(timeout=30)
