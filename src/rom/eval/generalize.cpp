@@ -208,7 +208,9 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
   j["planned_draws"] = res.planned;
   const bool paper = res.scene.find("_paper") != std::string::npos;
   std::vector<double> delta, repr, proj, speed, rtf, lookup, interp, coarse, coarse_speed;
-  std::vector<double> ind_delta, ind, dist;  // the indicators against δ, over finished draws
+  // The indicators against δ, over finished draws: the residual, the training distance, and the
+  // samples' kinetic energy the inversion loses.
+  std::vector<double> ind_delta, ind, dist, energy_lost;
   int failed = 0;
   nlohmann::json rows = nlohmann::json::array();
   for (const GeneralizeDraw& g : res.draws) {
@@ -249,6 +251,7 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
     d["indicator"] = r.residual_cells_mean;
     d["indicator_max"] = r.residual_cells_max;
     d["training_distance"] = number_or_null(r.training_distance_mean);
+    d["energy_kept"] = r.energy_kept;
     d["rom_seconds"] = r.rom_seconds;
     d["fom_seconds"] = r.fom_seconds;
     d["warnings"] = r.warnings;
@@ -272,6 +275,7 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
     ind_delta.push_back(r.delta);
     ind.push_back(r.residual_cells_mean);
     dist.push_back(r.training_distance_mean);
+    energy_lost.push_back(1 - r.energy_kept);
   }
   j["draws"] = rows;
   j["failed_draws"] = failed;
@@ -312,6 +316,9 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
   const double dc = rank_correlation(dist_ok, dist_delta);
   j["training_distance_rank_correlation"] =
       std::isfinite(dc) ? nlohmann::json(dc) : nlohmann::json(nullptr);
+  const double ec = rank_correlation(energy_lost, ind_delta);
+  j["energy_lost_rank_correlation"] =
+      std::isfinite(ec) ? nlohmann::json(ec) : nlohmann::json(nullptr);
   // The bar of issue #55, each part checked (null: not measured, so not met).
   const double speed_bar = paper ? kSpeedupBarPaper : kSpeedupBarSmall;
   j["bar"] = {{"median_delta", kMedianDeltaBar},

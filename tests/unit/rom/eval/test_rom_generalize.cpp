@@ -104,6 +104,22 @@ TEST_F(Generalize, EachDrawIsScoredWithItsBaselinesAndTheSummaryHasTheIssuesKeys
                       (d1 < r.draws[1].report->baselines.lookup_delta);
   EXPECT_DOUBLE_EQ(j["win_rate_lookup"].get<double>(), wins / 2);
   EXPECT_NE(nsf::format_generalize(j).find("floor tilted"), std::string::npos);
+  // Each indicator's rank correlation with δ, over the draws: with two, none (ρ needs three).
+  for (const auto& d : j["draws"]) EXPECT_GT(d["energy_kept"].get<double>(), 0);  // may pass 1
+  for (const char* key : {"indicator_rank_correlation", "training_distance_rank_correlation",
+                          "energy_lost_rank_correlation"})
+    EXPECT_TRUE(j.contains(key) && j[key].is_null()) << key;
+  // Three draws whose lost energy orders them as δ does: ρ = 1; the other way round: −1.
+  nsf::GeneralizeResult three;
+  for (int k = 0; k < 3; ++k) {
+    nsf::GeneralizeDraw g = r.draws[0];
+    g.report->delta = 0.01 * (k + 1);
+    g.report->energy_kept = 0.9 - 0.1 * k;
+    three.draws.push_back(g);
+  }
+  EXPECT_DOUBLE_EQ(nsf::generalize_json(three, "x")["energy_lost_rank_correlation"], 1.0);
+  for (int k = 0; k < 3; ++k) three.draws[size_t(k)].report->energy_kept = 0.7 + 0.1 * k;
+  EXPECT_DOUBLE_EQ(nsf::generalize_json(three, "x")["energy_lost_rank_correlation"], -1.0);
   EXPECT_NE(nsf::generalize_markdown({j}).find("rom_tiny"), std::string::npos);
 
   // Draw 1 again, alone: the same case and the same figures (the engine and the ROM are
