@@ -262,28 +262,15 @@ TEST_F(Generalize, TheUnseenProfileIsCalibratedOnPerturbedCasesNeverTheBenchmark
   nsf::GeneralizeOptions g = options();
   g.model_path = calibrated;
   g.seed = 1001;
-  try {
-    nsf::run_generalize(g);
-    ADD_FAILURE() << "scored a model on the draws that calibrated it";
-  } catch (const nsf::Error& e) {
-    nsf::testing::expect_contains(e.what(), "calibrated on the draws of seed 1001");
-  }
+  nsf::testing::expect_error([&] { nsf::run_generalize(g); },
+                             {"calibrated on the draws of seed 1001"});
   // Calibrating on the benchmark's seed, or a scene without an unseen profile: clear errors.
   co.seed = 1;
-  try {
-    nsf::calibrate_latent_prior(co);
-    ADD_FAILURE() << "calibrated on the benchmark's draws";
-  } catch (const nsf::Error& e) {
-    nsf::testing::expect_contains(e.what(), "is the benchmark's");
-  }
+  nsf::testing::expect_error([&] { nsf::calibrate_latent_prior(co); }, {"is the benchmark's"});
   co.seed.reset();
   co.overrides.clear();
-  try {
-    nsf::calibrate_latent_prior(co);
-    ADD_FAILURE() << "calibrated a profile the scene does not have";
-  } catch (const nsf::Error& e) {
-    nsf::testing::expect_contains(e.what(), "has no rom.unseen profile to calibrate");
-  }
+  nsf::testing::expect_error([&] { nsf::calibrate_latent_prior(co); },
+                             {"has no rom.unseen profile to calibrate"});
 }
 
 TEST_F(Generalize, ASceneWithoutPerturbationsOrAMissingDrawIsAClearError) {
