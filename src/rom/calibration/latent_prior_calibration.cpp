@@ -129,15 +129,6 @@ Measured measure(const CalibrationOptions& o, const std::string& scene,
   ro.quiet = true;
   // Every perturbed case lies outside the family, as its table says: not said once per run.
   ro.print_warnings = !o.unseen;
-  // The draw's truth stands once written, whether or not the ROM then ran (the truth comes first).
-  struct KeepTruth {
-    Case& c;
-    ~KeepTruth() {
-      std::error_code ec;
-      if (c.truth.empty() && std::filesystem::is_regular_file(c.truth_out, ec))
-        c.truth = c.truth_out;
-    }
-  } keep{c};
   Measured m;
   try {
     const RomReport rep = evaluate_rom(ro);
@@ -148,6 +139,9 @@ Measured measure(const CalibrationOptions& o, const std::string& scene,
   } catch (const RomDiverged&) {
     m.delta = kInf;
   }
+  // A draw's truth, made before the ROM ran, serves its other runs (any other failure ends the
+  // calibration).
+  if (c.truth.empty()) c.truth = c.truth_out;
   return m;
 }
 
