@@ -341,7 +341,7 @@ SceneRomSettings scene_rom_settings(const CalibrationOptions& o, DecoderFamily f
   if (o.unseen) {
     if (!rom.unseen) return {};  // calibrate_latent_prior says so
     const RomSection& u = *rom.unseen;
-    return {u.fields.stress == "tracked", u.latent_prior, u.dt_ratio};
+    return {u.tracks_stress(family), u.latent_prior, u.dt_ratio};
   }
   const RomSection& section = rom.for_run(family);
   return {rom.tracks_stress(family), section.latent_prior, section.dt_ratio};
