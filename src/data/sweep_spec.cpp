@@ -119,12 +119,15 @@ SweepSpec parse_sweep(const nlohmann::json& j, const nlohmann::json& scene) {
     if (list.size() + 1 > size_t(kSobolMaxDimensions))
       fail("scene: '", path, ".vary' has ", list.size(), " axes; at most ", kSobolMaxDimensions - 1,
            " besides mu");
-    // Each axis is checked after μ's templates at either end, as runs apply them.
+    // Each axis is checked as runs apply it: after μ's templates at either end and the earlier
+    // axes' (at their low end), so that an axis may set a part of what an earlier one made (a
+    // throw's second component after a first axis set the velocity).
     nlohmann::json at_lo = base, at_hi = base;
     apply_overrides(at_lo, sweep_overrides(s, s.lo));
     apply_overrides(at_hi, sweep_overrides(s, s.hi));
     const std::string hint =
-        " once mu's templates are applied: an axis must change what mu leaves as it is";
+        " once mu's and the earlier axes' templates are applied: an axis must change what they "
+        "leave as it is";
     for (size_t i = 0; i < list.size(); ++i) {
       const std::string where = js::child(js::child(path, "vary"), i);
       ParameterAxis axis = parse_parameter_axis(list[i], where, at_lo, {{}}, false, hint);
@@ -134,14 +137,26 @@ SweepSpec parse_sweep(const nlohmann::json& j, const nlohmann::json& scene) {
           fail("scene: '", where, ".name' = \"", axis.name, "\" is already an axis");
       if (axis.name == s.parameter)
         fail("scene: '", where, ".name' = \"", s.parameter, "\" is the sweep's parameter");
-      // Applied after μ's templates, an axis must not undo them.
-      for (double v : {axis.lo, axis.hi}) {
-        nlohmann::json a = at_lo, b = at_hi;
-        for (nlohmann::json* x : {&a, &b}) apply_overrides(*x, expand_templates(axis.set, "v", v));
-        if (a == b)
-          fail("scene: '", where, "' (\"", axis.name, "\") overwrites what mu sets at v = ", v,
-               ": mu would then change nothing");
+      // Applied after μ's and the earlier axes' templates, an axis must not undo them.
+      const auto overwrites = [&](const nlohmann::json& a, const nlohmann::json& b,
+                                  const std::string& what) {
+        for (double v : {axis.lo, axis.hi}) {
+          nlohmann::json x = a, y = b;
+          for (nlohmann::json* j : {&x, &y})
+            apply_overrides(*j, expand_templates(axis.set, "v", v));
+          if (x == y)
+            fail("scene: '", where, "' (\"", axis.name, "\") overwrites what ", what,
+                 " sets at v = ", v, ": ", what, " would then change nothing");
+        }
+      };
+      overwrites(at_lo, at_hi, "mu");
+      for (const ParameterAxis& earlier : s.vary) {
+        nlohmann::json b = at_lo;  // `earlier` moved from its low end to its high end
+        apply_overrides(b, expand_templates(earlier.set, "v", earlier.hi));
+        overwrites(at_lo, b, "'" + earlier.name + "'");
       }
+      for (nlohmann::json* x : {&at_lo, &at_hi})
+        apply_overrides(*x, expand_templates(axis.set, "v", axis.lo));
       s.vary.push_back(std::move(axis));
     }
   }

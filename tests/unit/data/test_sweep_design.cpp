@@ -224,6 +224,28 @@ TEST(SweepSpec, AMultiAxisSweepRefusesWhatItCannotRunNamingTheKey) {
                                       {"set", {"objects[0].velocity[1]={v*0}"}}});
       },
       "and at its other end");
+  // Axes apply in order: one may set a part of what an earlier axis made (a throw's second
+  // component after the first axis set the velocity, which the scene does not have), and is run
+  // that way; one that overwrites an earlier axis is refused.
+  json throws = plates_scene();
+  throws["objects"][0].erase("velocity");
+  throws["sweep"]["vary"].push_back({{"name", "thrown along x"},
+                                     {"range", {-0.2, 0.2}},
+                                     {"set", {"objects[0].velocity=[{v},0,0]"}}});
+  throws["sweep"]["vary"].push_back({{"name", "thrown along z"},
+                                     {"range", {-0.1, 0.1}},
+                                     {"set", {"objects[0].velocity[2]={v}"}}});
+  const nsf::SweepSpec ts = parsed(throws);
+  ASSERT_EQ(ts.vary.size(), 3u);
+  const nsf::SweepRun tr = nsf::plan_sweep(ts)[1];
+  json thrown = throws;
+  thrown.erase("sweep");
+  nsf::apply_sweep_run(ts, tr, thrown);
+  EXPECT_EQ(thrown["objects"][0]["velocity"], json({tr.values[1], 0, tr.values[2]}));
+  json overwritten = throws;
+  overwritten["sweep"]["vary"][2]["set"] = {"objects[0].velocity=[0,0,{v}]"};
+  nsf::testing::expect_error([&] { parsed(overwritten); },
+                             {"overwrites what 'thrown along x' sets"});
   refused([](json& s) { s["sweep"]["vary"][0]["set"] = {"objects[0].shape.max[0]={v}"}; },
           "changes the particles");
   refused([](json& s) { s["sweep"]["paths"][0]["collider"] = 5; }, "sweep.paths[0].collider");

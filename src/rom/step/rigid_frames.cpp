@@ -1,0 +1,200 @@
+#include "rom/step/rigid_frames.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "nn/latent_inversion.h"
+
+namespace nsf {
+
+namespace {
+
+Mat3 skew(const Vec3& a) {
+  Mat3 s;
+  s << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  return s;
+}
+
+// SO(3)'s left Jacobian: ∂(exp([θ]×) y)/∂θ = −[exp([θ]×) y]× J_l(θ).
+Mat3 left_jacobian(const Vec3& th) {
+  const double a = th.norm();
+  const Mat3 K = skew(th);
+  if (a < 1e-8) return Mat3::Identity() + 0.5 * K;
+  return Mat3::Identity() + (1 - std::cos(a)) / (a * a) * K +
+         (a - std::sin(a)) / (a * a * a) * K * K;
+}
+
+class RigidSamples final : public SampleDeformation {
+ public:
+  RigidSamples(std::unique_ptr<SampleDeformation> inner, const RigidFrames& f,
+               std::vector<uint32_t> ids)
+      : inner_(std::move(inner)), f_(f), ids_(std::move(ids)) {}
+  size_t size() const override { return inner_->size(); }
+  void evaluate(const Eigen::VectorXd& z, std::vector<Vec3>& g) override {
+    inner_->evaluate(z.head(f_.r), g);
+    f_.apply(&ids_, z, g);
+  }
+  void jacobian(const Eigen::VectorXd& z, Eigen::MatrixXd& J, std::vector<Vec3>& g) override {
+    Eigen::MatrixXd Jz;
+    inner_->jacobian(z.head(f_.r), Jz, g);
+    const int64_t n = int64_t(g.size()), r = f_.r;
+    J.setZero(3 * n, f_.dim());
+    J.leftCols(r) = Jz;
+    std::vector<Mat3> R(static_cast<size_t>(f_.frames)), Jl(static_cast<size_t>(f_.frames));
+    for (int k = 0; k < f_.frames; ++k) {
+      R[size_t(k)] = f_.rotation(z, k);
+      Jl[size_t(k)] = left_jacobian(z.segment<3>(r + 6 * k));
+    }
+    for (int64_t p = 0; p < n; ++p) {
+      const int k = f_.frame[ids_[size_t(p)]];
+      if (k < 0) continue;
+      const Mat3& Rk = R[size_t(k)];
+      const Vec3 y = Rk * (g[size_t(p)] - f_.pivot[size_t(k)]);
+      J.block(3 * p, 0, 3, r) = Rk * Jz.block(3 * p, 0, 3, r);
+      J.block<3, 3>(3 * p, r + 6 * k) = -skew(y) * Jl[size_t(k)];
+      J.block<3, 3>(3 * p, r + 6 * k + 3) = Mat3::Identity();
+      g[size_t(p)] = y + f_.pivot[size_t(k)] + f_.translation(z, k);
+    }
+  }
+
+ private:
+  std::unique_ptr<SampleDeformation> inner_;
+  const RigidFrames& f_;
+  std::vector<uint32_t> ids_;
+};
+
+class RigidDeformation final : public DeformationSource {
+ public:
+  RigidDeformation(std::unique_ptr<DeformationSource> inner, const RigidFrames& f)
+      : inner_(std::move(inner)), f_(f) {}
+  std::string describe() const override { return inner_->describe() + " in rigid frames"; }
+  void set_points() override { inner_->set_points(); }
+  void positions(const std::vector<uint32_t>& ids, const Latent& z, const Latent& now,
+                 std::vector<Vec3>& x) override {
+    inner_->positions(ids, f_.model(z), f_.model(now), x);
+    f_.apply(&ids, z, x);
+  }
+  void positions_pair(const std::vector<uint32_t>& ids, const LatentPair& s, std::vector<Vec3>& x,
+                      std::vector<Vec3>& x_prev) override {
+    const Latent z = f_.model(s.z), zp = f_.model(s.z_prev);
+    inner_->positions_pair(ids, {z, zp}, x, x_prev);
+    f_.apply(&ids, s.z, x);
+    f_.apply(&ids, s.z_prev, x_prev);
+  }
+  std::unique_ptr<SampleDeformation> samples(const std::vector<uint32_t>& S) override {
+    return std::make_unique<RigidSamples>(inner_->samples(S), f_, S);
+  }
+  bool exact() const override { return inner_->exact(); }
+
+ private:
+  std::unique_ptr<DeformationSource> inner_;
+  const RigidFrames& f_;
+};
+
+class RigidField final : public PointFieldSource {
+ public:
+  RigidField(std::unique_ptr<PointFieldSource> inner, const RigidFrames& f, bool rotate)
+      : inner_(std::move(inner)), f_(f), rotate_(rotate) {}
+  std::string describe() const override { return inner_->describe(); }
+  void set_points() override { inner_->set_points(); }
+  void evaluate(const std::vector<uint32_t>& ids, const LatentPair& s, bool for_step,
+                std::vector<Mat3>& out) override {
+    const Latent z = f_.model(s.z), zp = f_.model(s.z_prev);
+    inner_->evaluate(ids, {z, zp}, for_step, out);
+    if (!rotate_) return;
+    std::vector<Mat3> R(static_cast<size_t>(f_.frames));
+    for (int k = 0; k < f_.frames; ++k) R[size_t(k)] = f_.rotation(s.z, k);
+    for (size_t i = 0; i < ids.size(); ++i) {
+      const int k = f_.frame[ids[i]];
+      if (k >= 0) out[i] = R[size_t(k)] * out[i] * R[size_t(k)].transpose();
+    }
+  }
+
+ private:
+  std::unique_ptr<PointFieldSource> inner_;
+  const RigidFrames& f_;
+  bool rotate_;
+};
+
+}  // namespace
+
+Latent RigidFrames::augment(const Latent& z) const {
+  if (!on()) return z;
+  Latent out = Latent::Zero(dim());
+  out.head(r) = z;
+  return out;
+}
+
+Mat3 RigidFrames::rotation(const Latent& z, int f) const {
+  const Vec3 th = z.segment<3>(r + 6 * f);
+  const double a = th.norm();
+  if (a < 1e-14) return Mat3::Identity();
+  return Eigen::AngleAxisd(a, th / a).toRotationMatrix();
+}
+
+void RigidFrames::apply(const std::vector<uint32_t>* ids, const Latent& z,
+                        std::vector<Vec3>& x) const {
+  if (!on()) return;
+  std::vector<Mat3> R(static_cast<size_t>(frames));
+  std::vector<Vec3> shift(static_cast<size_t>(frames));
+  for (int k = 0; k < frames; ++k) {
+    R[size_t(k)] = rotation(z, k);
+    shift[size_t(k)] = pivot[size_t(k)] + translation(z, k);
+  }
+  for (size_t i = 0; i < x.size(); ++i) {
+    const int k = frame[ids ? (*ids)[i] : i];
+    if (k >= 0) x[i] = R[size_t(k)] * (x[i] - pivot[size_t(k)]) + shift[size_t(k)];
+  }
+}
+
+void RigidFrames::extend(size_t particles, const std::vector<uint32_t>& member) {
+  frame.resize(particles);
+  for (uint32_t p : member) frame.push_back(frame[p]);
+}
+
+RigidFrames make_rigid_frames(int r, const std::vector<int>& objects, const std::vector<Vec3>& X,
+                              const std::vector<double>& mass,
+                              const std::vector<uint16_t>& object) {
+  RigidFrames f;
+  f.r = r;
+  if (objects.empty()) return f;
+  int scene_objects = 0;
+  for (uint16_t o : object) scene_objects = std::max(scene_objects, int(o) + 1);
+  std::vector<int> frame_of(size_t(scene_objects), -1);
+  for (int o : objects) {
+    if (o < 0 || o >= scene_objects)
+      fail("rom: rigid_frames names object ", o, ", and the scene has ", scene_objects,
+           " (indices 0 to ", scene_objects - 1, ")");
+    frame_of[size_t(o)] = f.frames++;
+    f.object_of.push_back(o);
+  }
+  std::vector<double> m(size_t(f.frames), 0.0);
+  f.pivot.assign(size_t(f.frames), Vec3::Zero());
+  f.frame.resize(X.size());
+  for (size_t p = 0; p < X.size(); ++p) {
+    const int k = f.frame[p] = frame_of[object[p]];
+    if (k < 0) continue;
+    f.pivot[size_t(k)] += mass[p] * X[p];
+    m[size_t(k)] += mass[p];
+  }
+  for (int k = 0; k < f.frames; ++k) {
+    if (!(m[size_t(k)] > 0))
+      fail("rom: rigid_frames names object ", f.object_of[size_t(k)], ", which has no mass");
+    f.pivot[size_t(k)] /= m[size_t(k)];
+  }
+  return f;
+}
+
+std::unique_ptr<DeformationSource> in_rigid_frames(std::unique_ptr<DeformationSource> g,
+                                                   const RigidFrames& frames) {
+  return std::make_unique<RigidDeformation>(std::move(g), frames);
+}
+
+std::unique_ptr<PointFieldSource> in_rigid_frames(std::unique_ptr<PointFieldSource> f,
+                                                  const RigidFrames& frames, bool rotate) {
+  return std::make_unique<RigidField>(std::move(f), frames, rotate);
+}
+
+}  // namespace nsf
