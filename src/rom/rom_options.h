@@ -49,6 +49,10 @@ struct RomOptions {
   // The ROM's grid spacing over the scene's Δx (≥ 1): the MPM step on N, its transfers and its CFL
   // bound use a grid this many times coarser; the particles, g and the samples are the scene's.
   double grid_factor = 1;
+  // The scene objects (indices into its objects) that move in rigid frames of their own over the
+  // latent manifold (rom/step/rigid_frames.h): x = R (g − c) + c + t, R and t fitted beside ẑ.
+  // Empty: none, the paper's reduced step.
+  std::vector<int> rigid_frames;
   // A step over fewer candidate points than this runs on one thread: its parallel loops are too
   // small for a second thread to pay for waking up (docs/ROM.md). 0: always on every thread.
   size_t serial_below_points = 8192;

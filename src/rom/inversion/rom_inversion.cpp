@@ -7,8 +7,32 @@
 
 namespace nsf {
 
+namespace {
+
+// A penalty on the first entries of a latent that carries `free` more after them.
+class PenaltyOnHead final : public LatentPenalty {
+ public:
+  PenaltyOnHead(const LatentPenalty& inner, int free) : inner_(inner), free_(free) {}
+  Terms terms(const Eigen::VectorXd& z) const override {
+    const int64_t r = z.size() - free_;
+    Terms t = inner_.terms(z.head(r));
+    t.gradient.conservativeResize(z.size());
+    t.gradient.tail(free_).setZero();
+    t.hessian.conservativeResize(z.size(), z.size());
+    t.hessian.rightCols(free_).setZero();
+    t.hessian.bottomRows(free_).setZero();
+    return t;
+  }
+
+ private:
+  const LatentPenalty& inner_;
+  int free_;
+};
+
+}  // namespace
+
 RomInversion::RomInversion(const ModelRecord& model, const GaussNewtonOptions& options,
-                           double latent_prior)
+                           double latent_prior, int free_dims)
     : options_(options) {
   if (!(latent_prior >= 0 && std::isfinite(latent_prior)))
     fail("rom: the latent prior's length must be a number of metres, 0 or more, got ",
@@ -20,9 +44,12 @@ RomInversion::RomInversion(const ModelRecord& model, const GaussNewtonOptions& o
           "rom: the latent prior (--latent-prior, rom.latent_prior) needs the training runs' "
           "latents, and this model file has none (it was trained before nsf stored them): "
           "retrain it with nsf train, or run without the prior (--latent-prior 0)");
-    options_.penalty = prior_.get();
+    if (free_dims > 0) penalty_ = std::make_unique<PenaltyOnHead>(*prior_, free_dims);
+    options_.penalty = penalty_ ? penalty_.get() : prior_.get();
     options_.penalty_length = latent_prior;
   }
+  model_options_ = options_;
+  if (options_.penalty) model_options_.penalty = prior_.get();
 }
 
 Eigen::VectorXd RomInversion::fit_initial(SampleDeformation& g, const std::vector<Vec3>& target,

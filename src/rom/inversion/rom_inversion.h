@@ -19,9 +19,12 @@ namespace nsf {
 class RomInversion {
  public:
   // options: the step's fit (RomOptions::inversion); latent_prior: ε in metres, 0 for none.
+  // free_dims: entries after the model's latent that the fit also solves for and the prior leaves
+  // free (the rigid frames' θ and t, rom/step/rigid_frames.h).
   // Throws nsf::Error for an ε that is not a length, or for an ε > 0 with a model that stores no
   // training latents.
-  RomInversion(const ModelRecord& model, const GaussNewtonOptions& options, double latent_prior);
+  RomInversion(const ModelRecord& model, const GaussNewtonOptions& options, double latent_prior,
+               int free_dims = 0);
 
   // ẑ fitted to the samples' positions `target` from `start` as tightly as the initial state
   // needs (8 iterations, tolerance 1e-7), under the prior as the steps will be.
@@ -35,13 +38,17 @@ class RomInversion {
 
   // The step's Gauss–Newton options, the prior included.
   const GaussNewtonOptions& options() const { return options_; }
-  // ẑ's distance from the training runs' latents, in training spreads; −1 for a model that does
-  // not store them.
+  // The same for a fit of the model's latent alone, without the free entries (the error budget's
+  // projection of a truth).
+  const GaussNewtonOptions& model_options() const { return model_options_; }
+  // ẑ's distance from the training runs' latents, in training spreads (ẑ: the model's part of the
+  // latent); −1 for a model that does not store them.
   double training_distance(const Eigen::VectorXd& z) const;
 
  private:
-  std::unique_ptr<LatentPrior> prior_;  // null where the model stores no training latents
-  GaussNewtonOptions options_;
+  std::unique_ptr<LatentPrior> prior_;      // null where the model stores no training latents
+  std::unique_ptr<LatentPenalty> penalty_;  // the prior, over the model's part of the latent
+  GaussNewtonOptions options_, model_options_;
 };
 
 }  // namespace nsf

@@ -1,5 +1,6 @@
 #include "rom/setup/rom_section.h"
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 #include <utility>
@@ -80,6 +81,23 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
   if (s.grid && *s.grid < 1)
     fail("scene key 'rom.grid' must be at least 1 (the ROM's grid is the scene's or coarser), got ",
          *s.grid);
+  if (rom.contains("rigid_frames")) {
+    const nlohmann::json& v = rom.at("rigid_frames");
+    std::vector<int> objects;
+    const bool listed = v.is_array() && std::all_of(v.begin(), v.end(), [](const auto& o) {
+                          return o.is_number_integer() && o.template get<double>() >= 0 &&
+                                 o.template get<double>() < 65536;
+                        });
+    if (listed) objects = v.get<std::vector<int>>();
+    std::sort(objects.begin(), objects.end());
+    if (!listed || std::adjacent_find(objects.begin(), objects.end()) != objects.end())
+      fail(
+          "scene key 'rom.rigid_frames' must be a list of distinct object indices (the objects "
+          "that move in rigid frames of their own), got ",
+          v.dump());
+    s.rigid_frames = objects;
+    sampling.erase("rigid_frames");
+  }
   if (rom.contains("fields")) {
     const nlohmann::json& f = rom.at("fields");
     if (!f.is_object()) fail("scene key 'rom.fields' must be an object, got ", f.dump());
@@ -177,6 +195,7 @@ RomOptions with_rom_section(RomOptions o, const RomSection& s, const ModelCalibr
   o.inversion.max_iterations = s.gn_iterations.value_or(o.inversion.max_iterations);
   o.cfl = s.cfl.value_or(o.cfl);
   o.grid_factor = s.grid.value_or(o.grid_factor);
+  o.rigid_frames = s.rigid_frames.value_or(o.rigid_frames);
   for (auto [mine, scenes] : {std::pair{&o.fields.deformation, &s.fields.deformation},
                               std::pair{&o.fields.stress, &s.fields.stress},
                               std::pair{&o.fields.affine, &s.fields.affine},

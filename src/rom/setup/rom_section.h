@@ -22,7 +22,8 @@ struct RomSection {
   std::optional<int> gn_iterations;    // GaussNewtonOptions::max_iterations
   std::optional<double> cfl;           // the tracked state's CFL factor (RomOptions::cfl)
   std::optional<double> grid;  // the ROM grid's Δx over the scene's (RomOptions::grid_factor)
-  FieldChoice fields;          // "fields": {"deformation", "stress", "affine"} by name
+  std::optional<std::vector<int>> rigid_frames;  // RomOptions::rigid_frames
+  FieldChoice fields;  // "fields": {"deformation", "stress", "affine"} by name
   // "mlp", "basis": settings for a model of that decoder family, over the ones above (a scene
   // whose two families were measured best at different steps, priors or sample counts).
   std::shared_ptr<const RomSection> mlp, basis;

@@ -17,6 +17,7 @@
 #include "rom/inversion/rom_inversion.h"
 #include "rom/step/integration_set.h"
 #include "rom/step/quadrature.h"
+#include "rom/step/rigid_frames.h"
 #include "rom/step/rom_diverged.h"
 #include "rom/step/sample_selection.h"
 #include "rom/step/tracked_particles.h"
@@ -103,6 +104,10 @@ struct LatentStepper::Impl {
   std::unique_ptr<VelocitySource> velocity;
   std::vector<Vec3> xN_prev;
   std::unique_ptr<SampleDeformation> g_S;  // g and ∂g/∂ẑ on S, for the inversion
+  // The objects that move in frames of their own (RomOptions::rigid_frames): z and z_prev then
+  // carry each frame's θ and t after the model's latent.
+  RigidFrames frames;
+  mutable Latent z_model, z_prev_model;  // latent()'s and previous_latent()'s where they are on
 
   double sum_N = 0, sum_K = 0, last_residual = 0, last_courant = 0;
   double last_margin = std::numeric_limits<double>::infinity();
@@ -164,16 +169,19 @@ struct LatentStepper::Impl {
     if (opt.sampling.mode == "qdeim") ranked = qdeim_ranking(ranked);
     slot.assign(np, -1);
     all_points = fields.prepare(table.X);
+    frames = make_rigid_frames(r, opt.rigid_frames, P.X, mass, P.object);
     sim = std::make_unique<Simulation>(std::move(scene));
     sim->particles() = Particles{};
     make_sources(F0);
     set_samples(sample_count_at(opt.sampling, 0, T));
     tracked->check(cfl_bound);
 
-    inversion = std::make_unique<RomInversion>(fields.record(), opt.inversion, opt.latent_prior);
+    inversion = std::make_unique<RomInversion>(fields.record(), opt.inversion, opt.latent_prior,
+                                               frames.dim() - r);
     // ẑ_0: the encoder's latent of the rest state, refined on S so that step 1 starts from the
     // latent the inversion itself would pick; ẑ_{-1}: fitted to X − Δt·v⁰.
-    z = fields.rest_latent(std::vector<Vec3>(table.X.begin(), table.X.begin() + np));
+    z = frames.augment(
+        fields.rest_latent(std::vector<Vec3>(table.X.begin(), table.X.begin() + np)));
     std::vector<Vec3> target(S.size());
     for (size_t k = 0; k < S.size(); ++k) target[k] = table.X[S[k]];
     z = inversion->fit_initial(*g_S, target, z);
@@ -225,6 +233,11 @@ struct LatentStepper::Impl {
     g = make_deformation_source(c.deformation, *context);
     stress = make_point_field_source(FieldRole::stress, c.stress, *context);
     affine = make_point_field_source(FieldRole::affine, c.affine, *context);
+    if (frames.on()) {
+      g = in_rigid_frames(std::move(g), frames);
+      stress = in_rigid_frames(std::move(stress), frames, c.stress != "tracked");
+      affine = in_rigid_frames(std::move(affine), frames, c.affine != "tracked");
+    }
     velocity = make_velocity_source(c.velocity, *context);
   }
 
@@ -253,6 +266,7 @@ struct LatentStepper::Impl {
       table.mat0.push_back(merged_material(quad.merged_members[j], member, table.mat0));
     }
     table.merged_members = quad.merged_members;
+    if (frames.on()) frames.extend(np, quad.merged_group);
     tracked->set_points(table);
     resident.clear();  // a merged point's id may now stand for another group
     if (thinned()) {
@@ -284,7 +298,8 @@ struct LatentStepper::Impl {
 
   const std::vector<Vec3>& all_positions() {
     if (cache_step != n) {
-      fields.deform(all_points, z, x_cache);
+      fields.deform(all_points, frames.model(z), x_cache);
+      frames.apply(nullptr, z, x_cache);
       cache_step = n;
     }
     return x_cache;
@@ -301,7 +316,8 @@ struct LatentStepper::Impl {
     } else {
       // Only the quadrature points can join N, so only they need g.
       std::vector<Vec3> xq;
-      fields.deform(quad_points, z, xq);
+      fields.deform(quad_points, frames.model(z), xq);
+      frames.apply(&quad.ids, z, xq);
       std::vector<Vec3> xs(S.size());
       for (size_t k = 0; k < S.size(); ++k) {
         const auto at = std::lower_bound(quad.ids.begin(), quad.ids.end(), S[k]);
@@ -514,7 +530,8 @@ struct LatentStepper::Impl {
   void verify_integration_set() {
     // Brute force: g on every quadrature point, N by the definition, compared with the scheme's.
     std::vector<Vec3> x;
-    fields.deform(thinned() ? quad_points : all_points, z, x);
+    fields.deform(thinned() ? quad_points : all_points, frames.model(z), x);
+    frames.apply(thinned() ? &quad.ids : nullptr, z, x);
     std::vector<uint32_t> ours = N;
     std::sort(ours.begin(), ours.end());
     misses = std::max(misses, 0L);
@@ -581,10 +598,12 @@ long LatentStepper::step_count() const {
   return impl_->n;
 }
 const Latent& LatentStepper::latent() const {
-  return impl_->z;
+  if (!impl_->frames.on()) return impl_->z;
+  impl_->z_model = impl_->frames.model(impl_->z);
+  return impl_->z_model;
 }
 const GaussNewtonOptions& LatentStepper::inversion_options() const {
-  return impl_->inversion->options();
+  return impl_->inversion->model_options();
 }
 std::vector<std::unique_ptr<Collider>>& LatentStepper::colliders() {
   return impl_->sim->colliders();
@@ -596,11 +615,17 @@ double LatentStepper::grid_dx() const {
   return impl_->dx;
 }
 const Latent& LatentStepper::previous_latent() const {
-  return impl_->z_prev;
+  if (!impl_->frames.on()) return impl_->z_prev;
+  impl_->z_prev_model = impl_->frames.model(impl_->z_prev);
+  return impl_->z_prev_model;
 }
 
 void LatentStepper::state(const NeuralFields::Points& X, std::vector<Vec3>& x,
                           std::vector<Vec3>* v) const {
+  if (impl_->frames.on())
+    fail(
+        "rom: positions at other points (--upsample, a host's query) are not available with "
+        "rigid frames (rom.rigid_frames)");
   impl_->fields.deform(X, impl_->z, x);
   if (!v) return;
   impl_->fields.deform(X, impl_->z_prev, *v);
@@ -610,7 +635,8 @@ void LatentStepper::state(const NeuralFields::Points& X, std::vector<Vec3>& x,
 void LatentStepper::particle_state(std::vector<Vec3>& x, std::vector<Vec3>* v) {
   x = impl_->all_positions();
   if (!v) return;
-  impl_->fields.deform(impl_->all_points, impl_->z_prev, *v);
+  impl_->fields.deform(impl_->all_points, impl_->frames.model(impl_->z_prev), *v);
+  impl_->frames.apply(nullptr, impl_->z_prev, *v);
   for (size_t k = 0; k < x.size(); ++k) (*v)[k] = (x[k] - (*v)[k]) / impl_->dt;
 }
 
@@ -657,7 +683,7 @@ RomDiagnostics LatentStepper::diagnostics() const {
   d.integration_misses = m.misses;
   d.last_residual = m.last_residual;
   d.sample_condition = m.sample_condition;
-  d.training_distance = m.inversion->training_distance(m.z);
+  d.training_distance = m.inversion->training_distance(m.frames.model(m.z));
   d.energy_kept = m.energy_after_mpm > 0 ? m.energy_after_inversion / m.energy_after_mpm : 1.0;
   d.courant = m.last_courant;
   return d;

@@ -88,10 +88,12 @@ class LatentStepper {
   double dt() const;  // the ROM step
   int steps_per_frame() const;
   long step_count() const;
+  // The model's latents ẑ_n and ẑ_{n−1} (without the rigid frames' entries, which a Checkpoint
+  // holds too: RomOptions::rigid_frames).
   const Latent& latent() const;
   const Latent& previous_latent() const;
-  // The Gauss–Newton options of the inversion (its latent prior included), valid while this
-  // stepper lives.
+  // The Gauss–Newton options of the inversion (its latent prior included) for a fit of the
+  // model's latent alone, valid while this stepper lives.
   const GaussNewtonOptions& inversion_options() const;
 
   // x = g(X, ẑ_n) and, if v is given, v = (g(X, ẑ_n) − g(X, ẑ_{n−1}))/Δt at prepared points

@@ -16,11 +16,11 @@
 namespace nsf {
 
 struct RigidFrames {
-  int r = 0;       // the model's latent dimension
-  int frames = 0;  // framed objects; 0: none (the stepper's latent is the model's)
-  std::vector<Vec3> pivot;      // c per frame
-  std::vector<int> frame;       // per row of the point table: its frame, −1 for none
-  std::vector<int> object_of;   // per frame: the scene object it moves
+  int r = 0;                   // the model's latent dimension
+  int frames = 0;              // framed objects; 0: none (the stepper's latent is the model's)
+  std::vector<Vec3> pivot;     // c per frame
+  std::vector<int> frame;      // per row of the point table: its frame, −1 for none
+  std::vector<int> object_of;  // per frame: the scene object it moves
 
   bool on() const { return frames > 0; }
   int dim() const { return r + 6 * frames; }
@@ -39,8 +39,7 @@ struct RigidFrames {
 // Frames for the scene objects `objects` (indices; throws nsf::Error for one the scene lacks):
 // `object` per particle, `X` and `mass` its rest positions and masses.
 RigidFrames make_rigid_frames(int r, const std::vector<int>& objects, const std::vector<Vec3>& X,
-                              const std::vector<double>& mass,
-                              const std::vector<uint16_t>& object);
+                              const std::vector<double>& mass, const std::vector<uint16_t>& object);
 
 // g in the frames; its samples' Jacobian holds ∂/∂ẑ, ∂/∂θ and ∂/∂t.
 std::unique_ptr<DeformationSource> in_rigid_frames(std::unique_ptr<DeformationSource> g,

@@ -85,6 +85,17 @@ TEST(RomSection, TakesQuadratureIterationsAndFieldSources) {
   EXPECT_EQ(with_rom_section(RomOptions(), parse_rom_section(json::object())).grid_factor, 1.0);
   expect_rejected({{"grid", 0.5}}, {"rom.grid", "at least 1"});
   expect_rejected({{"grid", "coarse"}}, {"rom.grid", "positive"});
+  // The objects that move in rigid frames of their own, in any order, each once.
+  EXPECT_EQ(
+      with_rom_section(RomOptions(), parse_rom_section(json::parse(R"({"rigid_frames": [2, 0]})")))
+          .rigid_frames,
+      std::vector<int>({0, 2}));
+  EXPECT_TRUE(
+      with_rom_section(RomOptions(), parse_rom_section(json::object())).rigid_frames.empty());
+  expect_rejected({{"rigid_frames", 0}}, {"rom.rigid_frames", "list of distinct object indices"});
+  expect_rejected({{"rigid_frames", {0, 0}}}, {"rom.rigid_frames", "distinct"});
+  expect_rejected({{"rigid_frames", {-1}}}, {"rom.rigid_frames", "[-1]"});
+  expect_rejected({{"rigid_frames", {"ball"}}}, {"rom.rigid_frames"});
   expect_rejected({{"fields", {{"affine", 3}}}}, {"rom.fields.affine", "name"});
   expect_rejected({{"fields", {{"density", "none"}}}},
                   {"rom.fields.density", "deformation, stress, affine, velocity"});
