@@ -246,6 +246,12 @@ class Server {
   // The scene at its start, from the file as read when the server started.
   std::unique_ptr<LatentStepper> start_scene() {
     RomSetup s = rom_setup(fields_, "the model", file_, a_.mu, choices_);
+    // The page decodes x from the coefficients alone (docs/SERVE.md), which no frame moves.
+    if (!s.options.rigid_frames.empty())
+      fail(a_.scene,
+           ": nsf serve streams the basis's coefficients, which carry no rigid frames, and this "
+           "run's rom settings move objects in them; serve it without (--set ",
+           s.profile == "unseen" ? "rom.unseen.rigid_frames=[]" : "rom.rigid_frames=[]", ")");
     frames_ = s.scene.settings.frames;
     frame_time_ = s.scene.settings.substeps * s.scene.settings.dt;
     mu_ = s.mu;

@@ -374,6 +374,12 @@ TEST_F(ServeEndToEnd, RefusesABadAddressAndAnMlpModelAndStopsAfterItsFrames) {
       nsf::testing::run_cli("serve '" + mlp + "' '" + kScene + "' --mu 1.0 --port 0");
   EXPECT_EQ(refused.exit_code, 1) << refused.output;
   EXPECT_NE(refused.output.find("MLP decoders"), std::string::npos) << refused.output;
+  // Nor do the coefficients carry rigid frames (rom.rigid_frames): the page would draw the body
+  // where its frame does not put it.
+  const auto framed = nsf::testing::run_cli("serve '" + model() + "' '" + kScene +
+                                            "' --mu 1.0 --port 0 --set 'rom.rigid_frames=[0]'");
+  EXPECT_EQ(framed.exit_code, 1) << framed.output;
+  EXPECT_NE(framed.output.find("carry no rigid frames"), std::string::npos) << framed.output;
   const auto run = nsf::testing::run_cli("serve '" + model() + "' '" + kScene +
                                          "' --mu 1.0 --port 0 --fps 0 --frames 5 -j 1");
   EXPECT_EQ(run.exit_code, 0) << run.output;
