@@ -775,6 +775,10 @@ TEST_F(RomEndToEnd, RigidFramesHoldASpinNoTrainingRunMade) {
   ASSERT_TRUE(prior.budget);
   EXPECT_GT(prior.budget->projected.delta, 0);
   o.budget = false;
+  o.upsample = 2;  // g between the particles: refused before anything runs
+  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
+                                "--upsample");
+  o.upsample = 1;
   o.overrides.back() = "rom.rigid_frames=[1]";
   nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
                                 "rigid_frames names object 1");
