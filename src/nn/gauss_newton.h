@@ -31,6 +31,10 @@ struct GaussNewtonOptions {
   // d = 1 costs as much as every sample ε (m) out of place. No penalty or ε = 0: the paper's fit.
   const LatentPenalty* penalty = nullptr;
   double penalty_length = 0;  // ε
+  // Levenberg–Marquardt damping λ: λ·diag(JᵀJ) joins the normal equations, which shortens the step
+  // along directions the samples barely tell apart (a latent direction and a rigid frame's that
+  // move them alike, rom/step/rigid_frames.h). 0: plain Gauss–Newton.
+  double damping = 0;
 };
 
 }  // namespace nsf

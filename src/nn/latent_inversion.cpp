@@ -103,7 +103,8 @@ InversionResult invert_deformation(SampleDeformation& samples, const std::vector
     // Normal equations are r × r; a tiny Levenberg term keeps them solvable when some latent
     // direction does not move the samples at all.
     Eigen::MatrixXd JtJ = J.transpose() * J;
-    JtJ.diagonal().array() += 1e-10 * (1.0 + JtJ.diagonal().maxCoeff());
+    JtJ.diagonal().array() +=
+        options.damping * JtJ.diagonal().array() + 1e-10 * (1.0 + JtJ.diagonal().maxCoeff());
     Eigen::VectorXd rhs = -(J.transpose() * residual);
     if (lambda > 0) {
       JtJ += lambda * penalty.hessian;

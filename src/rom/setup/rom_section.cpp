@@ -71,6 +71,7 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
   s.quadrature =
       integer("quadrature", 0, 1000, "integration points per grid cell; 0: every particle");
   s.gn_iterations = integer("gn_iterations", 1, 100, "the Gauss-Newton iteration cap");
+  s.gn_damping = number("gn_damping", true, "the Levenberg-Marquardt damping of the fit's step");
   s.cfl = number("cfl", false, "the CFL factor the tracked state's step is held to");
   if (s.cfl && *s.cfl > 1)
     fail(
@@ -193,6 +194,7 @@ RomOptions with_rom_section(RomOptions o, const RomSection& s, const ModelCalibr
                                                                         : o.latent_prior);
   o.quadrature_per_cell = s.quadrature.value_or(o.quadrature_per_cell);
   o.inversion.max_iterations = s.gn_iterations.value_or(o.inversion.max_iterations);
+  o.inversion.damping = s.gn_damping.value_or(o.inversion.damping);
   o.cfl = s.cfl.value_or(o.cfl);
   o.grid_factor = s.grid.value_or(o.grid_factor);
   o.rigid_frames = s.rigid_frames.value_or(o.rigid_frames);

@@ -20,6 +20,7 @@ struct RomSection {
   std::optional<double> latent_prior;  // ε of the latent prior, m (RomOptions::latent_prior)
   std::optional<int> quadrature;       // points per cell (RomOptions::quadrature_per_cell)
   std::optional<int> gn_iterations;    // GaussNewtonOptions::max_iterations
+  std::optional<double> gn_damping;    // GaussNewtonOptions::damping
   std::optional<double> cfl;           // the tracked state's CFL factor (RomOptions::cfl)
   std::optional<double> grid;  // the ROM grid's Δx over the scene's (RomOptions::grid_factor)
   std::optional<std::vector<int>> rigid_frames;  // RomOptions::rigid_frames

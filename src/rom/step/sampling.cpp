@@ -58,7 +58,8 @@ SamplingSpec parse_sampling(const nlohmann::json& rom) {
     } else {
       fail("unknown scene key '", path,
            "' (known: samples, sampling, center, sigma, seed, schedule, dt_ratio, latent_prior, "
-           "quadrature, gn_iterations, fields, cfl, grid, rigid_frames, profile, tracked, unseen, "
+           "quadrature, gn_iterations, gn_damping, fields, cfl, grid, rigid_frames, profile, "
+           "tracked, unseen, "
            "mlp, "
            "basis)");
     }

@@ -196,6 +196,15 @@ TEST(RigidFrames, TheFitRecoversAKnownLatentAndFrame) {
       nsf::invert_deformation(*gs, target, f.augment(Latent::Zero(kR)), o);
   EXPECT_LT((r.z - truth).norm(), 1e-8) << r.z.transpose();
   EXPECT_LT(r.rms_residual, 1e-10);
+  // Levenberg–Marquardt damping (rom.gn_damping) shortens each step but not where it ends.
+  o.max_iterations = 1;
+  const Latent start = f.augment(Latent::Zero(kR));
+  const double plain_step = (nsf::invert_deformation(*gs, target, start, o).z - start).norm();
+  o.damping = 0.5;
+  const double damped_step = (nsf::invert_deformation(*gs, target, start, o).z - start).norm();
+  EXPECT_LT(damped_step, 0.9 * plain_step);
+  o.max_iterations = 100;
+  EXPECT_LT((nsf::invert_deformation(*gs, target, start, o).z - truth).norm(), 1e-8);
 }
 
 // τ and C from the model turn with the frame; a tracked source's, whose state turned with the

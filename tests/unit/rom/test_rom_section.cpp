@@ -73,6 +73,12 @@ TEST(RomSection, TakesQuadratureIterationsAndFieldSources) {
   EXPECT_EQ(with_rom_section(given, v).fields.velocity, "latent");
   EXPECT_EQ(RomOptions().resolved_fields("basis").velocity, "latent");
 
+  EXPECT_EQ(with_rom_section(RomOptions(), parse_rom_section(json{{"gn_damping", 0.01}}))
+                .inversion.damping,
+            0.01);
+  EXPECT_EQ(with_rom_section(RomOptions(), parse_rom_section(json::object())).inversion.damping,
+            0.0);
+  expect_rejected({{"gn_damping", -1}}, {"rom.gn_damping", "non-negative"});
   expect_rejected({{"quadrature", 1.5}}, {"rom.quadrature", "whole number"});
   expect_rejected({{"gn_iterations", 0}}, {"rom.gn_iterations", "1 to 100"});
   // The tracked state's own CFL factor, in (0, 1].
