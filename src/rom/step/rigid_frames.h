@@ -2,10 +2,10 @@
 // Rigid frames over the latent manifold (issue #55 item 2; docs/ROM.md, "Rigid frames"): each
 // listed scene object moves its decoded positions as a rigid body,
 //   x = R_o (g(X, ẑ) − c_o) + c_o + t_o,   R_o = exp([θ_o]×),
-// with c_o the object's mass-weighted rest centroid, and θ_o, t_o fitted beside ẑ. A throw, a
-// spin or a bounce that no training run made is then a rigid motion the reduced step holds
-// exactly, whatever the latent spans. The stepper's latent is ẑ followed by (θ_o, t_o) per framed
-// object; the model's fields read ẑ alone, and τ, C from the model turn with the frame (R f Rᵀ).
+// with c_o the object's mass-weighted rest centroid, and θ_o, t_o fitted beside ẑ. Of a throw or
+// a spin that no training run made, the rigid part is then a motion the reduced step holds
+// whatever the latent spans. The stepper's latent is ẑ followed by (θ_o, t_o) per framed object;
+// the model's fields read ẑ alone, and τ, C from the model turn with the frame (R f Rᵀ).
 #include <memory>
 #include <vector>
 
@@ -32,7 +32,8 @@ struct RigidFrames {
   Vec3 translation(const Latent& z, int f) const { return z.segment<3>(r + 6 * f + 3); }
   // g's positions x at rows `ids` of the point table (null: rows 0, 1, …) into the frames of z.
   void apply(const std::vector<uint32_t>* ids, const Latent& z, std::vector<Vec3>& x) const;
-  // Row `row`'s frame, for a table that gained merged points: each takes its `member`'s.
+  // The point table's merged points, appended after its `particles` rows: the j-th takes the
+  // frame of its group's particle member[j].
   void extend(size_t particles, const std::vector<uint32_t>& member);
 };
 
