@@ -307,18 +307,17 @@ nlohmann::json generalize_json(const GeneralizeResult& res, const std::string& c
   j["indicator"] =
       "the inversion's rms residual on the samples, in cells (dx), mean over frames: online, "
       "without a truth";
-  const double rc = rank_correlation(ind, ind_delta);
-  j["indicator_rank_correlation"] =
-      std::isfinite(rc) ? nlohmann::json(rc) : nlohmann::json(nullptr);
+  // A rank correlation in [−1, 1], null where it is not defined (fewer than two draws, ties).
+  const auto correlation = [](const std::vector<double>& x, const std::vector<double>& y) {
+    const double c = rank_correlation(x, y);
+    return std::isfinite(c) ? nlohmann::json(c) : nlohmann::json(nullptr);
+  };
+  j["indicator_rank_correlation"] = correlation(ind, ind_delta);
   std::vector<double> dist_delta, dist_ok;
   for (size_t i = 0; i < dist.size(); ++i)
     if (dist[i] >= 0) dist_ok.push_back(dist[i]), dist_delta.push_back(ind_delta[i]);
-  const double dc = rank_correlation(dist_ok, dist_delta);
-  j["training_distance_rank_correlation"] =
-      std::isfinite(dc) ? nlohmann::json(dc) : nlohmann::json(nullptr);
-  const double ec = rank_correlation(energy_lost, ind_delta);
-  j["energy_lost_rank_correlation"] =
-      std::isfinite(ec) ? nlohmann::json(ec) : nlohmann::json(nullptr);
+  j["training_distance_rank_correlation"] = correlation(dist_ok, dist_delta);
+  j["energy_lost_rank_correlation"] = correlation(energy_lost, ind_delta);
   // The bar of issue #55, each part checked (null: not measured, so not met).
   const double speed_bar = paper ? kSpeedupBarPaper : kSpeedupBarSmall;
   j["bar"] = {{"median_delta", kMedianDeltaBar},
