@@ -41,7 +41,6 @@ class RigidSamples final : public SampleDeformation {
     inner_->jacobian(z.head(f_.r), Jz, g);
     const int64_t n = int64_t(g.size()), r = f_.r;
     J.setZero(3 * n, f_.dim());
-    J.leftCols(r) = Jz;
     std::vector<Mat3> R(static_cast<size_t>(f_.frames)), Jl(static_cast<size_t>(f_.frames));
     for (int k = 0; k < f_.frames; ++k) {
       R[size_t(k)] = f_.rotation(z, k);
@@ -49,7 +48,10 @@ class RigidSamples final : public SampleDeformation {
     }
     for (int64_t p = 0; p < n; ++p) {
       const int k = f_.frame[ids_[size_t(p)]];
-      if (k < 0) continue;
+      if (k < 0) {  // an object without a frame: g as it is
+        J.block(3 * p, 0, 3, r) = Jz.block(3 * p, 0, 3, r);
+        continue;
+      }
       const Mat3& Rk = R[size_t(k)];
       const Vec3 y = Rk * (g[size_t(p)] - f_.pivot[size_t(k)]);
       J.block(3 * p, 0, 3, r) = Rk * Jz.block(3 * p, 0, 3, r);
