@@ -93,7 +93,7 @@ class Server {
     for (long frame = 0;; ++frame) {
       last_ = net::WsServer::binary_message(
           frame_message(uint32_t(frame), stepper_->time(), wall_now(), stepper_->latent(),
-                        coefficients(), poses(), float(guard_->health().indicator)));
+                        coefficients(), poses(), float(guard_->health().indicator), rigid_poses()));
       net_.broadcast(last_);
       if (a_.frames > 0 && frame >= a_.frames) break;
       // Serve the sockets until the next frame is due (at once, with --fps 0).
@@ -146,7 +146,9 @@ class Server {
     const BasisDecoders& b = *fields_.bases();
     const int K = b.u.K, n = modes_per_message(b.rest.size(), a_.basis_message_bytes);
     const int here = std::min(K, n);
-    model_ = net::WsServer::binary_message(model_message(b, model_info(), here));
+    const std::vector<int> frame =
+        stepper_->rigid_frame_count() > 0 ? stepper_->particle_rigid_frames() : std::vector<int>{};
+    model_ = net::WsServer::binary_message(model_message(b, model_info(), here, frame));
     for (int k = here; k < K; k += n)
       basis_.push_back(net::WsServer::binary_message(basis_message(b, k, std::min(n, K - k))));
   }
@@ -246,12 +248,6 @@ class Server {
   // The scene at its start, from the file as read when the server started.
   std::unique_ptr<LatentStepper> start_scene() {
     RomSetup s = rom_setup(fields_, "the model", file_, a_.mu, choices_);
-    // The page decodes x from the coefficients alone (docs/SERVE.md), which no frame moves.
-    if (!s.options.rigid_frames.empty())
-      fail(a_.scene,
-           ": nsf serve streams the basis's coefficients, which carry no rigid frames, and this "
-           "run's rom settings move objects in them; serve it without (--set ",
-           s.profile == "unseen" ? "rom.unseen.rigid_frames=[]" : "rom.rigid_frames=[]", ")");
     frames_ = s.scene.settings.frames;
     frame_time_ = s.scene.settings.substeps * s.scene.settings.dt;
     mu_ = s.mu;
@@ -308,15 +304,24 @@ class Server {
   std::vector<StreamPose> poses() const {
     std::vector<StreamPose> out;
     for (size_t i = 0; i < stepper_->colliders().size(); ++i) {
-      StreamPose p{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+      StreamPose p = stream_pose(Vec3::Zero(), Mat3::Identity());
       if (RigidCollider* c = rigid(i)) {
         c->set_time(stepper_->time());
-        const RigidPose& q = c->pose();
-        for (int k = 0; k < 3; ++k) p[size_t(k)] = float(q.center[k]);
-        for (int r = 0; r < 3; ++r)
-          for (int k = 0; k < 3; ++k) p[size_t(3 + 3 * r + k)] = float(q.rotation(r, k));
+        p = stream_pose(c->pose().center, c->pose().rotation);
       }
       out.push_back(p);
+    }
+    return out;
+  }
+
+  // The rigid frames' maps x = R y + o (rom.rigid_frames), as the page applies them.
+  std::vector<StreamPose> rigid_poses() const {
+    std::vector<StreamPose> out(size_t(stepper_->rigid_frame_count()));
+    for (int f = 0; f < stepper_->rigid_frame_count(); ++f) {
+      Mat3 R;
+      Vec3 o;
+      stepper_->rigid_frame_pose(f, R, o);
+      out[size_t(f)] = stream_pose(o, R);
     }
     return out;
   }

@@ -27,18 +27,25 @@ bool get(const std::string& in, size_t& at, T& v) {
 
 }  // namespace
 
-std::string model_message(const BasisDecoders& b, const nlohmann::json& info, int modes_here) {
+std::string model_message(const BasisDecoders& b, const nlohmann::json& info, int modes_here,
+                          const std::vector<int>& rigid_frame) {
   const size_t P = b.rest.size();
   const int K = b.u.K;
   if (modes_here < 0 || modes_here > K) fail("model_message: ", modes_here, " of ", K, " modes");
+  if (!rigid_frame.empty() && rigid_frame.size() != P)
+    fail("model_message: rigid frames of ", rigid_frame.size(), " particles, the basis has ", P);
   std::vector<float> rest(3 * P), leading(3 * P * size_t(modes_here));
   for (size_t p = 0; p < P; ++p)
     for (int k = 0; k < 3; ++k) rest[3 * p + size_t(k)] = float(b.rest[p][k]);
   for (size_t row = 0; row < 3 * P; ++row)
     std::copy_n(&b.u.modes[row * size_t(K)], modes_here, &leading[row * size_t(modes_here)]);
-  const std::vector<std::pair<std::string, const std::vector<float>*>> arrays = {
+  const std::vector<float> frame(rigid_frame.begin(), rigid_frame.end());
+  std::vector<std::pair<std::string, const std::vector<float>*>> arrays = {
       {"rest", &rest}, {"mean", &b.u.mean}, {"modes", &leading}};
+  if (!frame.empty()) arrays.push_back({"frame", &frame});
   nlohmann::json h = info;
+  h["rigid_frames"] =
+      rigid_frame.empty() ? 0 : *std::max_element(rigid_frame.begin(), rigid_frame.end()) + 1;
   h["type"] = "model";
   h["version"] = 2;
   h["particles"] = P;
@@ -53,8 +60,9 @@ std::string model_message(const BasisDecoders& b, const nlohmann::json& info, in
     size_t offset = 8 + header_bytes;
     h["arrays"] = nlohmann::json::array();
     for (const auto& [name, v] : arrays) {
-      nlohmann::json shape =
-          name == "modes" ? nlohmann::json{P, 3, modes_here} : nlohmann::json{P, 3};
+      nlohmann::json shape = name == "modes"   ? nlohmann::json{P, 3, modes_here}
+                             : name == "frame" ? nlohmann::json{P}
+                                               : nlohmann::json{P, 3};
       h["arrays"].push_back({{"name", name}, {"offset", offset}, {"shape", shape}});
       offset += v->size() * sizeof(float);
     }
@@ -86,15 +94,24 @@ std::string basis_message(const BasisDecoders& b, int first, int count) {
   return out;
 }
 
+StreamPose stream_pose(const Vec3& position, const Mat3& rotation) {
+  StreamPose p;
+  for (int k = 0; k < 3; ++k) p[size_t(k)] = float(position[k]);
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) p[size_t(3 + 3 * r + k)] = float(rotation(r, k));
+  return p;
+}
+
 int modes_per_message(size_t particles, size_t bytes) {
   return int(std::clamp<size_t>(bytes / std::max<size_t>(1, 12 * particles), 1, 1 << 20));
 }
 
 std::string frame_message(uint32_t frame, double time, double sent, const Eigen::VectorXd& z,
                           const Eigen::VectorXf& c, const std::vector<StreamPose>& poses,
-                          float indicator) {
+                          float indicator, const std::vector<StreamPose>& rigid) {
   std::string out = "NSFF";
-  out.reserve(kFrameHeaderBytes + 8 * size_t(z.size()) + 4 * size_t(c.size()) + 48 * poses.size());
+  out.reserve(kFrameHeaderBytes + 8 * size_t(z.size()) + 4 * size_t(c.size()) +
+              48 * (poses.size() + rigid.size()));
   put(out, frame);
   put(out, time);
   put(out, sent);
@@ -104,8 +121,9 @@ std::string frame_message(uint32_t frame, double time, double sent, const Eigen:
   put(out, indicator);
   for (Eigen::Index i = 0; i < z.size(); ++i) put(out, z[i]);
   for (Eigen::Index i = 0; i < c.size(); ++i) put(out, c[i]);
-  for (const StreamPose& p : poses)
-    for (float v : p) put(out, v);
+  for (const std::vector<StreamPose>* list : {&poses, &rigid})
+    for (const StreamPose& p : *list)
+      for (float v : p) put(out, v);
   return out;
 }
 
@@ -130,11 +148,18 @@ std::optional<StreamModel> decode_model(const std::string& bytes) {
       std::vector<float> v(n);
       std::memcpy(v.data(), bytes.data() + off, 4 * n);
       const std::string name = a.at("name");
-      (name == "rest" ? m.rest : name == "mean" ? m.mean : leading) = std::move(v);
+      (name == "rest"    ? m.rest
+       : name == "mean"  ? m.mean
+       : name == "frame" ? m.frame
+                         : leading) = std::move(v);
     }
     const size_t rows = m.rest.size(), K = size_t(m.K), here = size_t(m.received);
-    if (rows % 3 != 0 || m.mean.size() != rows || leading.size() != rows * here)
+    if (rows % 3 != 0 || m.mean.size() != rows || leading.size() != rows * here ||
+        (!m.frame.empty() && 3 * m.frame.size() != rows))
       return std::nullopt;
+    const int frames = m.header.value("rigid_frames", 0);
+    for (float k : m.frame)  // a frame index the frame messages will carry, or −1
+      if (!(k == -1 || (k >= 0 && k < float(frames) && k == std::floor(k)))) return std::nullopt;
     m.modes.assign(rows * K, 0.0f);
     for (size_t row = 0; row < rows; ++row)
       std::copy_n(&leading[row * here], here, &m.modes[row * K]);
@@ -153,15 +178,18 @@ std::optional<StreamFrame> decode_frame(const std::string& bytes) {
       !get(bytes, at, r) || !get(bytes, at, K) || !get(bytes, at, nc) ||
       !get(bytes, at, f.indicator))
     return std::nullopt;
-  if (bytes.size() != kFrameHeaderBytes + 8 * size_t(r) + 4 * size_t(K) + 48 * size_t(nc))
-    return std::nullopt;
+  // The rigid frames' maps fill the rest: whole poses, however many.
+  const size_t fixed = kFrameHeaderBytes + 8 * size_t(r) + 4 * size_t(K) + 48 * size_t(nc);
+  if (bytes.size() < fixed || (bytes.size() - fixed) % 48 != 0) return std::nullopt;
   f.z.resize(r);
   f.c.resize(K);
   f.poses.resize(nc);
+  f.rigid.resize((bytes.size() - fixed) / 48);
   for (double& v : f.z) get(bytes, at, v);
   for (float& v : f.c) get(bytes, at, v);
-  for (StreamPose& p : f.poses)
-    for (float& v : p) get(bytes, at, v);
+  for (std::vector<StreamPose>* list : {&f.poses, &f.rigid})
+    for (StreamPose& p : *list)
+      for (float& v : p) get(bytes, at, v);
   return f;
 }
 
@@ -180,16 +208,24 @@ bool add_basis(StreamModel& m, const std::string& bytes) {
   return true;
 }
 
-std::vector<float> reconstruct(const StreamModel& m, const std::vector<float>& c) {
+std::vector<float> reconstruct(const StreamModel& m, const std::vector<float>& c,
+                               const std::vector<StreamPose>& rigid) {
   const size_t P = m.rest.size() / 3, K = size_t(m.K);
   std::vector<float> x(3 * P);
-  for (size_t p = 0; p < P; ++p)
+  for (size_t p = 0; p < P; ++p) {
     for (size_t d = 0; d < 3; ++d) {
       const float* B = &m.modes[(3 * p + d) * K];
       float acc = 0;
       for (size_t k = 0; k < K; ++k) acc += B[k] * c[k];
       x[3 * p + d] = m.rest[3 * p + d] + (m.mean[3 * p + d] + acc);
     }
+    const int f = m.frame.empty() ? -1 : int(m.frame[p]);
+    if (f < 0 || size_t(f) >= rigid.size()) continue;  // no frame, or none streamed yet
+    const StreamPose& T = rigid[size_t(f)];
+    const float y[3] = {x[3 * p], x[3 * p + 1], x[3 * p + 2]};
+    for (size_t d = 0; d < 3; ++d)
+      x[3 * p + d] = T[d] + (T[3 + 3 * d] * y[0] + T[4 + 3 * d] * y[1] + T[5 + 3 * d] * y[2]);
+  }
   return x;
 }
 

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -127,7 +129,53 @@ TEST(ServeProtocol, FrameLayoutRoundTrips) {
   EXPECT_EQ(f->z, (std::vector<double>{0.25, -1.5, 3}));
   EXPECT_EQ(f->c, (std::vector<float>{1, 2, 3, 4}));
   EXPECT_EQ(f->poses[1][5], 7.f);
+  EXPECT_TRUE(f->rigid.empty());
   EXPECT_FALSE(decode_frame(m.substr(0, m.size() - 1)));
+  // A rigid frame's map follows the colliders'; a client knows how many from the length.
+  std::vector<nsf::app::StreamPose> rigid(1);
+  rigid[0][11] = -2;
+  const std::string framed = nsf::app::frame_message(12, 0.5, 1e9, z, c, poses, 0.25f, rigid);
+  EXPECT_EQ(framed.size(), m.size() + 48);
+  const auto g = decode_frame(framed);
+  ASSERT_TRUE(g);
+  EXPECT_EQ(g->poses, poses);
+  EXPECT_EQ(g->rigid, rigid);
+  EXPECT_FALSE(decode_frame(framed + "1234"));
+}
+
+// A run with rigid frames (rom.rigid_frames) sends each particle's frame once, in the model
+// message, and each frame's map x = R y + o in every frame message: the client moves the
+// particles of a frame by it and leaves the others as the basis puts them.
+TEST(ServeProtocol, RigidFramesMoveTheirParticlesAlone) {
+  using nsf::app::model_message;
+  nsf::BasisDecoders b;
+  b.rest = {nsf::Vec3(0.1, 0.2, 0.3), nsf::Vec3(0.4, 0.5, 0.6)};
+  b.u.dim = 3;
+  b.u.K = 1;
+  b.u.points = 2;
+  b.u.mean = {0, 0, 0, 0, 0, 0};
+  b.u.modes = {1, 0, 0, 0, 0, 0};  // c moves particle 0 along x
+  EXPECT_EQ(decode_model(model_message(b, {}, 1))->header.at("rigid_frames"), 0);
+  const std::optional<StreamModel> m = decode_model(model_message(b, {}, 1, {-1, 0}));
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->header.at("rigid_frames"), 1);
+  EXPECT_EQ(m->frame, (std::vector<float>{-1, 0}));
+  // Turned a quarter about z and shifted up: particle 1 at (−0.5, 0.4, 0.6) + (0, 1, 0).
+  const nsf::Mat3 R = Eigen::AngleAxisd(M_PI / 2, nsf::Vec3::UnitZ()).toRotationMatrix();
+  const std::vector<nsf::app::StreamPose> rigid = {nsf::app::stream_pose(nsf::Vec3(0, 1, 0), R)};
+  const std::vector<float> x = nsf::app::reconstruct(*m, {0.5f}, rigid);
+  EXPECT_NEAR(x[0], 0.6f, 1e-7);
+  EXPECT_NEAR(x[1], 0.2f, 1e-7);
+  EXPECT_NEAR(x[3], -0.5f, 1e-6);
+  EXPECT_NEAR(x[4], 1.4f, 1e-6);
+  EXPECT_NEAR(x[5], 0.6f, 1e-7);
+  EXPECT_EQ(nsf::app::reconstruct(*m, {0.5f})[3], 0.4f) << "no map streamed yet: as the basis";
+  // A particle claiming a frame the header does not count is refused.
+  std::string bad = model_message(b, {}, 1, {-1, 0});
+  const size_t at = bad.find("\"rigid_frames\":1");
+  ASSERT_NE(at, std::string::npos);
+  bad.replace(at, 16, "\"rigid_frames\":0");
+  EXPECT_FALSE(decode_model(bad));
 }
 
 TEST_F(ServeEndToEnd, ClientsReconstructTheRuntimesPositionsAndMoveAColliderTogether) {
@@ -354,6 +402,53 @@ TEST_F(ServeEndToEnd, RefusesOtherSitesPagesUnlessAllowed) {
       << log;
 }
 
+// A run whose rom settings move the bar in a rigid frame (rom.rigid_frames) streams the frame's map
+// beside the coefficients; the client's positions are the runtime's, framed (the frame carries
+// the bar's fall: centimetres by the frame taken).
+TEST_F(ServeEndToEnd, AClientReconstructsARunInRigidFrames) {
+  const std::string frames = "rom.rigid_frames=[0]";
+  const int port = start({"--fps", "30", "--frames", "2000", "--set", frames});
+  ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
+  WsClient a;
+  ASSERT_TRUE(a.connect(port));
+  const auto ma = next_message(a);
+  ASSERT_TRUE(ma);
+  const std::optional<StreamModel> m = decode_model(*ma);
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->header.at("rigid_frames"), 1);
+  ASSERT_EQ(m->frame.size(), m->rest.size() / 3);
+  EXPECT_EQ(*std::min_element(m->frame.begin(), m->frame.end()), 0.f) << "one object, framed";
+  std::optional<StreamFrame> f = next_frame(a);
+  for (int k = 0; k < 4 && f; ++k) f = next_frame(a);
+  ASSERT_TRUE(f);
+  ASSERT_EQ(f->rigid.size(), 1u);
+  const std::vector<float> x = nsf::app::reconstruct(*m, f->c, f->rigid);
+
+  const nsf::NeuralFields fields = nsf::NeuralFields::load(model());
+  nsf::set_nn_threads(1);
+  nsf::RomSetup s = nsf::rom_setup(fields, kScene, 1.0, {frames}, 0);
+  nsf::LatentStepper stepper(const_cast<nsf::NeuralFields&>(fields), std::move(s.scene), s.mu,
+                             s.options);
+  // To the frame's time (the stream loops at the scene's end, its frame numbers do not).
+  const long n = std::lround(f->time / m->header.at("frame_time").get<double>());
+  for (long k = 0; k < n; ++k) stepper.advance_frame();
+  nsf::set_nn_threads(2);
+  std::vector<nsf::Vec3> xr;
+  stepper.particle_state(xr, nullptr);
+  ASSERT_EQ(x.size(), 3 * xr.size());
+  double worst = 0, by_frame = 0;
+  const std::vector<float> plain = nsf::app::reconstruct(*m, f->c);
+  for (size_t p = 0; p < xr.size(); ++p)
+    for (int k = 0; k < 3; ++k) {
+      worst = std::max(worst, std::abs(double(x[3 * p + size_t(k)]) - xr[p][k]));
+      by_frame = std::max(by_frame, std::abs(double(plain[3 * p + size_t(k)]) - xr[p][k]));
+    }
+  // float32 arithmetic of a rotation about the body's centre: a few spacings of 6e-8 at 1 m.
+  EXPECT_LT(worst, 1e-6) << "frame " << f->frame << ": the client's framed positions are not the "
+                         << "runtime's";
+  EXPECT_GT(by_frame, 1e-3) << "the frame did not move the bar: the test shows nothing";
+}
+
 TEST_F(ServeEndToEnd, RefusesABadAddressAndAnMlpModelAndStopsAfterItsFrames) {
   const auto bad = nsf::testing::run_cli("serve '" + model() + "' '" + kScene +
                                          "' --mu 1.0 --bind localhost --port 0");
@@ -374,12 +469,6 @@ TEST_F(ServeEndToEnd, RefusesABadAddressAndAnMlpModelAndStopsAfterItsFrames) {
       nsf::testing::run_cli("serve '" + mlp + "' '" + kScene + "' --mu 1.0 --port 0");
   EXPECT_EQ(refused.exit_code, 1) << refused.output;
   EXPECT_NE(refused.output.find("MLP decoders"), std::string::npos) << refused.output;
-  // Nor do the coefficients carry rigid frames (rom.rigid_frames): the page would draw the body
-  // where its frame does not put it.
-  const auto framed = nsf::testing::run_cli("serve '" + model() + "' '" + kScene +
-                                            "' --mu 1.0 --port 0 --set 'rom.rigid_frames=[0]'");
-  EXPECT_EQ(framed.exit_code, 1) << framed.output;
-  EXPECT_NE(framed.output.find("carry no rigid frames"), std::string::npos) << framed.output;
   const auto run = nsf::testing::run_cli("serve '" + model() + "' '" + kScene +
                                          "' --mu 1.0 --port 0 --fps 0 --frames 5 -j 1");
   EXPECT_EQ(run.exit_code, 0) << run.output;
@@ -414,14 +503,16 @@ std::string pre_text(const std::string& dom, const std::string& id) {
 }  // namespace
 
 // The page in headless Chromium (Debian's `chromium`): it connects, assembles the basis from
-// its parts, reconstructs a frame in JavaScript, and its positions are the runtime's at that
-// frame's latent to float32 precision; it also draws them (WebGL, software) into a PNG it leaves in
-// the DOM.
+// its parts, reconstructs a frame in JavaScript, moves it by the streamed rigid frame, and its
+// positions are the runtime's at that frame's latent and frame to float32 precision; it also draws
+// them (WebGL, software) into a PNG it leaves in the DOM.
 TEST_F(ServeEndToEnd, PageInHeadlessChromiumReconstructsTheRuntimesPositions) {
   if (std::system("command -v chromium >/dev/null 2>&1") != 0)
     GTEST_SKIP() << "no chromium on this machine (scripts/install-deps.sh installs it)";
   // One mode per message: the page assembles the basis from its parts before it writes positions.
-  const int port = start({"--fps", "20", "--frames", "100000", "--basis-message", "1"});
+  // The bar in a rigid frame (rom.rigid_frames): the page moves it by the streamed map too.
+  const int port = start({"--fps", "20", "--frames", "100000", "--basis-message", "1", "--set",
+                          "rom.rigid_frames=[0]"});
   ASSERT_GT(port, 0) << nsf::testing::read_text(log_);
   // A profile of its own (a second chromium on a shared profile hands its page to the first and
   // exits), its messages kept for a failure.
@@ -446,20 +537,30 @@ TEST_F(ServeEndToEnd, PageInHeadlessChromiumReconstructsTheRuntimesPositions) {
   EXPECT_GE(frame, 3u);
   const std::vector<double> x = j.at("positions");
 
-  // The runtime's positions at the page's latent: g(X, ẑ), as nsf::Runtime::positions gives them
-  // (that the streamed ẑ is the stepper's own is checked above).
+  // The runtime's positions at the page's latent and frame: R g(X, ẑ) + o, as
+  // nsf::Runtime::positions gives them (that the streamed ẑ and map are the stepper's own is
+  // checked above).
   const nsf::NeuralFields fields = nsf::NeuralFields::load(model());
   const std::vector<double> z = j.at("z");
   ASSERT_EQ(z.size(), 3u);
+  const std::vector<std::vector<double>> rigid = j.at("rigid");
+  ASSERT_EQ(rigid.size(), 1u);
+  ASSERT_EQ(rigid[0].size(), 12u);
+  nsf::Mat3 R;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) R(a, b) = rigid[0][size_t(3 + 3 * a + b)];
+  const nsf::Vec3 o(rigid[0][0], rigid[0][1], rigid[0][2]);
   std::vector<nsf::Vec3> xr;
   fields.deform(fields.prepare(fields.bases()->rest),
                 Eigen::Map<const Eigen::VectorXd>(z.data(), 3), xr);
   ASSERT_EQ(x.size(), 3 * xr.size());
   double worst = 0;
-  for (size_t p = 0; p < xr.size(); ++p)
-    for (int k = 0; k < 3; ++k)
-      worst = std::max(worst, std::abs(x[3 * p + size_t(k)] - double(float(xr[p][k]))));
-  EXPECT_LT(worst, 4e-7) << "frame " << frame << ": the page's positions are not the runtime's";
+  for (size_t p = 0; p < xr.size(); ++p) {
+    const nsf::Vec3 y = R * xr[p] + o;
+    for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(x[3 * p + size_t(k)] - y[k]));
+  }
+  // float32 arithmetic, a rotation included: a few spacings of 6e-8 at 1 m.
+  EXPECT_LT(worst, 1e-6) << "frame " << frame << ": the page's positions are not the runtime's";
   EXPECT_EQ(pre_text(dom, "snapshot").rfind("data:image/png;base64,", 0), 0u)
       << "the page drew nothing";
 }

@@ -231,7 +231,7 @@ class FrameRecorder {
   }
 
   void write() {
-    if (o_.upsample > 1) rom_.state(boost_, x_, &v_);
+    if (o_.upsample > 1) rom_.state(boost_, frame_.object, x_, &v_);
     frame_.x = x_;
     frame_.v = v_;
     // Upsampled points carry their particle's τ and C (point i comes from particle i / k).
@@ -364,10 +364,6 @@ RomReport evaluate_rom(const RomEvalOptions& o) {
   if (o.print_warnings)
     for (const std::string& w : s.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   rep.warnings = s.warnings;
-  if (o.upsample > 1 && !s.options.rigid_frames.empty())
-    fail(
-        "rom: --upsample queries g at points between the particles, which no rigid frame moves; "
-        "this run's rom settings put objects in rigid frames (rom.rigid_frames)");
   const BaselineInputs baseline_inputs = read_baseline_inputs(o, s);
   if (!baseline_inputs.coarse_skipped.empty())
     rep.warnings.push_back(baseline_inputs.coarse_skipped);

@@ -620,16 +620,28 @@ const Latent& LatentStepper::previous_latent() const {
   return impl_->z_prev_model;
 }
 
-void LatentStepper::state(const NeuralFields::Points& X, std::vector<Vec3>& x,
-                          std::vector<Vec3>* v) const {
-  if (impl_->frames.on())
-    fail(
-        "rom: positions at other points (--upsample, a host's query) are not available with "
-        "rigid frames (rom.rigid_frames)");
-  impl_->fields.deform(X, impl_->z, x);
+void LatentStepper::state(const NeuralFields::Points& X, const std::vector<uint16_t>& object,
+                          std::vector<Vec3>& x, std::vector<Vec3>* v) const {
+  const RigidFrames& frames = impl_->frames;
+  impl_->fields.deform(X, frames.model(impl_->z), x);
+  frames.apply_to_objects(object, impl_->z, x);
   if (!v) return;
-  impl_->fields.deform(X, impl_->z_prev, *v);
+  impl_->fields.deform(X, frames.model(impl_->z_prev), *v);
+  frames.apply_to_objects(object, impl_->z_prev, *v);
   for (size_t k = 0; k < x.size(); ++k) (*v)[k] = (x[k] - (*v)[k]) / impl_->dt;
+}
+
+int LatentStepper::rigid_frame_count() const {
+  return impl_->frames.frames;
+}
+std::vector<int> LatentStepper::particle_rigid_frames() const {
+  if (!impl_->frames.on()) return std::vector<int>(impl_->np, -1);
+  return {impl_->frames.frame.begin(), impl_->frames.frame.begin() + std::ptrdiff_t(impl_->np)};
+}
+void LatentStepper::rigid_frame_pose(int f, Mat3& R, Vec3& offset) const {
+  if (f < 0 || f >= impl_->frames.frames)
+    fail("rom: rigid frame ", f, " of ", impl_->frames.frames);
+  impl_->frames.pose(impl_->z, f, R, offset);
 }
 
 void LatentStepper::particle_state(std::vector<Vec3>& x, std::vector<Vec3>* v) {

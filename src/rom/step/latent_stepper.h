@@ -97,8 +97,10 @@ class LatentStepper {
   const GaussNewtonOptions& inversion_options() const;
 
   // x = g(X, ẑ_n) and, if v is given, v = (g(X, ẑ_n) − g(X, ẑ_{n−1}))/Δt at prepared points
-  // (fields.prepare(X): the scene's particles or any other rest positions, Fig. 6).
-  void state(const NeuralFields::Points& X, std::vector<Vec3>& x, std::vector<Vec3>* v) const;
+  // (fields.prepare(X): the scene's particles or any other rest positions, Fig. 6) of scene
+  // objects `object` (one per point), each moved by its object's rigid frame if it has one.
+  void state(const NeuralFields::Points& X, const std::vector<uint16_t>& object,
+             std::vector<Vec3>& x, std::vector<Vec3>* v) const;
   // The same for all particles of the scene; also refreshes the candidate set for free.
   void particle_state(std::vector<Vec3>& x, std::vector<Vec3>* v);
   // τ and C of every particle at ẑ_n, from the sources the step itself uses (h or its
@@ -108,6 +110,12 @@ class LatentStepper {
   void particle_stress(std::vector<Mat3>& tau);
   // C alone, the same way (the embedding API's Runtime::affine).
   void particle_affine(std::vector<Mat3>& C);
+
+  // The rigid frames (RomOptions::rigid_frames): how many, each particle's (−1: none), and frame
+  // f's map of g's positions y now, x = R y + offset.
+  int rigid_frame_count() const;
+  std::vector<int> particle_rigid_frames() const;
+  void rigid_frame_pose(int f, Mat3& R, Vec3& offset) const;
 
   size_t particle_count() const;
   size_t sample_count() const;  // |S| now

@@ -1,6 +1,7 @@
 #include "rom/step/rigid_frames.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -136,19 +137,51 @@ Mat3 RigidFrames::rotation(const Latent& z, int f) const {
   return Eigen::AngleAxisd(a, th / a).toRotationMatrix();
 }
 
+void RigidFrames::pose(const Latent& z, int f, Mat3& R, Vec3& offset) const {
+  R = rotation(z, f);
+  offset = pivot[size_t(f)] + translation(z, f) - R * pivot[size_t(f)];
+}
+
+int RigidFrames::frame_of_object(int o) const {
+  for (int k = 0; k < frames; ++k)
+    if (object_of[size_t(k)] == o) return k;
+  return -1;
+}
+
+namespace {
+
+// x_i ← R_k (x_i − c_k) + c_k + t_k with k = frame_of(i), for each i whose k is not −1.
+template <typename FrameOf>
+void move_into_frames(const RigidFrames& f, const Latent& z, std::vector<Vec3>& x,
+                      FrameOf frame_of) {
+  std::vector<Mat3> R(static_cast<size_t>(f.frames));
+  std::vector<Vec3> shift(static_cast<size_t>(f.frames));
+  for (int k = 0; k < f.frames; ++k) {
+    R[size_t(k)] = f.rotation(z, k);
+    shift[size_t(k)] = f.pivot[size_t(k)] + f.translation(z, k);
+  }
+  for (size_t i = 0; i < x.size(); ++i) {
+    const int k = frame_of(i);
+    if (k >= 0) x[i] = R[size_t(k)] * (x[i] - f.pivot[size_t(k)]) + shift[size_t(k)];
+  }
+}
+
+}  // namespace
+
 void RigidFrames::apply(const std::vector<uint32_t>* ids, const Latent& z,
                         std::vector<Vec3>& x) const {
   if (!on()) return;
-  std::vector<Mat3> R(static_cast<size_t>(frames));
-  std::vector<Vec3> shift(static_cast<size_t>(frames));
-  for (int k = 0; k < frames; ++k) {
-    R[size_t(k)] = rotation(z, k);
-    shift[size_t(k)] = pivot[size_t(k)] + translation(z, k);
-  }
-  for (size_t i = 0; i < x.size(); ++i) {
-    const int k = frame[ids ? (*ids)[i] : i];
-    if (k >= 0) x[i] = R[size_t(k)] * (x[i] - pivot[size_t(k)]) + shift[size_t(k)];
-  }
+  move_into_frames(*this, z, x, [&](size_t i) { return frame[ids ? (*ids)[i] : i]; });
+}
+
+void RigidFrames::apply_to_objects(const std::vector<uint16_t>& object, const Latent& z,
+                                   std::vector<Vec3>& x) const {
+  if (!on() || x.empty()) return;
+  if (object.size() != x.size())
+    fail("rigid frames: ", object.size(), " objects for ", x.size(), " points");
+  std::vector<int> frame_of(size_t(*std::max_element(object.begin(), object.end())) + 1);
+  for (size_t o = 0; o < frame_of.size(); ++o) frame_of[o] = frame_of_object(int(o));
+  move_into_frames(*this, z, x, [&](size_t i) { return frame_of[object[i]]; });
 }
 
 void RigidFrames::extend(size_t particles, const std::vector<uint32_t>& member) {

@@ -30,8 +30,16 @@ struct RigidFrames {
   Latent augment(const Latent& z) const;
   Mat3 rotation(const Latent& z, int f) const;
   Vec3 translation(const Latent& z, int f) const { return z.segment<3>(r + 6 * f + 3); }
+  // Frame f's map of g's positions y at z: x = R y + offset, offset = c + t − R c.
+  void pose(const Latent& z, int f, Mat3& R, Vec3& offset) const;
+  // The frame that moves scene object o (−1: none).
+  int frame_of_object(int o) const;
   // g's positions x at rows `ids` of the point table (null: rows 0, 1, …) into the frames of z.
   void apply(const std::vector<uint32_t>* ids, const Latent& z, std::vector<Vec3>& x) const;
+  // The same for points of scene objects `object` (one per point), which need not be the
+  // table's: points between the particles (--upsample).
+  void apply_to_objects(const std::vector<uint16_t>& object, const Latent& z,
+                        std::vector<Vec3>& x) const;
   // The point table's merged points, appended after its `particles` rows: the j-th takes the
   // frame of its group's particle member[j].
   void extend(size_t particles, const std::vector<uint32_t>& member);

@@ -739,8 +739,8 @@ TEST_F(RomEndToEnd, TheModelKeepsItsTrainingBoxAndAGuardSaysWhenAColliderLeavesI
 // Against full order in the same run, at three spins, the framed ROM is closer on the whole (this
 // fixture's model read 1.7 / 2.7 / 3.6 % against 2.8 / 3.4 / 4.4 %). The run names the frames,
 // writes the model's latent alone, and also runs under the latent prior, which then reads the
-// model's part of the latent (the error budget's projection too); a frame for an object the scene
-// lacks is refused.
+// model's part of the latent (the error budget's projection too). Its upsampled points move with
+// their particles' frame; a frame for an object the scene lacks is refused.
 TEST_F(RomEndToEnd, RigidFramesHoldASpinNoTrainingRunMade) {
   nsf::RomEvalOptions o = options();
   o.model_path = basis_model();
@@ -775,10 +775,33 @@ TEST_F(RomEndToEnd, RigidFramesHoldASpinNoTrainingRunMade) {
   ASSERT_TRUE(prior.budget);
   EXPECT_GT(prior.budget->projected.delta, 0);
   o.budget = false;
-  o.upsample = 2;  // g between the particles: refused before anything runs
-  nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
-                                "--upsample");
+  // --upsample: g between the particles, each point moved by its object's frame.
+  o.rom.latent_prior = 0;
+  o.upsample = 3;
+  o.out_path = (root_ / "dense.h5").string();
+  nsf::evaluate_rom(o);
+  const nsf::RunReader sparse((root_ / "framed.h5").string()), dense(o.out_path);
+  ASSERT_EQ(dense.particle_count(), 3 * sparse.particle_count());
+  // Each point's distance from its particle against at rest: a rigid motion keeps it, so it
+  // changes through the spin no more than g's interpolation between particles changes it at the
+  // start (the tiny model's: about 8 mm).
+  const std::vector<nsf::Vec3> X = sparse.rest_positions(), Xk = dense.rest_positions();
+  const auto stretch = [&](size_t f) {
+    const std::vector<nsf::Vec3> xp = sparse.read_frame(f).x, xk = dense.read_frame(f).x;
+    double s = 0;
+    for (size_t k = 0; k < xk.size(); ++k)
+      s = std::max(s, std::abs((xk[k] - xp[k / 3]).norm() - (Xk[k] - X[k / 3]).norm()));
+    return s;
+  };
+  const size_t last = sparse.frame_count() - 1;
+  EXPECT_LT(stretch(last), stretch(0) + 0.002)
+      << "an upsampled point is not where its particle's frame put it";
+  const std::vector<nsf::Vec3> x_last = sparse.read_frame(last).x;
+  double moved = 0;
+  for (size_t p = 0; p < X.size(); ++p) moved = std::max(moved, (x_last[p] - X[p]).norm());
+  EXPECT_GT(moved, 0.05) << "the bar hardly moved: the test shows nothing";
   o.upsample = 1;
+  o.out_path.clear();
   o.overrides.back() = "rom.rigid_frames=[1]";
   nsf::testing::expect_contains(nsf::testing::error_of([&] { nsf::evaluate_rom(o); }),
                                 "rigid_frames names object 1");
