@@ -21,6 +21,7 @@
 #include "rom/setup/rom_setup.h"
 #include "rom/setup/scene_file.h"
 #include "rom/step/latent_stepper.h"
+#include "rom/step/rigid_frames.h"
 #include "rom/step/step_guard.h"
 
 namespace nsf::app {
@@ -147,7 +148,7 @@ class Server {
     const int K = b.u.K, n = modes_per_message(b.rest.size(), a_.basis_message_bytes);
     const int here = std::min(K, n);
     const std::vector<int> frame =
-        stepper_->rigid_frame_count() > 0 ? stepper_->particle_rigid_frames() : std::vector<int>{};
+        stepper_->rigid_frames().frames > 0 ? stepper_->particle_rigid_frames() : std::vector<int>{};
     model_ = net::WsServer::binary_message(model_message(b, model_info(), here, frame));
     for (int k = here; k < K; k += n)
       basis_.push_back(net::WsServer::binary_message(basis_message(b, k, std::min(n, K - k))));
@@ -316,8 +317,8 @@ class Server {
 
   // The rigid frames' maps x = R y + o (rom.rigid_frames), as the page applies them.
   std::vector<StreamPose> rigid_poses() const {
-    std::vector<StreamPose> out(size_t(stepper_->rigid_frame_count()));
-    for (int f = 0; f < stepper_->rigid_frame_count(); ++f) {
+    std::vector<StreamPose> out(size_t(stepper_->rigid_frames().frames));
+    for (int f = 0; f < stepper_->rigid_frames().frames; ++f) {
       Mat3 R;
       Vec3 o;
       stepper_->rigid_frame_pose(f, R, o);

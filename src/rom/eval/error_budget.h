@@ -8,6 +8,10 @@
 //                   samples and Gauss–Newton, warm-started frame to frame) — what the samples
 //                   alone pin down of the state, τ and C included;
 //   dynamics:       the rest, the run's own error beyond the projection.
+// With rigid frames (rom/step/rigid_frames.h) both terms are of the framed model: the projection
+// fits ẑ and the frames as the step does, and the representation is the better of the encoded ẑ
+// and a fit of ẑ and the frames to every particle (from the encoded ẑ with the frames at rest, and
+// from the last frame's fit), so that it stays a floor for the framed run.
 #include <memory>
 #include <vector>
 
@@ -20,6 +24,7 @@ namespace nsf {
 
 class SampleDeformation;
 class FrameLatentRefiner;
+struct RigidFrames;
 
 // δ of eq. (11) and the relative errors of τ and C over the frames added so far; < 0 where the
 // truth's field is zero (not measured).
@@ -35,10 +40,11 @@ struct ErrorBudgetResult {
 class ErrorBudget {
  public:
   // `fields` and the particles' rest positions X of the run's scene; `samples`: the ROM's sample
-  // ids; `z0`: the ROM's initial latent (the projection's first warm start).
+  // ids; `z0`: the ROM's initial latent, the model's part (the projection's first warm start);
+  // `frames`: the run's rigid frames (null or off: none), which outlive the budget.
   ErrorBudget(NeuralFields& fields, const std::vector<Vec3>& X,
               const std::vector<uint32_t>& samples, double mu, const GaussNewtonOptions& inversion,
-              const Latent& z0);
+              const Latent& z0, const RigidFrames* frames = nullptr);
   ~ErrorBudget();
 
   // One truth frame (frames 1…N): positions, velocities (for a C that reads the latent
@@ -54,6 +60,8 @@ class ErrorBudget {
   };
   void add(Sums& sums, const Latent& z, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
            const std::vector<Mat3>& tau, const std::vector<Mat3>& C);
+  // The framed representation's latent: ẑ and the frames fitted to every particle's x.
+  Latent framed_fit(const Latent& encoded, const std::vector<Vec3>& x);
 
   NeuralFields& fields_;
   NeuralFields::Points points_;
@@ -62,9 +70,12 @@ class ErrorBudget {
   GaussNewtonOptions inversion_;
   std::unique_ptr<SampleDeformation> g_;
   std::unique_ptr<FrameLatentRefiner> refiner_;
-  Latent z_;
+  const RigidFrames* frames_;              // null: none
+  std::unique_ptr<SampleDeformation> all_;  // framed g on every particle (frames only)
+  std::vector<uint32_t> all_ids_;
+  Latent z_, z_framed_;                     // the projection's; the framed representation's
   Sums encoded_, projected_;
-  long frames_ = 0, iterations_ = 0;
+  long added_ = 0, iterations_ = 0;
   std::vector<Vec3> gx_, target_;
   std::vector<Mat3> tau_, C_;
 };

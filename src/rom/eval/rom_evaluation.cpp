@@ -173,18 +173,17 @@ std::unique_ptr<RunWriter> rom_writer(const RomEvalOptions& o, const RomSetup& s
   return writer;
 }
 
-// Each frame of the ROM: compared with the truth (δ of eq. 11 over frames 1…N, τ and C), added
-// to the budget, written, and its online diagnostics (the inversion's residual, the distance to
+// Each frame of the ROM: compared with the truth (δ of eq. 11 over frames 1…N, τ and C),
+// written, and its online diagnostics (the inversion's residual, the distance to
 // the training latents) averaged.
 class FrameRecorder {
  public:
   FrameRecorder(const RomEvalOptions& o, LatentStepper& rom, const RunReader* truth,
-                ErrorBudget* budget, RunWriter* writer, Particles points, double dx,
+                RunWriter* writer, Particles points, double dx,
                 const NeuralFields& fields, RomReport& rep)
       : o_(o),
         rom_(rom),
         truth_(truth),
-        budget_(budget),
         writer_(writer),
         frame_(std::move(points)),
         dx_(dx),
@@ -221,7 +220,6 @@ class FrameRecorder {
       stress_.add(tau_[p], truth_frame.tau[p]);
       affine_.add(C_[p], truth_frame.C[p]);
     }
-    if (budget_) budget_->add_frame(phi, truth_frame.v, truth_frame.tau, truth_frame.C);
     rep_.delta_per_frame.push_back(frame_delta.relative());
     delta_.add(frame_delta);
     rep_.delta = delta_.relative();
@@ -255,7 +253,6 @@ class FrameRecorder {
   const RomEvalOptions& o_;
   LatentStepper& rom_;
   const RunReader* truth_;
-  ErrorBudget* budget_;
   RunWriter* writer_;
   Particles frame_;
   double dx_;
@@ -267,8 +264,8 @@ class FrameRecorder {
   ErrorSum delta_, stress_, affine_;
 };
 
-// The error budget's projection, on the ROM's own samples and with its fit (latent prior
-// included), run to convergence on each frame.
+// The error budget's projection, on the ROM's own samples and with its fit (latent prior and
+// rigid frames included), run to convergence on each frame.
 std::unique_ptr<ErrorBudget> error_budget(NeuralFields& fields, const LatentStepper& rom,
                                           const RunReader* truth, double mu) {
   if (!truth) fail("rom: the error budget (--budget) needs a ground truth (--truth or full order)");
@@ -276,7 +273,20 @@ std::unique_ptr<ErrorBudget> error_budget(NeuralFields& fields, const LatentStep
   gn.max_iterations = std::max(gn.max_iterations, kBudgetIterations);
   gn.taylor = false;
   return std::make_unique<ErrorBudget>(fields, truth->rest_positions(), rom.samples(), mu, gn,
-                                       rom.latent());
+                                       rom.latent(), &rom.rigid_frames());
+}
+
+// The error budget on the truth's frames 1…frames.
+ErrorBudgetResult measure_budget(ErrorBudget& budget, const RunReader& truth, int frames,
+                                 bool quiet) {
+  Progress progress("error budget", frames, "frames");
+  for (int f = 1; f <= frames; ++f) {
+    const RunFrame t = truth.read_frame(size_t(f));
+    budget.add_frame(t.x, t.v, t.tau, t.C);
+    if (!quiet) progress.update(f);
+  }
+  if (!quiet) progress.finish();
+  return budget.result();
 }
 
 // The frames of the ROM, timed step by step, each recorded.
@@ -397,13 +407,14 @@ RomReport evaluate_rom(const RomEvalOptions& o) {
       o.budget ? error_budget(fields, rom, truth.get(), rep.mu) : nullptr;
   const std::unique_ptr<RunWriter> writer =
       o.out_path.empty() ? nullptr : rom_writer(o, s, settings, points, rep);
-  FrameRecorder recorder(o, rom, truth.get(), budget.get(), writer.get(), std::move(points),
-                         settings.dx, fields, rep);
+  FrameRecorder recorder(o, rom, truth.get(), writer.get(), std::move(points), settings.dx, fields,
+                         rep);
   run_reduced_order(o, rom, recorder, rep);
   rep.rom_file = o.out_path;
   rep.rom_peak_mib = peak_rss_mib();
   describe_rom(rom, s.options, rep);
-  if (budget) rep.budget = budget->result();
+  // The budget after the run, so that neither the ROM's time nor its memory holds its work.
+  if (budget) rep.budget = measure_budget(*budget, *truth, rep.frames, o.quiet);
 
   // The baselines, after the ROM so that its peak memory is its own.
   if (!baseline_inputs.runs.empty())

@@ -48,8 +48,6 @@ RomInversion::RomInversion(const ModelRecord& model, const GaussNewtonOptions& o
     options_.penalty = penalty_ ? penalty_.get() : prior_.get();
     options_.penalty_length = latent_prior;
   }
-  model_options_ = options_;
-  if (options_.penalty) model_options_.penalty = prior_.get();
 }
 
 Eigen::VectorXd RomInversion::fit_initial(SampleDeformation& g, const std::vector<Vec3>& target,

@@ -38,9 +38,6 @@ class RomInversion {
 
   // The step's Gauss–Newton options, the prior included.
   const GaussNewtonOptions& options() const { return options_; }
-  // The same for a fit of the model's latent alone, without the free entries (the error budget's
-  // projection of a truth).
-  const GaussNewtonOptions& model_options() const { return model_options_; }
   // ẑ's distance from the training runs' latents, in training spreads (ẑ: the model's part of the
   // latent); −1 for a model that does not store them.
   double training_distance(const Eigen::VectorXd& z) const;
@@ -48,7 +45,7 @@ class RomInversion {
  private:
   std::unique_ptr<LatentPrior> prior_;      // null where the model stores no training latents
   std::unique_ptr<LatentPenalty> penalty_;  // the prior, over the model's part of the latent
-  GaussNewtonOptions options_, model_options_;
+  GaussNewtonOptions options_;
 };
 
 }  // namespace nsf

@@ -603,7 +603,10 @@ const Latent& LatentStepper::latent() const {
   return impl_->z_model;
 }
 const GaussNewtonOptions& LatentStepper::inversion_options() const {
-  return impl_->inversion->model_options();
+  return impl_->inversion->options();
+}
+const RigidFrames& LatentStepper::rigid_frames() const {
+  return impl_->frames;
 }
 std::vector<std::unique_ptr<Collider>>& LatentStepper::colliders() {
   return impl_->sim->colliders();
@@ -631,9 +634,6 @@ void LatentStepper::state(const NeuralFields::Points& X, const std::vector<uint1
   for (size_t k = 0; k < x.size(); ++k) (*v)[k] = (x[k] - (*v)[k]) / impl_->dt;
 }
 
-int LatentStepper::rigid_frame_count() const {
-  return impl_->frames.frames;
-}
 std::vector<int> LatentStepper::particle_rigid_frames() const {
   if (!impl_->frames.on()) return std::vector<int>(impl_->np, -1);
   return {impl_->frames.frame.begin(), impl_->frames.frame.begin() + std::ptrdiff_t(impl_->np)};

@@ -15,6 +15,8 @@
 
 namespace nsf {
 
+struct RigidFrames;
+
 struct RomTimes {
   PhaseTimer inference;  // g on the candidates, τ and C on N
   PhaseTimer mpm;        // I, N, and the MPM step on N
@@ -92,9 +94,11 @@ class LatentStepper {
   // holds too: RomOptions::rigid_frames).
   const Latent& latent() const;
   const Latent& previous_latent() const;
-  // The Gauss–Newton options of the inversion (its latent prior included) for a fit of the
-  // model's latent alone, valid while this stepper lives.
+  // The Gauss–Newton options of the step's inversion (its latent prior included), for a fit of
+  // the model's latent and the rigid frames' entries after it; valid while this stepper lives.
   const GaussNewtonOptions& inversion_options() const;
+  // The rigid frames (RomOptions::rigid_frames; off where none), valid while this stepper lives.
+  const RigidFrames& rigid_frames() const;
 
   // x = g(X, ẑ_n) and, if v is given, v = (g(X, ẑ_n) − g(X, ẑ_{n−1}))/Δt at prepared points
   // (fields.prepare(X): the scene's particles or any other rest positions, Fig. 6) of scene
@@ -111,9 +115,8 @@ class LatentStepper {
   // C alone, the same way (the embedding API's Runtime::affine).
   void particle_affine(std::vector<Mat3>& C);
 
-  // The rigid frames (RomOptions::rigid_frames): how many, each particle's (−1: none), and frame
-  // f's map of g's positions y now, x = R y + offset.
-  int rigid_frame_count() const;
+  // The rigid frames' now: each particle's (−1: none), and frame f's map of g's positions y,
+  // x = R y + offset.
   std::vector<int> particle_rigid_frames() const;
   void rigid_frame_pose(int f, Mat3& R, Vec3& offset) const;
 

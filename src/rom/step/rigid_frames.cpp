@@ -106,13 +106,7 @@ class RigidField final : public PointFieldSource {
                 std::vector<Mat3>& out) override {
     const Latent z = f_.model(s.z), zp = f_.model(s.z_prev);
     inner_->evaluate(ids, {z, zp}, for_step, out);
-    if (!rotate_) return;
-    std::vector<Mat3> R(static_cast<size_t>(f_.frames));
-    for (int k = 0; k < f_.frames; ++k) R[size_t(k)] = f_.rotation(s.z, k);
-    for (size_t i = 0; i < ids.size(); ++i) {
-      const int k = f_.frame[ids[i]];
-      if (k >= 0) out[i] = R[size_t(k)] * out[i] * R[size_t(k)].transpose();
-    }
+    if (rotate_) f_.turn(ids, s.z, out);
   }
 
  private:
@@ -184,6 +178,17 @@ void RigidFrames::apply_to_objects(const std::vector<uint16_t>& object, const La
   move_into_frames(*this, z, x, [&](size_t i) { return frame_of[object[i]]; });
 }
 
+void RigidFrames::turn(const std::vector<uint32_t>& ids, const Latent& z,
+                       std::vector<Mat3>& f) const {
+  if (!on()) return;
+  std::vector<Mat3> R(static_cast<size_t>(frames));
+  for (int k = 0; k < frames; ++k) R[size_t(k)] = rotation(z, k);
+  for (size_t i = 0; i < ids.size(); ++i) {
+    const int k = frame[ids[i]];
+    if (k >= 0) f[i] = R[size_t(k)] * f[i] * R[size_t(k)].transpose();
+  }
+}
+
 void RigidFrames::extend(size_t particles, const std::vector<uint32_t>& member) {
   frame.resize(particles);
   for (uint32_t p : member) frame.push_back(frame[p]);
@@ -220,6 +225,12 @@ RigidFrames make_rigid_frames(int r, const std::vector<int>& objects, const std:
     f.pivot[size_t(k)] /= m[size_t(k)];
   }
   return f;
+}
+
+std::unique_ptr<SampleDeformation> in_rigid_frames(std::unique_ptr<SampleDeformation> g,
+                                                   const RigidFrames& frames,
+                                                   std::vector<uint32_t> ids) {
+  return std::make_unique<RigidSamples>(std::move(g), frames, std::move(ids));
 }
 
 std::unique_ptr<DeformationSource> in_rigid_frames(std::unique_ptr<DeformationSource> g,

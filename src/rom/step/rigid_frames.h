@@ -36,6 +36,8 @@ struct RigidFrames {
   int frame_of_object(int o) const;
   // g's positions x at rows `ids` of the point table (null: rows 0, 1, …) into the frames of z.
   void apply(const std::vector<uint32_t>* ids, const Latent& z, std::vector<Vec3>& x) const;
+  // τ or C of the model at rows `ids` of the point table turned into the frames of z (R f Rᵀ).
+  void turn(const std::vector<uint32_t>& ids, const Latent& z, std::vector<Mat3>& f) const;
   // The same for points of scene objects `object` (one per point), which need not be the
   // table's: points between the particles (--upsample).
   void apply_to_objects(const std::vector<uint16_t>& object, const Latent& z,
@@ -50,6 +52,11 @@ struct RigidFrames {
 RigidFrames make_rigid_frames(int r, const std::vector<int>& objects, const std::vector<Vec3>& X,
                               const std::vector<double>& mass, const std::vector<uint16_t>& object);
 
+// g at rows `ids` of the point table (g's own samples) in the frames: its Jacobian holds ∂/∂ẑ,
+// ∂/∂θ and ∂/∂t.
+std::unique_ptr<SampleDeformation> in_rigid_frames(std::unique_ptr<SampleDeformation> g,
+                                                   const RigidFrames& frames,
+                                                   std::vector<uint32_t> ids);
 // g in the frames; its samples' Jacobian holds ∂/∂ẑ, ∂/∂θ and ∂/∂t.
 std::unique_ptr<DeformationSource> in_rigid_frames(std::unique_ptr<DeformationSource> g,
                                                    const RigidFrames& frames);

@@ -767,13 +767,24 @@ TEST_F(RomEndToEnd, RigidFramesHoldASpinNoTrainingRunMade) {
   const std::vector<nsf::Latent> written = written_latents((root_ / "framed.h5").string());
   ASSERT_FALSE(written.empty());
   EXPECT_EQ(written[0].size(), nsf::NeuralFields::load(basis_model()).latent_dim());
+  // The budget is the framed model's: its representation of the spun truth is a fit of ẑ and the
+  // frame, closer than the encoded ẑ alone, and no worse than the framed run; its projection fits
+  // the frame too, under the same prior on ẑ.
   o.rom.latent_prior = 0.001;
-  o.budget = true;  // its projection fits the model's latent alone, under the same prior
+  o.budget = true;
   const nsf::RomReport prior = nsf::evaluate_rom(o);
   EXPECT_GT(prior.delta, 0);
   EXPECT_LT(prior.delta, framed);
   ASSERT_TRUE(prior.budget);
   EXPECT_GT(prior.budget->projected.delta, 0);
+  o.overrides.pop_back();
+  const nsf::RomReport unframed = nsf::evaluate_rom(o);
+  o.overrides.push_back("rom.rigid_frames=[0]");
+  ASSERT_TRUE(unframed.budget);
+  const double rep = prior.budget->encoded.delta, rep0 = unframed.budget->encoded.delta;
+  EXPECT_GT(rep, 0);
+  EXPECT_LT(rep, 0.8 * rep0) << "the framed model holds the spun bar no better than ẑ alone";
+  EXPECT_LE(rep, prior.delta);
   o.budget = false;
   // --upsample: g between the particles, each point moved by its object's frame.
   o.rom.latent_prior = 0;
