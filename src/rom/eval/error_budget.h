@@ -70,10 +70,10 @@ class ErrorBudget {
   GaussNewtonOptions inversion_;
   std::unique_ptr<SampleDeformation> g_;
   std::unique_ptr<FrameLatentRefiner> refiner_;
-  const RigidFrames* frames_;              // null: none
+  const RigidFrames* frames_;               // null: none
   std::unique_ptr<SampleDeformation> all_;  // framed g on every particle (frames only)
   std::vector<uint32_t> all_ids_;
-  Latent z_, z_framed_;                     // the projection's; the framed representation's
+  Latent z_, z_framed_;  // the projection's; the framed representation's
   Sums encoded_, projected_;
   long added_ = 0, iterations_ = 0;
   std::vector<Vec3> gx_, target_;

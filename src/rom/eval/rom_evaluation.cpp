@@ -179,8 +179,8 @@ std::unique_ptr<RunWriter> rom_writer(const RomEvalOptions& o, const RomSetup& s
 class FrameRecorder {
  public:
   FrameRecorder(const RomEvalOptions& o, LatentStepper& rom, const RunReader* truth,
-                RunWriter* writer, Particles points, double dx,
-                const NeuralFields& fields, RomReport& rep)
+                RunWriter* writer, Particles points, double dx, const NeuralFields& fields,
+                RomReport& rep)
       : o_(o),
         rom_(rom),
         truth_(truth),
