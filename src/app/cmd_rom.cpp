@@ -7,6 +7,7 @@
 #include "app/common_options.h"
 #include "app/retired_options.h"
 #include "core/path_clash.h"
+#include "core/strings.h"
 #include "data/manifest.h"
 #include "io/xdmf_writer.h"
 #include "rom/eval/result_row.h"
@@ -86,11 +87,7 @@ void add_rom_command(CLI::App& app) {
   cmd->add_flag("--taylor", a->opt.rom.inversion.taylor,
                 "First-order Taylor inversion: one linearised step per time step");
   // Field sources by name (rom/fields/field_registry.cpp); each option lists the registered ones.
-  const auto names = [](const std::vector<std::string>& v) {
-    std::string out;
-    for (const auto& n : v) out += (out.empty() ? "" : ", ") + n;
-    return out;
-  };
+  const auto names = [](const std::vector<std::string>& v) { return join(v); };
   cmd->add_option("--deformation", a->opt.rom.fields.deformation,
                   "Positions on the candidates from: " + names(deformation_source_names()) +
                       " (default: the scene's rom.fields, else the model's decoder g)")

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/strings.h"
 #include "mpm/scene/settings_json.h"
 #include "nn/dataset_gaps.h"
 
@@ -141,12 +142,6 @@ TrainingBox run_box(const RunReader& r, const SimulationFile& s) {
   return box;
 }
 
-std::string joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
-
 }  // namespace
 
 Dataset::Dataset(const std::string& dir, bool allow_incomplete) : dir_(dir) {
@@ -226,8 +221,8 @@ Dataset::Dataset(const std::string& dir, bool allow_incomplete) : dir_(dir) {
 
   if (!missing.empty() || !unfinished.empty()) {
     std::string what;
-    if (!missing.empty()) what += "\n  missing: " + joined(missing);
-    if (!unfinished.empty()) what += "\n  unfinished: " + joined(unfinished);
+    if (!missing.empty()) what += "\n  missing: " + join(missing);
+    if (!unfinished.empty()) what += "\n  unfinished: " + join(unfinished);
     incomplete_ = "dataset " + dir + " is incomplete (an interrupted or partial sweep?):" + what;
     if (!allow_incomplete)
       fail(incomplete_, "\nfinish it with `nsf sweep SCENE --out ", dir,

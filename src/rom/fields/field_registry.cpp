@@ -2,6 +2,7 @@
 #include <mutex>
 
 #include "core/error.h"
+#include "core/strings.h"
 #include "rom/fields/field_source.h"
 #include "rom/fields/sources.h"
 
@@ -62,9 +63,7 @@ const typename Map::mapped_type& find(const Map& m, const std::string& name, con
     if (!record.empty())
       fail("rom: the ", what, " source '", name, "' was retired (it lost: docs/experiments/",
            record, ")");
-    std::string known;
-    for (const auto& entry : m) known += (known.empty() ? "" : ", ") + entry.first;
-    fail("rom: unknown ", what, " source '", name, "' (known: ", known, ")");
+    fail("rom: unknown ", what, " source '", name, "' (known: ", join(names_of(m)), ")");
   }
   return it->second;
 }

@@ -6,13 +6,25 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/strings.h"
 #include "rom/calibration/rom_calibration.h"
 #include "rom/fields/field_source.h"
+#include "rom/step/sampling.h"
 
 namespace nsf {
 
 namespace {
 const char* const kFamilies[] = {"mlp", "basis"};
+// The keys parse_rom_section reads itself; the sampling's are sampling_keys().
+const char* const kSectionKeys[] = {
+    "dt_ratio", "latent_prior", "quadrature", "gn_iterations", "gn_damping", "fields", "cfl",
+    "grid",     "rigid_frames", "profile",    "tracked",       "unseen",     "mlp",    "basis"};
+
+std::vector<std::string> known_keys() {
+  std::vector<std::string> keys = sampling_keys();
+  keys.insert(keys.end(), std::begin(kSectionKeys), std::end(kSectionKeys));
+  return keys;
+}
 
 // A settings object rom.KEY (a decoder family's, or the tracked state's): `base` with it merged
 // over, parsed as a section of its own. `what` names whose settings it holds; it may hold none of
@@ -41,6 +53,11 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
   RomSection s;
   if (rom.is_null()) return s;
   if (!rom.is_object()) fail("scene key 'rom' must be an object, got ", rom.dump());
+  const std::vector<std::string> known = known_keys();
+  for (const auto& item : rom.items())
+    if (std::find(known.begin(), known.end(), item.key()) == known.end())
+      fail("unknown scene key 'rom.", item.key(), "' (known: ", join(known), ")");
+  // What is left once this function has taken its own keys is the sampling's.
   nlohmann::json sampling = rom;
   // The keys that are not the sampling's: each a number, checked against its lower bound.
   const auto number = [&](const char* key, bool zero_allowed, const char* meaning) {

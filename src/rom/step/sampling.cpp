@@ -6,8 +6,15 @@
 #include <random>
 
 #include "core/error.h"
+#include "core/strings.h"
 
 namespace nsf {
+
+const std::vector<std::string>& sampling_keys() {
+  static const std::vector<std::string> keys = {"samples", "sampling", "center",
+                                                "sigma",   "seed",     "schedule"};
+  return keys;
+}
 
 SamplingSpec parse_sampling(const nlohmann::json& rom) {
   SamplingSpec s;
@@ -56,12 +63,7 @@ SamplingSpec parse_sampling(const nlohmann::json& rom) {
       std::sort(s.schedule.begin(), s.schedule.end(),
                 [](const auto& a, const auto& b) { return a.fraction < b.fraction; });
     } else {
-      fail("unknown scene key '", path,
-           "' (known: samples, sampling, center, sigma, seed, schedule, dt_ratio, latent_prior, "
-           "quadrature, gn_iterations, gn_damping, fields, cfl, grid, rigid_frames, profile, "
-           "tracked, unseen, "
-           "mlp, "
-           "basis)");
+      fail("scene key '", path, "' is not a sampling key (", join(sampling_keys(), ", "), ")");
     }
   }
   if (s.mode == "cluster" && s.sigma <= 0)

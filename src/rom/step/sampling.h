@@ -28,8 +28,12 @@ struct SamplingSpec {
   std::vector<SampleChange> schedule;  // sorted by fraction
 };
 
-// Reads a scene's "rom" section (the whole section; missing keys keep the defaults above).
-// Throws nsf::Error naming the key for a malformed value.
+// The keys of a scene's "rom" section that parse_sampling reads.
+const std::vector<std::string>& sampling_keys();
+
+// Reads the sampling's keys of a scene's "rom" section (missing keys keep the defaults above).
+// Throws nsf::Error naming the key for a malformed value, or for a key it does not read (the
+// caller, rom/setup/rom_section.h, hands it the section without the keys it reads itself).
 SamplingSpec parse_sampling(const nlohmann::json& rom_section);
 
 // The particles in the order they join S: S at any time is the first sample_count_at(t) entries,

@@ -3,6 +3,8 @@
 // at fault.
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "core/error.h"
 #include "error_matchers.h"
 #include "rom/setup/rom_section.h"
@@ -32,6 +34,51 @@ TEST(RomSection, TakesSamplesAndATimeStepRatio) {
   // The unknown key, and the known ones.
   expect_rejected({{"samples", 50}, {"step", 2}}, {"rom.step", "dt_ratio"});
   expect_rejected(5, {"'rom'"});
+}
+
+// The keys an unknown one's message lists are the parser's own: each, with a valid value, is read
+// (a key listed but not read would reach the sampling's parser and be refused there).
+TEST(RomSection, TheKnownKeysAnUnknownOneListsAreEachRead) {
+  const std::string message = nsf::testing::error_of([] {
+    parse_rom_section(json{{"no_such_key", 1}});
+  });
+  const std::string head = "(known: ";
+  const size_t at = message.find(head);
+  ASSERT_NE(at, std::string::npos) << message;
+  const std::string list = message.substr(at + head.size(), message.rfind(')') - at - head.size());
+  const std::map<std::string, json> valid = {{"samples", 100},
+                                             {"sampling", "random"},
+                                             {"center", {0, 0, 0}},
+                                             {"sigma", 0.1},
+                                             {"seed", 1},
+                                             {"schedule", json::array()},
+                                             {"dt_ratio", 1},
+                                             {"latent_prior", 0},
+                                             {"quadrature", 1},
+                                             {"gn_iterations", 3},
+                                             {"gn_damping", 0},
+                                             {"fields", json::object()},
+                                             {"cfl", 0.5},
+                                             {"grid", 1},
+                                             {"rigid_frames", json::array()},
+                                             {"profile", "auto"},
+                                             {"tracked", json::object()},
+                                             {"unseen", json::object()},
+                                             {"mlp", json::object()},
+                                             {"basis", json::object()}};
+  json all = json::object();
+  size_t listed = 0;
+  for (size_t from = 0; from < list.size(); ++listed) {
+    const size_t comma = list.find(", ", from);
+    const std::string key =
+        list.substr(from, comma == std::string::npos ? std::string::npos : comma - from);
+    from = comma == std::string::npos ? list.size() : comma + 2;
+    ASSERT_TRUE(valid.count(key)) << "a new key '" << key << "': give it a valid value here";
+    EXPECT_NO_THROW(parse_rom_section(json{{key, valid.at(key)}})) << key;
+    all[key] = valid.at(key);
+  }
+  EXPECT_EQ(listed, valid.size()) << list;
+  EXPECT_NO_THROW(parse_rom_section(all));
 }
 
 // The cake's schedule: 700 samples, 400 from T/2 on. A smaller initial count (--samples 250)
