@@ -87,15 +87,14 @@ void add_rom_command(CLI::App& app) {
   cmd->add_flag("--taylor", a->opt.rom.inversion.taylor,
                 "First-order Taylor inversion: one linearised step per time step");
   // Field sources by name (rom/fields/field_registry.cpp); each option lists the registered ones.
-  const auto names = [](const std::vector<std::string>& v) { return join(v); };
   cmd->add_option("--deformation", a->opt.rom.fields.deformation,
-                  "Positions on the candidates from: " + names(deformation_source_names()) +
+                  "Positions on the candidates from: " + join(deformation_source_names()) +
                       " (default: the scene's rom.fields, else the model's decoder g)")
       ->check(not_a_retired_source("deformation"))
       ->check(CLI::IsMember(deformation_source_names()));
   cmd->add_option(
          "--stress", a->opt.rom.fields.stress,
-         "Kirchhoff stress on N from: " + names(point_field_source_names(FieldRole::stress)) +
+         "Kirchhoff stress on N from: " + join(point_field_source_names(FieldRole::stress)) +
              " (default: the scene's rom.fields, else the model's decoder h; crom: from dg/dX "
              "through the material; tracked: each integration point's own F and plastic state, "
              "carried through the run, as full order carries each particle's)")
@@ -103,13 +102,13 @@ void add_rom_command(CLI::App& app) {
       ->check(CLI::IsMember(point_field_source_names(FieldRole::stress)));
   cmd->add_option(
          "--affine", a->opt.rom.fields.affine,
-         "APIC affine matrices C on N from: " + names(point_field_source_names(FieldRole::affine)) +
+         "APIC affine matrices C on N from: " + join(point_field_source_names(FieldRole::affine)) +
              " (default: the scene's rom.fields, else the model's decoder l, or none with --stress "
              "crom; tracked: each integration point's own G2P C)")
       ->check(not_a_retired_source("affine"))
       ->check(CLI::IsMember(point_field_source_names(FieldRole::affine)));
   cmd->add_option("--velocity", a->opt.rom.fields.velocity,
-                  "Velocities on N from: " + names(velocity_source_names()) +
+                  "Velocities on N from: " + join(velocity_source_names()) +
                       " (default: the scene's rom.fields, else latent: g's backward difference, "
                       "the paper; tracked: each integration point's own G2P velocity of the step "
                       "before, as full order carries each particle's)")
