@@ -60,6 +60,18 @@ TEST(ServeProtocol, CommandsAreCheckedStrictly) {
     EXPECT_THROW(parse_command(bad, 2), nsf::Error) << bad;
 }
 
+// A deformation basis of K modes over two particles (P × 3 × K modes, row-major).
+nsf::BasisDecoders two_particle_basis(int K, std::vector<float> mean, std::vector<float> modes) {
+  nsf::BasisDecoders b;
+  b.rest = {nsf::Vec3(0.1, 0.2, 0.3), nsf::Vec3(0.4, 0.5, 0.6)};
+  b.u.dim = 3;
+  b.u.K = K;
+  b.u.points = 2;
+  b.u.mean = std::move(mean);
+  b.u.modes = std::move(modes);
+  return b;
+}
+
 // The model message with the leading modes, then basis messages with the others: a client that
 // adds them in order holds every mode, bit for bit, and one that skips one is refused.
 TEST(ServeProtocol, ModelAndBasisMessagesAssembleTheWholeBasis) {
@@ -67,13 +79,9 @@ TEST(ServeProtocol, ModelAndBasisMessagesAssembleTheWholeBasis) {
   using nsf::app::basis_message;
   using nsf::app::model_message;
   using nsf::app::reconstruct;
-  nsf::BasisDecoders b;
-  b.rest = {nsf::Vec3(0.1, 0.2, 0.3), nsf::Vec3(0.4, 0.5, 0.6)};
-  b.u.dim = 3;
-  b.u.K = 5;
-  b.u.points = 2;
-  b.u.mean = {1, 2, 3, 4, 5, 6};
-  for (int i = 0; i < 2 * 3 * 5; ++i) b.u.modes.push_back(0.5f * float(i) - 3.25f);
+  std::vector<float> modes;
+  for (int i = 0; i < 2 * 3 * 5; ++i) modes.push_back(0.5f * float(i) - 3.25f);
+  const nsf::BasisDecoders b = two_particle_basis(5, {1, 2, 3, 4, 5, 6}, modes);
   const std::string model = model_message(b, {{"scene", "two"}}, 2);
   std::optional<StreamModel> m = decode_model(model);
   ASSERT_TRUE(m);
@@ -148,13 +156,8 @@ TEST(ServeProtocol, FrameLayoutRoundTrips) {
 // particles of a frame by it and leaves the others as the basis puts them.
 TEST(ServeProtocol, RigidFramesMoveTheirParticlesAlone) {
   using nsf::app::model_message;
-  nsf::BasisDecoders b;
-  b.rest = {nsf::Vec3(0.1, 0.2, 0.3), nsf::Vec3(0.4, 0.5, 0.6)};
-  b.u.dim = 3;
-  b.u.K = 1;
-  b.u.points = 2;
-  b.u.mean = {0, 0, 0, 0, 0, 0};
-  b.u.modes = {1, 0, 0, 0, 0, 0};  // c moves particle 0 along x
+  // c moves particle 0 along x.
+  const nsf::BasisDecoders b = two_particle_basis(1, {0, 0, 0, 0, 0, 0}, {1, 0, 0, 0, 0, 0});
   EXPECT_EQ(decode_model(model_message(b, {}, 1))->header.at("rigid_frames"), 0);
   const std::optional<StreamModel> m = decode_model(model_message(b, {}, 1, {-1, 0}));
   ASSERT_TRUE(m);
