@@ -147,10 +147,8 @@ class Server {
     const BasisDecoders& b = *fields_.bases();
     const int K = b.u.K, n = modes_per_message(b.rest.size(), a_.basis_message_bytes);
     const int here = std::min(K, n);
-    const std::vector<int> frame = stepper_->rigid_frames().frames > 0
-                                       ? stepper_->particle_rigid_frames()
-                                       : std::vector<int>{};
-    model_ = net::WsServer::binary_message(model_message(b, model_info(), here, frame));
+    model_ = net::WsServer::binary_message(
+        model_message(b, model_info(), here, stepper_->particle_rigid_frames()));
     for (int k = here; k < K; k += n)
       basis_.push_back(net::WsServer::binary_message(basis_message(b, k, std::min(n, K - k))));
   }

@@ -635,7 +635,7 @@ void LatentStepper::state(const NeuralFields::Points& X, const std::vector<uint1
 }
 
 std::vector<int> LatentStepper::particle_rigid_frames() const {
-  if (!impl_->frames.on()) return std::vector<int>(impl_->np, -1);
+  if (!impl_->frames.on()) return {};
   return {impl_->frames.frame.begin(), impl_->frames.frame.begin() + std::ptrdiff_t(impl_->np)};
 }
 void LatentStepper::rigid_frame_pose(int f, Mat3& R, Vec3& offset) const {

@@ -115,8 +115,8 @@ class LatentStepper {
   // C alone, the same way (the embedding API's Runtime::affine).
   void particle_affine(std::vector<Mat3>& C);
 
-  // The rigid frames' now: each particle's (−1: none), and frame f's map of g's positions y,
-  // x = R y + offset.
+  // The rigid frames' now: each particle's (−1: none; empty for a run without frames), and frame
+  // f's map of g's positions y, x = R y + offset.
   std::vector<int> particle_rigid_frames() const;
   void rigid_frame_pose(int f, Mat3& R, Vec3& offset) const;
 
