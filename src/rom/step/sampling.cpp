@@ -63,7 +63,7 @@ SamplingSpec parse_sampling(const nlohmann::json& rom) {
       std::sort(s.schedule.begin(), s.schedule.end(),
                 [](const auto& a, const auto& b) { return a.fraction < b.fraction; });
     } else {
-      fail("scene key '", path, "' is not a sampling key (", join(sampling_keys(), ", "), ")");
+      fail("scene key '", path, "' is not a sampling key (", join(sampling_keys()), ")");
     }
   }
   if (s.mode == "cluster" && s.sigma <= 0)
