@@ -85,6 +85,17 @@ typedef struct nsf_collider_pose {
   double angular_velocity[3]; /* rad/s, about that point */
 } nsf_collider_pose;
 
+/* A scene object's motion as a rigid body, fitted to its particles now (nsf::ObjectPose): a rest
+ * point X sits near rotation * (X - rest_position) + position. */
+typedef struct nsf_object_pose {
+  double position[3];         /* centre of mass now, m */
+  double rotation[9];         /* rest -> now, row-major */
+  double velocity[3];         /* of the centre of mass, m/s */
+  double angular_velocity[3]; /* rad/s, about the centre of mass */
+  double rest_position[3];    /* centre of mass at rest, m */
+  double misfit;              /* rms distance (m) of the particles from that rigid copy */
+} nsf_object_pose;
+
 /* The library's version, "MAJOR.MINOR.PATCH", and its numbers. */
 NSF_C_API const char* nsf_version(void);
 NSF_C_API nsf_status nsf_version_numbers(int* major, int* minor, int* patch);
@@ -155,6 +166,13 @@ NSF_C_API nsf_status nsf_runtime_training_note(const nsf_runtime* runtime, char*
  * nsf_runtime_last_recovery writes its text. */
 NSF_C_API nsf_status nsf_runtime_warnings(const nsf_runtime* runtime, char* out, size_t size,
                                           size_t* length);
+
+/* The scene's objects, in the order of its "objects" list, each fitted as a rigid body
+ * (Runtime::object_pose; the first call after a step decodes every particle). An index past the
+ * end is NSF_ERROR_INVALID_ARGUMENT. */
+NSF_C_API nsf_status nsf_runtime_object_count(const nsf_runtime* runtime, size_t* out);
+NSF_C_API nsf_status nsf_runtime_object_pose(const nsf_runtime* runtime, size_t index,
+                                             nsf_object_pose* out);
 
 /* The scene's colliders, in the order of its "colliders" list. The type ("box", "cylinder",
  * "plane") is written as nsf_runtime_last_recovery writes its text (16 bytes always suffice). */

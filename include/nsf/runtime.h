@@ -73,6 +73,20 @@ struct ColliderPose {
   std::array<double, 3> angular_velocity{};                   // rad/s, about that point
 };
 
+// A scene object's motion as a rigid body, fitted to its particles now (docs/EMBEDDING.md,
+// "Object poses"): where to attach a camera, a sound or a rigid proxy to a deforming body. A rest
+// point X of the object sits near rotation · (X − rest_position) + position.
+struct ObjectPose {
+  std::array<double, 3> position{};                           // centre of mass now, m
+  std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};  // rest → now, row-major
+  std::array<double, 3> velocity{};                           // of the centre of mass, m/s
+  std::array<double, 3> angular_velocity{};                   // rad/s, about the centre of mass
+  std::array<double, 3> rest_position{};                      // centre of mass at rest, m
+  // The particles' rms distance (m) from that rigid copy of the rest shape: how far the body is
+  // deformed (0 for a rigid motion).
+  double misfit = 0;
+};
+
 // The reduced-order simulator of one scene at one μ. Not copyable; movable.
 class NSF_API Runtime {
  public:
@@ -121,6 +135,13 @@ class NSF_API Runtime {
   // throws if `size` is less.
   std::size_t latent_dim() const;
   void latent(float* out, std::size_t size) const;
+
+  // The scene's objects, in the order of its "objects" list, each fitted as a rigid body
+  // (ObjectPose): the rotation is the best fit of its particles' positions to their rest
+  // positions about the centres of mass (Kabsch), ω = I⁻¹L. The first call after a step decodes
+  // every particle, as velocities() does; the others that step reuse it.
+  std::size_t object_count() const;
+  ObjectPose object_pose(std::size_t i) const;
 
   // The scene's colliders, in the order of its "colliders" list.
   std::size_t collider_count() const;

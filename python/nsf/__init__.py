@@ -176,6 +176,8 @@ class Rom:
     steps_per_frame = property(lambda self: self._rt.steps_per_frame,
                                doc="reduced-order steps per frame")
     time = property(lambda self: self._rt.time, doc="simulated seconds so far")
+    object_count = property(lambda self: self._rt.object_count,
+                            doc="the scene's objects (object_pose takes 0 to this - 1)")
     collider_count = property(lambda self: self._rt.collider_count,
                               doc="the scene's colliders (set_collider_pose takes 0 to this - 1)")
     latent_dim = property(lambda self: self._rt.latent_dim,
@@ -258,6 +260,21 @@ class Rom:
             self._rt.advance_frame()
             self.positions(out[k])
         return out
+
+    def object_pose(self, i):
+        """Object i (the scene's "objects" order) as a rigid body fitted to its particles now: a
+        dict of position (3,, its centre of mass), rotation (3, 3, rest to now, the best fit of
+        its particles about the centres of mass), velocity (3,), angular_velocity (3,, about the
+        centre of mass), rest_position (3,, the centre of mass at rest), numpy float64 arrays,
+        and misfit (float, m: the particles' rms distance from that rigid copy of the rest
+        shape). A rest point X sits near rotation @ (X - rest_position) + position. The first
+        call after a step decodes every particle, as velocities() does."""
+        if not 0 <= i < self.object_count:
+            raise IndexError("no object %s: the scene has %d" % (i, self.object_count))
+        p = self._rt.object_pose(i)
+        return {"position": np.array(p.position), "rotation": np.array(p.rotation).reshape(3, 3),
+                "velocity": np.array(p.velocity), "angular_velocity": np.array(p.angular_velocity),
+                "rest_position": np.array(p.rest_position), "misfit": float(p.misfit)}
 
     def _collider(self, i):
         if not 0 <= i < self.collider_count:

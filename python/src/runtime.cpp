@@ -118,6 +118,14 @@ void bind_runtime(py::module_& m) {
       .def_readwrite("velocity", &ColliderPose::velocity)
       .def_readwrite("angular_velocity", &ColliderPose::angular_velocity);
 
+  py::class_<ObjectPose>(m, "ObjectPose")
+      .def_readonly("position", &ObjectPose::position)
+      .def_readonly("rotation", &ObjectPose::rotation)
+      .def_readonly("velocity", &ObjectPose::velocity)
+      .def_readonly("angular_velocity", &ObjectPose::angular_velocity)
+      .def_readonly("rest_position", &ObjectPose::rest_position)
+      .def_readonly("misfit", &ObjectPose::misfit);
+
   py::class_<Runtime>(m, "Runtime")
       .def(py::init(&make_runtime), py::arg("model"), py::arg("scene"), py::arg("mu") = py::none(),
            py::arg("samples") = 0, py::arg("threads") = 0,
@@ -162,6 +170,8 @@ void bind_runtime(py::module_& m) {
           py::arg("out") = py::none())
       .def("health", &health)
       .def_property_readonly("warnings", &Runtime::warnings)
+      .def_property_readonly("object_count", &Runtime::object_count)
+      .def("object_pose", &Runtime::object_pose)
       .def_property_readonly("collider_count", &Runtime::collider_count)
       .def("collider_type", &Runtime::collider_type)
       .def("collider_pose", &Runtime::collider_pose)

@@ -74,6 +74,27 @@ def test_collider_pose_round_trips(rom):
     np.testing.assert_array_equal(now["velocity"], [0, 0.1, 0])
 
 
+def test_an_objects_pose_is_the_best_rigid_fit_of_its_particles(rom, tiny_scene):
+    assert rom.object_count == 1
+    rom.advance_frame(3)
+    pose = rom.object_pose(0)
+    X = nsf.load_scene(tiny_scene, mu=1.0).rest_positions
+    x = rom.positions().astype(np.float64)
+    R, c, c0 = pose["rotation"], pose["position"], pose["rest_position"]
+    np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-12)
+    np.testing.assert_allclose(c, x.mean(axis=0), atol=1e-6)  # one material: equal masses
+    np.testing.assert_allclose(c0, X.mean(axis=0), atol=1e-12)
+    rms = lambda Q: np.sqrt(np.mean(np.sum(((X - c0) @ Q.T + c - x) ** 2, axis=1)))
+    assert pose["misfit"] == pytest.approx(rms(R), rel=1e-5)
+    for axis in np.eye(3):  # no turn by a milliradian about any axis fits better
+        K = np.cross(np.eye(3), axis)  # [axis]x, so that K @ v = axis x v
+        turn = np.eye(3) + np.sin(1e-3) * K + (1 - np.cos(1e-3)) * K @ K
+        assert rms(turn @ R) > pose["misfit"]
+        assert rms(turn.T @ R) > pose["misfit"]
+    with pytest.raises(IndexError, match="no object 1: the scene has 1"):
+        rom.object_pose(1)
+
+
 def test_bad_input_raises_a_clear_exception(rom, tiny_model, tiny_scene, tmp_path):
     P = rom.particle_count
     with pytest.raises(FileNotFoundError, match="model .*missing.nsf: no such file"):

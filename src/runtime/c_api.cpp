@@ -376,6 +376,31 @@ nsf_status nsf_runtime_warnings(const nsf_runtime* r, char* out, size_t size, si
   });
 }
 
+nsf_status nsf_runtime_object_count(const nsf_runtime* r, size_t* out) {
+  return call("nsf_runtime_object_count", NSF_ERROR_INTERNAL, [&] {
+    const nsf::Runtime& rt = runtime(r);
+    need(out, "out");
+    *out = rt.object_count();
+  });
+}
+nsf_status nsf_runtime_object_pose(const nsf_runtime* r, size_t index, nsf_object_pose* out) {
+  return call("nsf_runtime_object_pose", NSF_ERROR_INVALID_ARGUMENT, [&] {
+    const nsf::Runtime& rt = runtime(r);
+    need(out, "out");
+    if (index >= rt.object_count())
+      refuse(NSF_ERROR_INVALID_ARGUMENT, "object ", std::to_string(index),
+             " does not exist: the scene has ", std::to_string(rt.object_count()));
+    const nsf::ObjectPose p = rt.object_pose(index);
+    for (int k = 0; k < 3; ++k) {
+      out->position[k] = p.position[k];
+      out->velocity[k] = p.velocity[k];
+      out->angular_velocity[k] = p.angular_velocity[k];
+      out->rest_position[k] = p.rest_position[k];
+    }
+    for (int k = 0; k < 9; ++k) out->rotation[k] = p.rotation[k];
+    out->misfit = p.misfit;
+  });
+}
 nsf_status nsf_runtime_collider_count(const nsf_runtime* r, size_t* out) {
   return call("nsf_runtime_collider_count", NSF_ERROR_INTERNAL, [&] {
     const nsf::Runtime& rt = runtime(r);

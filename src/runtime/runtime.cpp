@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/blas_threads.h"
+#include "core/body_motion.h"
 #include "core/error.h"
 #include "mpm/colliders/collider_limits.h"
 #include "mpm/colliders/rigid_collider.h"
@@ -63,6 +64,14 @@ struct Runtime::Impl {
   std::vector<std::string> warnings;       // the set-up's (RomSetup::warnings)
   std::unique_ptr<LatentStepper> stepper;  // holds a reference to `fields`
   std::unique_ptr<StepGuard> guard;        // and this one to `stepper`
+  // Each scene object's particles, with their rest positions and masses, and the poses fitted to
+  // them at step posed_at (−1: none yet).
+  std::vector<Vec3> X;
+  std::vector<double> mass;
+  std::vector<std::vector<uint32_t>> members;
+  std::vector<ObjectPose> poses;
+  long posed_at = -1;
+  double posed_time = 0;
 
   Impl(const std::string& model_path, const std::string& scene_path, const RuntimeOptions& o)
       : fields(load_runtime_model(model_path, o.threads)) {
@@ -71,6 +80,14 @@ struct Runtime::Impl {
     frame_time = s.scene.settings.substeps * s.scene.settings.dt;
     limits = collider_limits(s.scene.settings);
     warnings = s.warnings;
+    const Particles& P = s.scene.particles;
+    X = P.X, mass = P.mass;
+    const nlohmann::json& objects = s.scene.source.value("objects", nlohmann::json::array());
+    members.resize(objects.size());
+    for (uint32_t p = 0; p < P.object.size(); ++p) {
+      if (P.object[p] >= members.size()) members.resize(P.object[p] + 1u);
+      members[P.object[p]].push_back(p);
+    }
     stepper = std::make_unique<LatentStepper>(fields, std::move(s.scene), s.mu, s.options);
     GuardOptions g;
     g.residual_cells = o.indicator_misfit_cells;
@@ -78,6 +95,29 @@ struct Runtime::Impl {
     g.grid_margin = o.indicator_grid_margin;
     g.recover = o.recover;
     guard = std::make_unique<StepGuard>(*stepper, g);
+  }
+
+  const ObjectPose& object_pose(std::size_t i) {
+    if (i >= members.size()) fail("object ", i, " does not exist: the scene has ", members.size());
+    if (posed_at != stepper->step_count() || posed_time != stepper->time()) {
+      std::vector<Vec3> x, v;
+      stepper->particle_state(x, &v);
+      poses.assign(members.size(), ObjectPose{});
+      for (std::size_t o = 0; o < members.size(); ++o) {
+        if (members[o].empty()) continue;
+        const BodyMotion b = fit_body_motion(X, x, v, mass, members[o]);
+        ObjectPose& out = poses[o];
+        out.position = arr(b.centre);
+        for (int r = 0; r < 3; ++r)
+          for (int k = 0; k < 3; ++k) out.rotation[size_t(3 * r + k)] = b.rotation(r, k);
+        out.velocity = arr(b.velocity);
+        out.angular_velocity = arr(b.angular_velocity);
+        out.rest_position = arr(b.rest_centre);
+        out.misfit = b.rms_misfit;
+      }
+      posed_at = stepper->step_count(), posed_time = stepper->time();
+    }
+    return poses[i];
   }
 
   RigidCollider& collider(std::size_t i) const {
@@ -194,6 +234,13 @@ std::size_t Runtime::collider_count() const {
 std::string Runtime::collider_type(std::size_t i) const {
   return guarded("collider_type", [&] { return impl_->collider(i).type(); });
 }
+std::size_t Runtime::object_count() const {
+  return impl_->members.size();
+}
+ObjectPose Runtime::object_pose(std::size_t i) const {
+  return guarded("object_pose", [&] { return impl_->object_pose(i); });
+}
+
 ColliderPose Runtime::collider_pose(std::size_t i) const {
   return guarded("collider_pose", [&] {
     RigidCollider& c = impl_->collider(i);
