@@ -74,7 +74,7 @@ struct ColliderPose {
 };
 
 // A scene object's motion as a rigid body, fitted to its particles now (docs/EMBEDDING.md,
-// "Object poses"): where to attach a camera, a sound or a rigid proxy to a deforming body. A rest
+// "The API"): where to attach a camera, a sound or a rigid proxy to a deforming body. A rest
 // point X of the object sits near rotation · (X − rest_position) + position.
 struct ObjectPose {
   std::array<double, 3> position{};                           // centre of mass now, m

@@ -16,12 +16,12 @@ namespace nsf {
 
 struct BodyMotion {
   double mass = 0;
-  Vec3 centre = Vec3::Zero();       // of mass, now
-  Vec3 rest_centre = Vec3::Zero();  // of mass, at rest
-  Mat3 rotation = Mat3::Identity();  // rest → now, about the centres of mass
-  Vec3 velocity = Vec3::Zero();  // of the centre of mass
+  Vec3 centre = Vec3::Zero();            // of mass, now
+  Vec3 rest_centre = Vec3::Zero();       // of mass, at rest
+  Mat3 rotation = Mat3::Identity();      // rest → now, about the centres of mass
+  Vec3 velocity = Vec3::Zero();          // of the centre of mass
   Vec3 angular_velocity = Vec3::Zero();  // ω = I⁻¹ L (least squares where I is singular)
-  double rms_misfit = 0;         // of the rigid fit, metres
+  double rms_misfit = 0;                 // of the rigid fit, metres
 };
 
 // Over the particles `members` (indices into X, x, v and mass; v may be empty: velocities zero).
