@@ -15,14 +15,130 @@ namespace nsf {
 
 namespace {
 const char* const kFamilies[] = {"mlp", "basis"};
-// The keys parse_rom_section reads itself; the sampling's are sampling_keys().
-const char* const kSectionKeys[] = {
-    "dt_ratio", "latent_prior", "quadrature", "gn_iterations", "gn_damping", "fields", "cfl",
-    "grid",     "rigid_frames", "profile",    "tracked",       "unseen",     "mlp",    "basis"};
+
+// rom.KEY as a number above 0 (or from 0 with zero_allowed).
+double number_at(const char* key, const nlohmann::json& v, bool zero_allowed, const char* meaning) {
+  if (!v.is_number() || !(zero_allowed ? v.get<double>() >= 0 : v.get<double>() > 0) ||
+      !std::isfinite(v.get<double>()))
+    fail("scene key 'rom.", key, "' must be a ", zero_allowed ? "non-negative" : "positive",
+         " number (", meaning, "), got ", v.dump());
+  return v.get<double>();
+}
+
+// rom.KEY as a whole number in [lo, hi].
+int integer_at(const char* key, const nlohmann::json& v, int lo, int hi, const char* meaning) {
+  if (!v.is_number_integer() || v.get<double>() < lo || v.get<double>() > hi)
+    fail("scene key 'rom.", key, "' must be a whole number from ", lo, " to ", hi, " (", meaning,
+         "), got ", v.dump());
+  return v.get<int>();
+}
+
+void read_dt_ratio(const nlohmann::json& v, RomSection& s) {
+  s.dt_ratio = v == "cfl"
+                   ? RomOptions::kDtRatioAtCfl
+                   : number_at("dt_ratio", v, false, "the ROM step over simulation.dt, or \"cfl\"");
+}
+
+void read_cfl(const nlohmann::json& v, RomSection& s) {
+  s.cfl = number_at("cfl", v, false, "the CFL factor the tracked state's step is held to");
+  if (*s.cfl > 1)
+    fail(
+        "scene key 'rom.cfl' must be at most 1 (an elastic wave crosses less than a cell per "
+        "step), got ",
+        *s.cfl);
+}
+
+void read_grid(const nlohmann::json& v, RomSection& s) {
+  s.grid = number_at("grid", v, false, "the ROM grid's spacing over the scene's dx");
+  if (*s.grid < 1)
+    fail("scene key 'rom.grid' must be at least 1 (the ROM's grid is the scene's or coarser), got ",
+         *s.grid);
+}
+
+void read_rigid_frames(const nlohmann::json& v, RomSection& s) {
+  std::vector<int> objects;
+  const bool listed = v.is_array() && std::all_of(v.begin(), v.end(), [](const auto& o) {
+                        return o.is_number_integer() && o.template get<double>() >= 0 &&
+                               o.template get<double>() < 65536;
+                      });
+  if (listed) objects = v.get<std::vector<int>>();
+  std::sort(objects.begin(), objects.end());
+  if (!listed || std::adjacent_find(objects.begin(), objects.end()) != objects.end())
+    fail(
+        "scene key 'rom.rigid_frames' must be a list of distinct object indices (the objects "
+        "that move in rigid frames of their own), got ",
+        v.dump());
+  s.rigid_frames = objects;
+}
+
+void read_fields(const nlohmann::json& f, RomSection& s) {
+  if (!f.is_object()) fail("scene key 'rom.fields' must be an object, got ", f.dump());
+  for (const auto& [key, v] : f.items()) {
+    std::string* slot = key == "deformation" ? &s.fields.deformation
+                        : key == "stress"    ? &s.fields.stress
+                        : key == "affine"    ? &s.fields.affine
+                        : key == "velocity"  ? &s.fields.velocity
+                                             : nullptr;
+    if (!slot)
+      fail("scene key 'rom.fields.", key,
+           "' is unknown (known: deformation, stress, affine, velocity)");
+    if (!v.is_string() || v.get<std::string>().empty())
+      fail("scene key 'rom.fields.", key, "' must be a field source's name, got ", v.dump());
+    const std::string record = retired_field_source(key, v.get<std::string>());
+    if (!record.empty())
+      fail("scene key 'rom.fields.", key, "': the source ", v.dump(),
+           " was retired (it lost: docs/experiments/", record, ")");
+    *slot = v.get<std::string>();
+  }
+}
+
+void read_profile(const nlohmann::json& v, RomSection& s) {
+  if (!v.is_string() || (v != "auto" && v != "family" && v != "unseen"))
+    fail("scene key 'rom.profile' must be \"auto\", \"family\" or \"unseen\", got ", v.dump());
+  s.profile = v.get<std::string>();
+}
+
+// The keys parse_rom_section reads itself, each with its reader, in the order they are read; the
+// settings objects (read: null) are overlaid after them; the sampling reads the rest
+// (sampling_keys()).
+struct SectionKey {
+  const char* key;
+  void (*read)(const nlohmann::json& v, RomSection& s);
+};
+const SectionKey kSectionKeys[] = {
+    {"dt_ratio", read_dt_ratio},
+    {"quadrature",
+     [](const nlohmann::json& v, RomSection& s) {
+       s.quadrature = integer_at("quadrature", v, 0, 1000,
+                                 "integration points per grid cell; 0: every particle");
+     }},
+    {"gn_iterations",
+     [](const nlohmann::json& v, RomSection& s) {
+       s.gn_iterations = integer_at("gn_iterations", v, 1, 100, "the Gauss-Newton iteration cap");
+     }},
+    {"gn_damping",
+     [](const nlohmann::json& v, RomSection& s) {
+       s.gn_damping =
+           number_at("gn_damping", v, true, "the Levenberg-Marquardt damping of the fit's step");
+     }},
+    {"cfl", read_cfl},
+    {"grid", read_grid},
+    {"rigid_frames", read_rigid_frames},
+    {"fields", read_fields},
+    {"latent_prior",
+     [](const nlohmann::json& v, RomSection& s) {
+       s.latent_prior =
+           number_at("latent_prior", v, true, "the latent prior's length in metres; 0: none");
+     }},
+    {"profile", read_profile},
+    {"tracked", nullptr},
+    {"unseen", nullptr},
+    {"mlp", nullptr},
+    {"basis", nullptr}};
 
 std::vector<std::string> known_keys() {
   std::vector<std::string> keys = sampling_keys();
-  keys.insert(keys.end(), std::begin(kSectionKeys), std::end(kSectionKeys));
+  for (const SectionKey& k : kSectionKeys) keys.push_back(k.key);
   return keys;
 }
 
@@ -59,100 +175,18 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
       fail("unknown scene key 'rom.", item.key(), "' (known: ", join(known), ")");
   // What is left once this function has taken its own keys is the sampling's.
   nlohmann::json sampling = rom;
-  // The keys that are not the sampling's: each a number, checked against its lower bound.
-  const auto number = [&](const char* key, bool zero_allowed, const char* meaning) {
-    std::optional<double> out;
-    if (!rom.contains(key)) return out;
-    const nlohmann::json& v = rom.at(key);
-    if (!v.is_number() || !(zero_allowed ? v.get<double>() >= 0 : v.get<double>() > 0) ||
-        !std::isfinite(v.get<double>()))
-      fail("scene key 'rom.", key, "' must be a ", zero_allowed ? "non-negative" : "positive",
-           " number (", meaning, "), got ", v.dump());
-    sampling.erase(key);
-    return out = v.get<double>();
-  };
-  const auto integer = [&](const char* key, int lo, int hi, const char* meaning) {
-    std::optional<int> out;
-    if (!rom.contains(key)) return out;
-    const nlohmann::json& v = rom.at(key);
-    if (!v.is_number_integer() || v.get<double>() < lo || v.get<double>() > hi)
-      fail("scene key 'rom.", key, "' must be a whole number from ", lo, " to ", hi, " (", meaning,
-           "), got ", v.dump());
-    sampling.erase(key);
-    return out = v.get<int>();
-  };
-  if (rom.contains("dt_ratio") && rom.at("dt_ratio") == "cfl")
-    s.dt_ratio = RomOptions::kDtRatioAtCfl, sampling.erase("dt_ratio");
-  else
-    s.dt_ratio = number("dt_ratio", false, "the ROM step over simulation.dt, or \"cfl\"");
-  s.quadrature =
-      integer("quadrature", 0, 1000, "integration points per grid cell; 0: every particle");
-  s.gn_iterations = integer("gn_iterations", 1, 100, "the Gauss-Newton iteration cap");
-  s.gn_damping = number("gn_damping", true, "the Levenberg-Marquardt damping of the fit's step");
-  s.cfl = number("cfl", false, "the CFL factor the tracked state's step is held to");
-  if (s.cfl && *s.cfl > 1)
-    fail(
-        "scene key 'rom.cfl' must be at most 1 (an elastic wave crosses less than a cell per "
-        "step), got ",
-        *s.cfl);
-  s.grid = number("grid", false, "the ROM grid's spacing over the scene's dx");
-  if (s.grid && *s.grid < 1)
-    fail("scene key 'rom.grid' must be at least 1 (the ROM's grid is the scene's or coarser), got ",
-         *s.grid);
-  if (rom.contains("rigid_frames")) {
-    const nlohmann::json& v = rom.at("rigid_frames");
-    std::vector<int> objects;
-    const bool listed = v.is_array() && std::all_of(v.begin(), v.end(), [](const auto& o) {
-                          return o.is_number_integer() && o.template get<double>() >= 0 &&
-                                 o.template get<double>() < 65536;
-                        });
-    if (listed) objects = v.get<std::vector<int>>();
-    std::sort(objects.begin(), objects.end());
-    if (!listed || std::adjacent_find(objects.begin(), objects.end()) != objects.end())
-      fail(
-          "scene key 'rom.rigid_frames' must be a list of distinct object indices (the objects "
-          "that move in rigid frames of their own), got ",
-          v.dump());
-    s.rigid_frames = objects;
-    sampling.erase("rigid_frames");
-  }
-  if (rom.contains("fields")) {
-    const nlohmann::json& f = rom.at("fields");
-    if (!f.is_object()) fail("scene key 'rom.fields' must be an object, got ", f.dump());
-    for (const auto& [key, v] : f.items()) {
-      std::string* slot = key == "deformation" ? &s.fields.deformation
-                          : key == "stress"    ? &s.fields.stress
-                          : key == "affine"    ? &s.fields.affine
-                          : key == "velocity"  ? &s.fields.velocity
-                                               : nullptr;
-      if (!slot)
-        fail("scene key 'rom.fields.", key,
-             "' is unknown (known: deformation, stress, affine, velocity)");
-      if (!v.is_string() || v.get<std::string>().empty())
-        fail("scene key 'rom.fields.", key, "' must be a field source's name, got ", v.dump());
-      const std::string record = retired_field_source(key, v.get<std::string>());
-      if (!record.empty())
-        fail("scene key 'rom.fields.", key, "': the source ", v.dump(),
-             " was retired (it lost: docs/experiments/", record, ")");
-      *slot = v.get<std::string>();
-    }
-    sampling.erase("fields");
-  }
-  s.latent_prior = number("latent_prior", true, "the latent prior's length in metres; 0: none");
-  if (rom.contains("profile")) {
-    const nlohmann::json& v = rom.at("profile");
-    if (!v.is_string() || (v != "auto" && v != "family" && v != "unseen"))
-      fail("scene key 'rom.profile' must be \"auto\", \"family\" or \"unseen\", got ", v.dump());
-    s.profile = v.get<std::string>();
-    sampling.erase("profile");
+  for (const SectionKey& k : kSectionKeys) {
+    if (!rom.contains(k.key)) continue;
+    if (k.read) k.read(rom.at(k.key), s);
+    sampling.erase(k.key);
   }
   // A family's object merges over the common settings, its tracked object over theirs (so a
   // tracked setting wins over a family's plain one).
   nlohmann::json common = rom;
-  for (const char* family : kFamilies) common.erase(family), sampling.erase(family);
+  for (const char* family : kFamilies) common.erase(family);
   nlohmann::json plain = common;
-  plain.erase("tracked"), sampling.erase("tracked");
-  plain.erase("unseen"), sampling.erase("unseen"), common.erase("unseen");
+  plain.erase("tracked");
+  plain.erase("unseen"), common.erase("unseen");
   s.sampling = parse_sampling(sampling);
   if (rom.contains("tracked")) {
     const nlohmann::json& own = rom.at("tracked");
