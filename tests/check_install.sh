@@ -46,7 +46,8 @@ for lang in "c -std=c99" "c++ -std=c++17"; do
   echo '#include <nsf/nsf.h>' | cc -x $lang -Wall -Wextra -pedantic -Werror -fsyntax-only \
     -I "$prefix/include" - || die "nsf/nsf.h does not compile alone as ${lang#* }"
 done
-for fn in nsf_version nsf_last_error nsf_runtime_create nsf_runtime_destroy nsf_runtime_stress nsf_runtime_affine; do
+for fn in nsf_version nsf_last_error nsf_runtime_create nsf_runtime_destroy nsf_runtime_stress nsf_runtime_affine \
+  nsf_runtime_object_pose; do
   nm -D --defined-only "$lib" | grep -q " T $fn\$" || die "libnsf_runtime.so does not export $fn"
 done
 
@@ -83,6 +84,13 @@ awk -v a="$y_moved" -v b="$y_still" 'BEGIN { exit !(a - b > 0.089 && a - b < 0.0
 cmp -s <(awk '/^frame/ {print $10, $13}' "$tmp/host.moved") \
   <(awk '/^frame/ {print $10, $13}' "$tmp/host.still") &&
   die "moving the collider changed no position"
+# The bar's pose: its centre of mass is its particles' mean (one material, equal masses).
+grep -q '^object 0  centre [-0-9.]\+ [-0-9.]\+ [-0-9.]\+  turned [0-9.]\+ rad  misfit [0-9.]\+ m$' \
+  "$tmp/host.moved" || die "no object pose"
+c_y=$(awk '/^object 0/ {print $5}' "$tmp/host.moved")
+m_y=$(awk '/^frame 12/ {print $10}' "$tmp/host.moved")
+awk -v a="$c_y" -v b="$m_y" 'BEGIN { d = a - b; exit !(d < 2e-5 && d > -2e-5) }' ||
+  die "the bar's centre of mass is at y $c_y, its particles' mean at $m_y"
 # The host's flags change nothing.
 cmp "$tmp/host.moved" "$tmp/host_native.moved" || die "-march=native host printed otherwise"
 cmp "$tmp/host.still" "$tmp/host_native.still" || die "-march=native host printed otherwise"

@@ -5,6 +5,7 @@
 #include <nsf/runtime.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -47,6 +48,14 @@ int main(int argc, char** argv) {
           "frame %2d  t %.4f  collider y %.4f  mean y %.5f  lowest y %.5f  x0 %.5f %.5f %.5f\n",
           frame, rom.time(), rom.collider_pose(0).position[1], mean_y, lowest, x[0], x[1], x[2]);
     }
+    // The bar as a rigid body, e.g. to attach a camera to it: its centre of mass, how far it
+    // turned, and how far its particles are from a rigid copy of its rest shape.
+    const nsf::ObjectPose bar = rom.object_pose(0);
+    std::printf("object 0  centre %.5f %.5f %.5f  turned %.4f rad  misfit %.5f m\n",
+                bar.position[0], bar.position[1], bar.position[2],
+                std::acos(std::clamp((bar.rotation[0] + bar.rotation[4] + bar.rotation[8] - 1) / 2,
+                                     -1.0, 1.0)),
+                bar.misfit);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "embed: %s\n", e.what());
     return 1;
