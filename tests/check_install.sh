@@ -106,6 +106,8 @@ frames=$(grep -c '^frame' "$tmp/c.out")
 grep -q '^missing model: NSF_ERROR_FILE_NOT_FOUND, nsf_runtime_create: .*does not exist$' \
   "$tmp/c.out" || die "the C host's missing model gave no code and message"
 grep -q '^short buffer: NSF_ERROR_BUFFER_TOO_SMALL, ' "$tmp/c.out" || die "no short buffer error"
+grep -q '^object 0: centre [-0-9.]\+ [-0-9.]\+ [-0-9.]\+  velocity .*  misfit [0-9.]\+ m$' \
+  "$tmp/c.out" || die "the C host printed no object pose"
 # The floor raised by the host lifts the bar: its centroid ends higher than with the floor still.
 "$tmp/c_host/c_host" "$tmp/tiny.nsf" "$scene" 1.0 0 >"$tmp/c.still" || die "the C host failed"
 y_moved=$(awk '/^frame 12 / {print $7}' "$tmp/c.out")
@@ -173,7 +175,8 @@ if [[ -f "$libdir/glibc-hwcaps/x86-64-v3/libnsf_runtime.so.0" ]]; then
   "$loader" --glibc-hwcaps-mask x86-64-v2 "$tmp/c_host/c_host" "$tmp/tiny.nsf" "$scene" 1.0 0.5 \
     >"$tmp/c_base.out" || die "the C host failed on the baseline copy"
   # The same lines, but for the figures in which the copies' rounding differs (FMA).
-  cmp <(grep -v '^frame\|^tau' "$tmp/c.out") <(grep -v '^frame\|^tau' "$tmp/c_base.out") ||
+  figures='^frame\|^tau\|^object'
+  cmp <(grep -v "$figures" "$tmp/c.out") <(grep -v "$figures" "$tmp/c_base.out") ||
     die "the C host printed otherwise on the baseline copy"
   frames=$(grep -c '^frame' "$tmp/c_base.out")
   ((frames == 12)) || die "the C host printed $frames frames on the baseline copy, the scene has 12"

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   nsf_runtime* rom = NULL;
   nsf_runtime* missing = NULL;
   nsf_collider_pose pose;
+  nsf_object_pose body;
   nsf_health health;
   nsf_status status;
   float* x = NULL;
@@ -106,6 +107,11 @@ int main(int argc, char** argv) {
   CHECK(nsf_runtime_latent(rom, z, latent_dim));
   printf("tau of particle 0: %.3f %.3f %.3f (diagonal, Pa); z0 %.6f\n", tau[0], tau[4], tau[8],
          z[0]);
+  /* Object 0 as a rigid body: its centre of mass, velocity and rigid-fit misfit. */
+  CHECK(nsf_runtime_object_pose(rom, 0, &body));
+  printf("object 0: centre %.6f %.6f %.6f  velocity %.6f %.6f %.6f  misfit %.6f m\n",
+         body.position[0], body.position[1], body.position[2], body.velocity[0], body.velocity[1],
+         body.velocity[2], body.misfit);
   status = nsf_runtime_positions(rom, x, 3 * particles - 1);
   printf("short buffer: %s, %s\n", nsf_status_name(status), nsf_last_error());
   if (status != NSF_ERROR_BUFFER_TOO_SMALL) goto fail;

@@ -58,6 +58,17 @@ pub struct nsf_collider_pose {
     pub angular_velocity: [f64; 3],
 }
 
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct nsf_object_pose {
+    pub position: [f64; 3],
+    pub rotation: [f64; 9],
+    pub velocity: [f64; 3],
+    pub angular_velocity: [f64; 3],
+    pub rest_position: [f64; 3],
+    pub misfit: f64,
+}
+
 extern "C" {
     pub fn nsf_version() -> *const c_char;
     pub fn nsf_version_numbers(
@@ -129,6 +140,12 @@ extern "C" {
         out: *mut c_char,
         size: usize,
         length: *mut usize,
+    ) -> nsf_status;
+    pub fn nsf_runtime_object_count(runtime: *const nsf_runtime, out: *mut usize) -> nsf_status;
+    pub fn nsf_runtime_object_pose(
+        runtime: *const nsf_runtime,
+        index: usize,
+        out: *mut nsf_object_pose,
     ) -> nsf_status;
     pub fn nsf_runtime_collider_pose(
         runtime: *const nsf_runtime,

@@ -119,6 +119,8 @@ pub struct Health {
 }
 
 pub type ColliderPose = ffi::nsf_collider_pose;
+/// A scene object as a rigid body fitted to its particles (nsf::ObjectPose).
+pub type ObjectPose = ffi::nsf_object_pose;
 
 /// The reduced-order simulator of one scene at one μ; freed on drop. Not Send: use it on the
 /// thread that made it.
@@ -245,6 +247,18 @@ impl Runtime {
             // SAFETY: a live handle; out holds size bytes (or is NULL with size 0).
             ffi::nsf_runtime_collider_type(handle, index, out, size, length)
         })
+    }
+    pub fn object_count(&self) -> Result<usize> {
+        let mut n = 0usize;
+        // SAFETY: a live handle and a valid out pointer.
+        check(unsafe { ffi::nsf_runtime_object_count(self.handle.as_ptr(), &mut n) })?;
+        Ok(n)
+    }
+    pub fn object_pose(&self, index: usize) -> Result<ObjectPose> {
+        let mut pose = ObjectPose::default();
+        // SAFETY: a live handle and a valid out pointer.
+        check(unsafe { ffi::nsf_runtime_object_pose(self.handle.as_ptr(), index, &mut pose) })?;
+        Ok(pose)
     }
     pub fn collider_pose(&self, index: usize) -> Result<ColliderPose> {
         let mut pose = ColliderPose::default();

@@ -75,6 +75,18 @@ fn run(model: &str, scene: &str, mu: f64, lift: f64) -> nsf::Result<bool> {
         "tau of particle 0: {:.3} {:.3} {:.3} (diagonal, Pa); z0 {:.6}",
         tau[0], tau[4], tau[8], z[0]
     );
+    // Object 0 as a rigid body: its centre of mass, velocity and rigid-fit misfit.
+    let body = rom.object_pose(0)?;
+    println!(
+        "object 0: centre {:.6} {:.6} {:.6}  velocity {:.6} {:.6} {:.6}  misfit {:.6} m",
+        body.position[0],
+        body.position[1],
+        body.position[2],
+        body.velocity[0],
+        body.velocity[1],
+        body.velocity[2],
+        body.misfit
+    );
     let short = x.len() - 1;
     match rom.positions(&mut x[..short]) {
         Err(e) if e.status == nsf::ffi::NSF_ERROR_BUFFER_TOO_SMALL => println!("short buffer: {e}"),
