@@ -108,10 +108,14 @@ void write_text(const std::string& text, char* out, std::size_t size, std::size_
   std::memcpy(out, text.c_str(), text.size() + 1);
 }
 
+// Index `index` of one of `count` colliders or objects (`what`), else NSF_ERROR_INVALID_ARGUMENT.
+void check_index(std::size_t index, std::size_t count, const char* what) {
+  if (index >= count)
+    refuse(NSF_ERROR_INVALID_ARGUMENT, what, " ", std::to_string(index),
+           " does not exist: the scene has ", std::to_string(count));
+}
 void check_index(const nsf::Runtime& rt, std::size_t index) {
-  if (index >= rt.collider_count())
-    refuse(NSF_ERROR_INVALID_ARGUMENT, "collider ", std::to_string(index),
-           " does not exist: the scene has ", std::to_string(rt.collider_count()));
+  check_index(index, rt.collider_count(), "collider");
 }
 
 void check_file(const char* path, const char* what) {
@@ -387,9 +391,7 @@ nsf_status nsf_runtime_object_pose(const nsf_runtime* r, size_t index, nsf_objec
   return call("nsf_runtime_object_pose", NSF_ERROR_INVALID_ARGUMENT, [&] {
     const nsf::Runtime& rt = runtime(r);
     need(out, "out");
-    if (index >= rt.object_count())
-      refuse(NSF_ERROR_INVALID_ARGUMENT, "object ", std::to_string(index),
-             " does not exist: the scene has ", std::to_string(rt.object_count()));
+    check_index(index, rt.object_count(), "object");
     const nsf::ObjectPose p = rt.object_pose(index);
     for (int k = 0; k < 3; ++k) {
       out->position[k] = p.position[k];
