@@ -53,6 +53,9 @@ Vec3 vec(const std::array<double, 3>& a) {
 std::array<double, 3> arr(const Vec3& v) {
   return {v[0], v[1], v[2]};
 }
+std::array<double, 9> row_major(const Mat3& m) {
+  return {m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0), m(2, 1), m(2, 2)};
+}
 
 }  // namespace
 
@@ -108,8 +111,7 @@ struct Runtime::Impl {
         const BodyMotion b = fit_body_motion(X, x, v, mass, members[o]);
         ObjectPose& out = poses[o];
         out.position = arr(b.centre);
-        for (int r = 0; r < 3; ++r)
-          for (int k = 0; k < 3; ++k) out.rotation[size_t(3 * r + k)] = b.rotation(r, k);
+        out.rotation = row_major(b.rotation);
         out.velocity = arr(b.velocity);
         out.angular_velocity = arr(b.angular_velocity);
         out.rest_position = arr(b.rest_centre);
@@ -248,8 +250,7 @@ ColliderPose Runtime::collider_pose(std::size_t i) const {
     const RigidPose& p = c.pose();
     ColliderPose out;
     out.position = arr(p.center);
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < 3; ++k) out.rotation[3 * r + k] = p.rotation(r, k);
+    out.rotation = row_major(p.rotation);
     out.velocity = arr(p.velocity);
     out.angular_velocity = arr(p.angular_velocity);
     return out;
