@@ -154,6 +154,12 @@ def _vector(value, n, what):
     return [float(v) for v in a.reshape(n)]
 
 
+def _index(i, count, what):
+    if not 0 <= i < count:
+        raise IndexError("no %s %s: the scene has %d" % (what, i, count))
+    return i
+
+
 class Rom:
     """A trained reduced-order model (a .nsf file, `nsf train`) running on its scene, frame by
     frame, over nsf::Runtime (docs/EMBEDDING.md). `scene`: a Scene, or a scene file with `mu` (the
@@ -269,26 +275,19 @@ class Rom:
         and misfit (float, m: the particles' rms distance from that rigid copy of the rest
         shape). A rest point X sits near rotation @ (X - rest_position) + position. The first
         call after a step decodes every particle, as velocities() does."""
-        if not 0 <= i < self.object_count:
-            raise IndexError("no object %s: the scene has %d" % (i, self.object_count))
-        p = self._rt.object_pose(i)
+        p = self._rt.object_pose(_index(i, self.object_count, "object"))
         return {"position": np.array(p.position), "rotation": np.array(p.rotation).reshape(3, 3),
                 "velocity": np.array(p.velocity), "angular_velocity": np.array(p.angular_velocity),
                 "rest_position": np.array(p.rest_position), "misfit": float(p.misfit)}
 
-    def _collider(self, i):
-        if not 0 <= i < self.collider_count:
-            raise IndexError("no collider %d: the scene has %d" % (i, self.collider_count))
-        return i
-
     def collider_type(self, i):
         """"box", "cylinder", "plane", ... of collider i (the scene's "colliders" order)."""
-        return self._rt.collider_type(self._collider(i))
+        return self._rt.collider_type(_index(i, self.collider_count, "collider"))
 
     def collider_pose(self, i):
         """Collider i now: a dict of position (3,), rotation (3, 3, body to world), velocity (3,),
         angular_velocity (3,), numpy float64 arrays; set_collider_pose(i, **pose) takes it back."""
-        p = self._rt.collider_pose(self._collider(i))
+        p = self._rt.collider_pose(_index(i, self.collider_count, "collider"))
         return {"position": np.array(p.position), "rotation": np.array(p.rotation).reshape(3, 3),
                 "velocity": np.array(p.velocity), "angular_velocity": np.array(p.angular_velocity)}
 
@@ -298,7 +297,7 @@ class Rom:
         it is) and moves on with `velocity` (m/s) and `angular_velocity` (rad/s; both zero unless
         given) until the next call; its scripted motion is ignored from then on. The material in
         contact feels those velocities, so give the ones the collider really has."""
-        now = self._rt.collider_pose(self._collider(i))
+        now = self._rt.collider_pose(_index(i, self.collider_count, "collider"))
         pose = _nsf.ColliderPose()
         pose.position = now.position if position is None else _vector(position, 3, "position")
         pose.rotation = now.rotation if rotation is None else _vector(rotation, 9, "rotation")
