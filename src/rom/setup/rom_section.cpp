@@ -33,14 +33,13 @@ int integer_at(const char* key, const nlohmann::json& v, int lo, int hi, const c
   return v.get<int>();
 }
 
-void read_dt_ratio(const nlohmann::json& v, RomSection& s) {
-  s.dt_ratio = v == "cfl"
-                   ? RomOptions::kDtRatioAtCfl
-                   : number_at("dt_ratio", v, false, "the ROM step over simulation.dt, or \"cfl\"");
+void read_dt_ratio(const char* key, const nlohmann::json& v, RomSection& s) {
+  s.dt_ratio = v == "cfl" ? RomOptions::kDtRatioAtCfl
+                          : number_at(key, v, false, "the ROM step over simulation.dt, or \"cfl\"");
 }
 
-void read_cfl(const nlohmann::json& v, RomSection& s) {
-  s.cfl = number_at("cfl", v, false, "the CFL factor the tracked state's step is held to");
+void read_cfl(const char* key, const nlohmann::json& v, RomSection& s) {
+  s.cfl = number_at(key, v, false, "the CFL factor the tracked state's step is held to");
   if (*s.cfl > 1)
     fail(
         "scene key 'rom.cfl' must be at most 1 (an elastic wave crosses less than a cell per "
@@ -48,14 +47,14 @@ void read_cfl(const nlohmann::json& v, RomSection& s) {
         *s.cfl);
 }
 
-void read_grid(const nlohmann::json& v, RomSection& s) {
-  s.grid = number_at("grid", v, false, "the ROM grid's spacing over the scene's dx");
+void read_grid(const char* key, const nlohmann::json& v, RomSection& s) {
+  s.grid = number_at(key, v, false, "the ROM grid's spacing over the scene's dx");
   if (*s.grid < 1)
     fail("scene key 'rom.grid' must be at least 1 (the ROM's grid is the scene's or coarser), got ",
          *s.grid);
 }
 
-void read_rigid_frames(const nlohmann::json& v, RomSection& s) {
+void read_rigid_frames(const char*, const nlohmann::json& v, RomSection& s) {
   std::vector<int> objects;
   const bool listed = v.is_array() && std::all_of(v.begin(), v.end(), [](const auto& o) {
                         return o.is_number_integer() && o.template get<double>() >= 0 &&
@@ -71,7 +70,7 @@ void read_rigid_frames(const nlohmann::json& v, RomSection& s) {
   s.rigid_frames = objects;
 }
 
-void read_fields(const nlohmann::json& f, RomSection& s) {
+void read_fields(const char*, const nlohmann::json& f, RomSection& s) {
   if (!f.is_object()) fail("scene key 'rom.fields' must be an object, got ", f.dump());
   for (const auto& [key, v] : f.items()) {
     std::string* slot = key == "deformation" ? &s.fields.deformation
@@ -92,7 +91,7 @@ void read_fields(const nlohmann::json& f, RomSection& s) {
   }
 }
 
-void read_profile(const nlohmann::json& v, RomSection& s) {
+void read_profile(const char*, const nlohmann::json& v, RomSection& s) {
   if (!v.is_string() || (v != "auto" && v != "family" && v != "unseen"))
     fail("scene key 'rom.profile' must be \"auto\", \"family\" or \"unseen\", got ", v.dump());
   s.profile = v.get<std::string>();
@@ -103,32 +102,30 @@ void read_profile(const nlohmann::json& v, RomSection& s) {
 // (sampling_keys()).
 struct SectionKey {
   const char* key;
-  void (*read)(const nlohmann::json& v, RomSection& s);
+  void (*read)(const char* key, const nlohmann::json& v, RomSection& s);
 };
 const SectionKey kSectionKeys[] = {
     {"dt_ratio", read_dt_ratio},
     {"quadrature",
-     [](const nlohmann::json& v, RomSection& s) {
-       s.quadrature = integer_at("quadrature", v, 0, 1000,
-                                 "integration points per grid cell; 0: every particle");
+     [](const char* key, const nlohmann::json& v, RomSection& s) {
+       s.quadrature =
+           integer_at(key, v, 0, 1000, "integration points per grid cell; 0: every particle");
      }},
     {"gn_iterations",
-     [](const nlohmann::json& v, RomSection& s) {
-       s.gn_iterations = integer_at("gn_iterations", v, 1, 100, "the Gauss-Newton iteration cap");
+     [](const char* key, const nlohmann::json& v, RomSection& s) {
+       s.gn_iterations = integer_at(key, v, 1, 100, "the Gauss-Newton iteration cap");
      }},
     {"gn_damping",
-     [](const nlohmann::json& v, RomSection& s) {
-       s.gn_damping =
-           number_at("gn_damping", v, true, "the Levenberg-Marquardt damping of the fit's step");
+     [](const char* key, const nlohmann::json& v, RomSection& s) {
+       s.gn_damping = number_at(key, v, true, "the Levenberg-Marquardt damping of the fit's step");
      }},
     {"cfl", read_cfl},
     {"grid", read_grid},
     {"rigid_frames", read_rigid_frames},
     {"fields", read_fields},
     {"latent_prior",
-     [](const nlohmann::json& v, RomSection& s) {
-       s.latent_prior =
-           number_at("latent_prior", v, true, "the latent prior's length in metres; 0: none");
+     [](const char* key, const nlohmann::json& v, RomSection& s) {
+       s.latent_prior = number_at(key, v, true, "the latent prior's length in metres; 0: none");
      }},
     {"profile", read_profile},
     {"tracked", nullptr},
@@ -177,7 +174,7 @@ RomSection parse_rom_section(const nlohmann::json& rom) {
   nlohmann::json sampling = rom;
   for (const SectionKey& k : kSectionKeys) {
     if (!rom.contains(k.key)) continue;
-    if (k.read) k.read(rom.at(k.key), s);
+    if (k.read) k.read(k.key, rom.at(k.key), s);
     sampling.erase(k.key);
   }
   // A family's object merges over the common settings, its tracked object over theirs (so a
